@@ -1,0 +1,17 @@
+#pragma once
+// Each CLI command family registers its subcommands on the root app. A command's callback
+// stores its exit code in `exit_code` (0 success, 1 no answer, 2 bad input) and throws
+// starnav::Error for bad input; main() prints one `starnav: error: ...` line for it.
+#include <CLI/CLI.hpp>
+
+namespace starnav::cli {
+
+struct Context {
+  int exit_code = 0;
+};
+
+void register_map_commands(CLI::App& app, Context& ctx);    // cmd_map.cpp
+void register_plan_commands(CLI::App& app, Context& ctx);   // cmd_plan.cpp
+void register_bench_commands(CLI::App& app, Context& ctx);  // cmd_bench.cpp
+
+}  // namespace starnav::cli

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the Debian packages starnav needs, only those missing (dpkg -s), so a second run is
+# quick. Usage: scripts/install-deps.sh [core|fuzz|all]   (default core)
+set -euo pipefail
+what=${1:-core}
+core=(build-essential cmake pkg-config libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
+      libgtest-dev libgmock-dev libbenchmark-dev libpng-dev)
+if [ "${STARNAV_WITH_GDAL:-ON}" != "OFF" ]; then core+=(libgdal-dev); fi
+fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
+case "$what" in
+  core) pkgs=("${core[@]}") ;;
+  fuzz) pkgs=("${core[@]}" "${fuzz[@]}") ;;
+  all)  pkgs=("${core[@]}" "${fuzz[@]}" clang-format) ;;
+  *) echo "usage: $0 [core|fuzz|all]" >&2; exit 2 ;;
+esac
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then exit 0; fi
+echo "starnav: installing ${missing[*]}" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,33 @@
+#pragma once
+// The one error type of starnav: every bad input becomes an Error that names where it came from,
+// so the CLI can print `starnav: error: FILE[:LINE][: FIELD]: what is wrong` and exit 2.
+#include <stdexcept>
+#include <string>
+
+namespace starnav {
+
+class Error : public std::runtime_error {
+ public:
+  explicit Error(std::string message, std::string file = {}, int line = 0, std::string field = {});
+
+  const std::string& file() const noexcept { return file_; }
+  int line() const noexcept { return line_; }
+  const std::string& field() const noexcept { return field_; }
+  const std::string& message() const noexcept { return message_; }
+
+  // The same error attributed to a file (keeps line/field); used when a parser of text is
+  // called on behalf of a named file.
+  Error with_file(const std::string& file) const;
+
+ private:
+  std::string file_;
+  int line_ = 0;
+  std::string field_;
+  std::string message_;
+};
+
+// FILE[:LINE][: FIELD]: message  (parts that are empty are left out).
+std::string format_error_location(const std::string& file, int line, const std::string& field,
+                                  const std::string& message);
+
+}  // namespace starnav

@@ -1,0 +1,43 @@
+#pragma once
+// One entry point for every map file starnav reads: format detection by name and content,
+// load into an occupancy grid or an elevation map, save in another format.
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "starnav/io/movingai.hpp"
+#include "starnav/io/ros_map.hpp"
+#include "starnav/map/elevation_map.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+
+namespace starnav {
+
+enum class MapFormat { MovingAi, RosMap, ElevationYaml, Asc, Csv, UnityRaw, GeoTiff };
+
+const char* map_format_name(MapFormat f);  // "movingai", "ros_map", "elevation_png", "asc", "csv", "unity_raw", "geotiff"
+
+// By extension, and for .yaml by its keys (z_min/z_max: elevation; occupied_thresh: map_server).
+// Throws Error for an unknown extension or a YAML that is neither.
+MapFormat detect_map_format(const std::string& path);
+
+struct LoadedMap {
+  MapFormat format = MapFormat::MovingAi;
+  std::variant<OccupancyGrid, ElevationMap> map;
+  std::optional<MovingAiMap> movingai;     // the original characters, for MovingAI maps
+  std::optional<RosMapMetadata> ros;       // thresholds and mode, for map_server maps
+
+  bool is_elevation() const { return std::holds_alternative<ElevationMap>(map); }
+  const OccupancyGrid& occupancy() const { return std::get<OccupancyGrid>(map); }
+  const ElevationMap& elevation() const { return std::get<ElevationMap>(map); }
+  const GridGeometry& geometry() const;
+  // Thresholds the map's own file asks for (map_server thresholds), else the defaults.
+  OccupancyThresholds thresholds() const;
+};
+
+LoadedMap load_map(const std::string& path);
+
+// Saves `map` as `format` (must suit the map: occupancy formats for occupancy grids, elevation
+// formats for elevation maps). Throws Error otherwise.
+void save_map(const LoadedMap& map, const std::string& path, MapFormat format);
+
+}  // namespace starnav

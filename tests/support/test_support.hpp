@@ -1,0 +1,114 @@
+#pragma once
+// Shared helpers for starnav's tests: where ../shared/ is, scratch folders, running the CLI.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace starnav::test {
+
+namespace fs = std::filesystem;
+
+// ../shared/ beside the checkout (or $STARNAV_SHARED); empty when absent (a user's fresh clone).
+inline std::string shared_dir() {
+  if (const char* env = std::getenv("STARNAV_SHARED"); env && fs::is_directory(env)) return env;
+  if (fs::is_directory(STARNAV_SHARED_DIR)) return STARNAV_SHARED_DIR;
+  return {};
+}
+
+// The path of something under ../shared/, or "" when it is not there.
+inline std::string shared_path(const std::string& relative) {
+  const std::string root = shared_dir();
+  if (root.empty()) return {};
+  const fs::path p = fs::path(root) / relative;
+  return fs::exists(p) ? p.string() : std::string{};
+}
+
+inline std::string test_data(const std::string& relative) { return (fs::path(STARNAV_TEST_DATA_DIR) / relative).string(); }
+
+// A fresh empty folder under the system temp dir, removed when the object dies.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "starnav";
+    for (char& c : name)
+      if (c == '/') c = '_';
+    path_ = fs::temp_directory_path() / ("starnav_test_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const fs::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') q += "'\\''";
+    else q += c;
+  }
+  return q + "'";
+}
+
+// Runs build/bin/starnav with the arguments; captures stdout, stderr and the exit code.
+inline CliResult run_cli(const std::vector<std::string>& args) {
+  static int counter = 0;
+  const fs::path tmp = fs::temp_directory_path();
+  const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  const std::string out_path = (tmp / ("starnav_cli_out_" + tag)).string();
+  const std::string err_path = (tmp / ("starnav_cli_err_" + tag)).string();
+  std::string cmd = shell_quote(STARNAV_CLI_PATH);
+  for (const auto& a : args) cmd += " " + shell_quote(a);
+  cmd += " >" + shell_quote(out_path) + " 2>" + shell_quote(err_path) + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  r.out = read_text(out_path);
+  r.err = read_text(err_path);
+  fs::remove(out_path);
+  fs::remove(err_path);
+  return r;
+}
+
+}  // namespace starnav::test
+
+#define STARNAV_SKIP_WITHOUT_SHARED(relative)                                          \
+  do {                                                                                 \
+    if (::starnav::test::shared_path(relative).empty())                                \
+      GTEST_SKIP() << "../shared/" << (relative) << " not present (fresh clone): skipped"; \
+  } while (0)
