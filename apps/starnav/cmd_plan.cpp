@@ -1,8 +1,231 @@
+// starnav plan: one query on a map with any grid planner (issue 3).
+//
+//   starnav plan --map FILE --start X,Y --goal X,Y [--planner NAME] [--weight W]
+//                [--connectivity 4|8] [--unknown free|blocked] [--cells] [--json]
+//                [--out path.csv] [--svg picture.svg] [--expanded] [--force]
+//
+// Coordinates are cells on MovingAI maps (x column, y row from the top, as in .scen files) and
+// metres in the map frame on metric maps (--cells: cell indices there too). Exit 0 when a path is
+// found, 1 when the query has no answer (outside the map, blocked, no path, limit), 2 bad input.
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_util.hpp"
 #include "commands.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/io/map_file.hpp"
+#include "starnav/plan/grid_planner.hpp"
+#include "starnav/viz/map_picture.hpp"
 
 namespace starnav::cli {
-void register_plan_commands(CLI::App& app, Context& ctx) {
-  (void)ctx;
-  app.add_subcommand("plan", "plan a path on a map");
+
+namespace {
+
+struct PlanOptions {
+  std::string map;
+  std::string start;
+  std::string goal;
+  std::string planner = "astar";
+  double weight = 1.0;
+  int connectivity = 8;
+  std::string unknown = "blocked";
+  bool cells = false;
+  bool json = false;
+  std::string out;
+  std::string svg;
+  bool expanded = false;
+  bool force = false;
+  double max_expansions = 0;
+  double time_budget_s = 0;
+};
+
+// A query endpoint as a cell. In cell mode X,Y must be integers; in metric mode a world point
+// outside the map gives a cell outside it (a result, not an error).
+Cell endpoint_cell(const std::string& text, const std::string& flag, bool in_cells, const GridGeometry& g) {
+  const Vec2 p = parse_xy(text, flag);
+  if (in_cells) {
+    const double lim = static_cast<double>(std::numeric_limits<int>::max());
+    if (p.x() != std::floor(p.x()) || p.y() != std::floor(p.y()) || std::abs(p.x()) > lim || std::abs(p.y()) > lim)
+      throw Error("expected cell indices X,Y (two integers), got '" + text + "'", {}, 0, flag);
+    return {static_cast<int>(p.x()), static_cast<int>(p.y())};
+  }
+  const Vec2 c = g.world_to_cell_continuous(p);
+  const double lim = 1e9;
+  if (std::abs(c.x()) > lim || std::abs(c.y()) > lim) return {-1, -1};  // far outside the map
+  return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
 }
+
+std::string number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
+}
+
+void run_plan(const PlanOptions& o, Context& ctx) {
+  if (o.unknown != "free" && o.unknown != "blocked")
+    throw Error("expected free or blocked, got '" + o.unknown + "'", {}, 0, "--unknown");
+  if (o.weight != 1.0 && o.planner != "wastar") throw Error("only --planner wastar takes a weight", {}, 0, "--weight");
+  if (!(o.max_expansions >= 0) || o.max_expansions != std::floor(o.max_expansions))
+    throw Error("expected a whole number >= 0", {}, 0, "--max-expansions");
+  if (!(o.time_budget_s >= 0) || !std::isfinite(o.time_budget_s))
+    throw Error("expected a number of seconds >= 0", {}, 0, "--time-budget");
+  if (!o.out.empty()) check_output_path(o.out, o.force, "--out");
+  if (!o.svg.empty()) check_output_path(o.svg, o.force, "--svg");
+
+  const LoadedMap loaded = load_map(o.map);
+  if (loaded.is_elevation())
+    throw Error("is an elevation map; plan needs an occupancy map (.map, map_server .yaml)", o.map, 0, "--map");
+  const OccupancyGrid& grid = loaded.occupancy();
+  const GridGeometry& geometry = grid.geometry();
+  const bool index_grid = loaded.format == MapFormat::MovingAi || geometry.y_down;
+  const bool in_cells = index_grid || o.cells;
+  const Cell start = endpoint_cell(o.start, "--start", in_cells, geometry);
+  const Cell goal = endpoint_cell(o.goal, "--goal", in_cells, geometry);
+
+  GridPlannerOptions options;
+  options.connectivity = o.connectivity;
+  options.unknown_is_free = o.unknown == "free";
+  options.thresholds = loaded.thresholds();
+  options.weight = o.weight;
+  options.record_trace = o.expanded;
+  std::unique_ptr<GridPlanner> planner;
+  try {
+    planner = make_grid_planner(o.planner, grid, options);
+  } catch (const Error& e) {
+    // Name the flag the user typed.
+    const std::string flag = e.field() == "connectivity" ? "--connectivity"
+                             : e.field() == "weight"     ? "--weight"
+                             : e.field() == "planner"    ? "--planner"
+                                                         : e.field();
+    throw Error(e.message(), {}, 0, flag);
+  }
+  SearchLimits limits;
+  limits.max_expansions = static_cast<std::uint64_t>(o.max_expansions);
+  limits.time_budget_s = o.time_budget_s;
+  const PlanResult r = planner->plan(start, goal, limits);
+
+  // Points in the map's units: cells on index grids, metres (cell centres, any-angle vertices)
+  // on metric maps.
+  nlohmann::ordered_json path = nlohmann::ordered_json::array(), path_cells = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < r.path_cells.size(); ++i) {
+    path_cells.push_back({r.path_cells[i].x, r.path_cells[i].y});
+    if (index_grid) path.push_back({r.path_cells[i].x, r.path_cells[i].y});
+    else path.push_back({r.path_world[i].x(), r.path_world[i].y()});
+  }
+
+  if (!o.out.empty() && r.found()) {
+    std::ofstream out(o.out, std::ios::binary);
+    if (!out) throw Error("cannot write", o.out, 0, "--out");
+    out << std::setprecision(10);
+    if (index_grid) {
+      out << "x_cell,y_cell\n";
+      for (const Cell& c : r.path_cells) out << c.x << "," << c.y << "\n";
+    } else {
+      out << "x_m,y_m,ix,iy\n";
+      for (std::size_t i = 0; i < r.path_cells.size(); ++i)
+        out << r.path_world[i].x() << "," << r.path_world[i].y() << "," << r.path_cells[i].x << ","
+            << r.path_cells[i].y << "\n";
+    }
+    if (!out) throw Error("write failed", o.out, 0, "--out");
+  }
+
+  if (!o.svg.empty()) {
+    // The map, the expanded cells (--expanded) and the path; world coordinates (cell centres
+    // on index grids).
+    viz::PictureOptions picture_options;
+    picture_options.title =
+        std::string(planner->name()) + ": " + (r.found() ? "cost " + number(r.cost) : plan_status_reason(r.status));
+    viz::MapPicture picture(grid, picture_options);
+    if (o.expanded) picture.add_cells(planner->trace(), viz::parse_colour("sky"), 0.45, "expanded");
+    auto point_of = [&](const Cell& c) { return index_grid ? Vec2(c.x + 0.5, c.y + 0.5) : geometry.cell_center(c); };
+    if (r.found()) {
+      std::vector<Vec2> points;
+      for (std::size_t i = 0; i < r.path_cells.size(); ++i)
+        points.push_back(index_grid ? point_of(r.path_cells[i]) : r.path_world[i]);
+      viz::LineStyle line;
+      line.colour = viz::categorical_colour(0);
+      line.width_px = 2.5;
+      picture.add_polyline(points, line, "path");
+    }
+    viz::MarkerStyle marker;
+    marker.radius_px = 4.5;
+    marker.fill = viz::categorical_colour(2);
+    if (geometry.contains(start)) picture.add_points({point_of(start)}, marker, "start");
+    marker.fill = viz::categorical_colour(1);
+    if (geometry.contains(goal)) picture.add_points({point_of(goal)}, marker, "goal");
+    picture.write_svg(o.svg);
+  }
+
+  if (o.json) {
+    nlohmann::ordered_json j;
+    j["planner"] = std::string(planner->name());
+    j["admissible"] = planner->admissible();
+    j["found"] = r.found();
+    if (!r.found()) j["reason"] = plan_status_reason(r.status);
+    j["cost"] = r.found() ? nlohmann::ordered_json(r.cost) : nlohmann::ordered_json(nullptr);
+    j["length"] = r.found() ? nlohmann::ordered_json(r.length) : nlohmann::ordered_json(nullptr);
+    j["units"] = index_grid ? "cells" : "m";
+    j["expanded"] = r.expanded;
+    j["generated"] = r.generated;
+    j["path"] = path;
+    j["path_cells"] = path_cells;
+    if (o.expanded) {
+      nlohmann::ordered_json cells = nlohmann::ordered_json::array();
+      for (const Cell& c : planner->trace()) cells.push_back({c.x, c.y});
+      j["expanded_cells"] = cells;
+    }
+    j["time_ms"] = r.time_ms;
+    std::cout << j.dump() << "\n";
+  } else {
+    const char* unit = index_grid ? "cells" : "m";
+    std::cout << "planner:    " << planner->name() << (planner->admissible() ? "" : " (inadmissible)") << "\n";
+    if (r.found()) {
+      std::cout << "found:      yes, " << r.path_cells.size() << " points\n";
+      std::cout << "cost:       " << number(r.cost) << "\n";
+      std::cout << "length:     " << number(r.length) << " " << unit << "\n";
+    } else {
+      std::cout << "found:      no (" << plan_status_reason(r.status) << ")\n";
+    }
+    std::cout << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
+    std::cout << "time:       " << number(r.time_ms) << " ms\n";
+    if (!o.out.empty() && r.found()) std::cout << "wrote " << o.out << "\n";
+    if (!o.svg.empty()) std::cout << "wrote " << o.svg << "\n";
+  }
+  ctx.exit_code = r.found() ? 0 : 1;
+}
+
+}  // namespace
+
+void register_plan_commands(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<PlanOptions>();
+  auto* plan = app.add_subcommand("plan", "plan a path on a map");
+  plan->add_option("--map", o->map, "map file (MovingAI .map, map_server .yaml)")->required();
+  plan->add_option("--start", o->start,
+                   "start X,Y: cells on MovingAI maps (column, row from the top), metres on metric maps")
+      ->required();
+  plan->add_option("--goal", o->goal, "goal X,Y (same units as --start)")->required();
+  std::string names;
+  for (const auto& n : grid_planner_names()) names += (names.empty() ? "" : "|") + n;
+  plan->add_option("--planner", o->planner, names + " (default astar)");
+  plan->add_option("--weight", o->weight, "wastar: f = g + W*h, W >= 1 (default 1; > 1 is inadmissible)");
+  plan->add_option("--connectivity", o->connectivity, "4 or 8 (default 8, no corner cutting)");
+  plan->add_option("--unknown", o->unknown, "unknown cells are free or blocked (default blocked)");
+  plan->add_flag("--cells", o->cells, "--start/--goal are cell indices on metric maps too");
+  plan->add_flag("--json", o->json,
+                 "one JSON object: planner, admissible, found, reason, cost, length, units, expanded, generated, "
+                 "path, path_cells, time_ms");
+  plan->add_option("--out", o->out, "write the path as CSV (only when found)");
+  plan->add_option("--svg", o->svg, "draw the map, the path and (with --expanded) the expanded cells");
+  plan->add_flag("--expanded", o->expanded, "also report the expanded cells (JSON key expanded_cells; --svg draws them)");
+  plan->add_option("--max-expansions", o->max_expansions, "stop after this many expansions (0: no limit)");
+  plan->add_option("--time-budget", o->time_budget_s, "stop after this many seconds of search (0: no limit)");
+  plan->add_flag("--force", o->force, "overwrite existing output files");
+  plan->callback([o, &ctx] { run_plan(*o, ctx); });
+}
+
 }  // namespace starnav::cli

@@ -13,5 +13,6 @@ struct Context {
 void register_map_commands(CLI::App& app, Context& ctx);    // cmd_map.cpp
 void register_plan_commands(CLI::App& app, Context& ctx);   // cmd_plan.cpp
 void register_bench_commands(CLI::App& app, Context& ctx);  // cmd_bench.cpp
+void register_map_render(CLI::App& map, Context& ctx);       // cmd_map_render.cpp
 
 }  // namespace starnav::cli

@@ -77,17 +77,23 @@ struct Pose3 {
     r.position = -(r.orientation * position);
     return r;
   }
-  // Roll, pitch, yaw of R = Rz(yaw) Ry(pitch) Rx(roll); pitch in [-pi/2, pi/2].
+  // Roll, pitch, yaw of R = Rz(yaw) Ry(pitch) Rx(roll); pitch in [-pi/2, pi/2]. Accurate to
+  // rounding everywhere, also at and near gimbal lock (pitch = +-pi/2), where roll is set to 0
+  // and the whole rotation about z goes into yaw.
   Vec3 rpy() const {
     const Eigen::Matrix3d r = rotation();
-    const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
-    double roll = 0.0, yaw = 0.0;
-    if (std::abs(r(2, 0)) < 1.0 - 1e-12) {
-      roll = std::atan2(r(2, 1), r(2, 2));
-      yaw = std::atan2(r(1, 0), r(0, 0));
-    } else {  // gimbal lock: put everything in yaw
-      yaw = std::atan2(-r(0, 1), r(1, 1));
-    }
+    // R's last row is (-sin p, cos p sin r, cos p cos r).
+    double roll = 0.0;
+    if (std::hypot(r(2, 1), r(2, 2)) > 1e-12) roll = std::atan2(r(2, 1), r(2, 2));
+    // Undo the roll: N = R Rx(roll)^T = Rz(yaw) Ry(pitch) = [cy cp, -sy, cy sp; sy cp, cy, sy sp; -sp, 0, cp].
+    // Pitch from (N20, N22) and yaw from N's middle column stay well conditioned near the lock
+    // (unlike asin(-R20) or atan2(R10, R00)).
+    const double cr = std::cos(roll), sr = std::sin(roll);
+    const double n22 = sr * r(2, 1) + cr * r(2, 2);
+    const double n01 = cr * r(0, 1) - sr * r(0, 2);
+    const double n11 = cr * r(1, 1) - sr * r(1, 2);
+    const double pitch = std::atan2(-r(2, 0), n22);
+    const double yaw = std::atan2(-n01, n11);
     return {roll, pitch, yaw};
   }
   Pose2 to_pose2() const { return {position.x(), position.y(), rpy().z()}; }

@@ -5,6 +5,7 @@
 // from the top (y_down), which only matters to pictures and to the units the CLI prints.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include "starnav/core/geometry.hpp"
@@ -45,10 +46,12 @@ struct GridGeometry {
   // Continuous cell coordinates of a world point (cell (ix, iy) covers [ix, ix+1) x [iy, iy+1)).
   Vec2 world_to_cell_continuous(const Vec2& w) const { return world_to_grid(w) / resolution; }
 
-  // The cell containing a world point, whether or not it lies inside the map.
+  // The cell containing a world point, whether or not it lies inside the map. Coordinates beyond
+  // the int range are clamped to it and NaN becomes INT_MIN (always outside the map), so a wild
+  // point never overflows the conversion.
   Cell world_to_cell_unchecked(const Vec2& w) const {
     const Vec2 c = world_to_cell_continuous(w);
-    return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
+    return {floor_to_int(c.x()), floor_to_int(c.y())};
   }
   // The cell containing a world point, or nothing when it falls outside the map.
   std::optional<Cell> world_to_cell(const Vec2& w) const {
@@ -59,6 +62,14 @@ struct GridGeometry {
     return Cell{static_cast<int>(fx), static_cast<int>(fy)};
   }
   double width_m() const { return width * resolution; }
+  // floor(v) as an int, saturated to the int range; NaN gives INT_MIN.
+  static int floor_to_int(double v) {
+    constexpr double lo = static_cast<double>(std::numeric_limits<int>::min());
+    constexpr double hi = static_cast<double>(std::numeric_limits<int>::max());
+    if (!(v >= lo)) return std::numeric_limits<int>::min();  // also NaN
+    if (v >= hi) return std::numeric_limits<int>::max();
+    return static_cast<int>(std::floor(v));
+  }
   double height_m() const { return height * resolution; }
 };
 

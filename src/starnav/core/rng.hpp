@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 namespace starnav {
 
@@ -51,8 +52,11 @@ class Rng {
   // Uniform in [lo, hi).
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   // Uniform integer in [lo, hi] (inclusive), unbiased (Lemire's method with rejection).
+  // Requires lo <= hi (swapped otherwise). The span is computed in unsigned arithmetic, so the
+  // full int64 range works without signed overflow.
   std::int64_t uniform_int(std::int64_t lo, std::int64_t hi) {
-    const std::uint64_t range = static_cast<std::uint64_t>(hi - lo) + 1u;
+    if (hi < lo) std::swap(lo, hi);
+    const std::uint64_t range = static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo) + 1u;
     if (range == 0) return static_cast<std::int64_t>(next());  // full 64-bit range
     uint128_t m = static_cast<uint128_t>(next()) * range;
     std::uint64_t low = static_cast<std::uint64_t>(m);
@@ -63,7 +67,8 @@ class Rng {
         low = static_cast<std::uint64_t>(m);
       }
     }
-    return lo + static_cast<std::int64_t>(m >> 64);
+    // lo + offset in unsigned arithmetic (offset may exceed INT64_MAX); the result is in [lo, hi].
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(lo) + static_cast<std::uint64_t>(m >> 64));
   }
   // Standard normal (Marsaglia polar method).
   double normal() {

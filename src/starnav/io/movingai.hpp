@@ -57,6 +57,8 @@ struct MovingAiScenario {
   std::string version = "1";  // "1" or "1.0"
   bool space_separated = false;  // the bg512 flavour
   std::vector<ScenarioEntry> entries;
+  // Empty lines after the last problem (three hog2 dao files have them), kept for round trips.
+  int trailing_blank_lines = 0;
   friend bool operator==(const MovingAiScenario&, const MovingAiScenario&) = default;
 };
 

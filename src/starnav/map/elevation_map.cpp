@@ -77,7 +77,7 @@ bool operator==(const ElevationMap& a, const ElevationMap& b) {
   const auto& gb = b.geometry_;
   return ga.width == gb.width && ga.height == gb.height && ga.resolution == gb.resolution &&
          ga.origin.x == gb.origin.x && ga.origin.y == gb.origin.y && ga.origin.yaw == gb.origin.yaw &&
-         a.height_ == b.height_ && a.min_ == b.min_ && a.max_ == b.max_ && a.observed_ == b.observed_;
+         ga.y_down == gb.y_down && a.height_ == b.height_ && a.min_ == b.min_ && a.max_ == b.max_ && a.observed_ == b.observed_;
 }
 
 }  // namespace starnav

@@ -76,7 +76,7 @@ class OccupancyGrid {
     return a.geometry_.width == b.geometry_.width && a.geometry_.height == b.geometry_.height &&
            a.geometry_.resolution == b.geometry_.resolution && a.geometry_.origin.x == b.geometry_.origin.x &&
            a.geometry_.origin.y == b.geometry_.origin.y && a.geometry_.origin.yaw == b.geometry_.origin.yaw &&
-           a.data_ == b.data_;
+           a.geometry_.y_down == b.geometry_.y_down && a.data_ == b.data_;
   }
 
  private:

@@ -1,0 +1,279 @@
+#!/usr/bin/env python3
+"""Writes the hand-made seed inputs of every fuzz target into fuzz/corpus/<target>/.
+
+All of these are written here from scratch (nothing is copied from ../shared/). They are small
+valid files of each format plus a few interesting invalid ones. scripts/fuzz.sh runs this only when
+a target's corpus folder is empty; the committed corpus is what `-merge=1` kept afterwards.
+Usage: fuzz/seeds/make_seeds.py [CORPUS_DIR]   (default: fuzz/corpus beside this script)
+"""
+import os
+import struct
+import sys
+import zlib
+
+SEP = b"\n#@@\n"  # fuzz_drivers.hpp kFileSeparator
+
+
+def png(width, height, color_type, bit_depth, rows, palette=None, trns=None, interlace=0, extra=b""):
+    """A PNG from raw scanlines (each row given without its filter byte; filter 0 is added)."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    ihdr = struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, interlace)
+    out = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr)
+    if palette is not None:
+        out += chunk(b"PLTE", palette)
+    if trns is not None:
+        out += chunk(b"tRNS", trns)
+    out += extra
+    raw = b"".join(b"\x00" + r for r in rows)
+    out += chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b"")
+    return out
+
+
+def grey8(w, h):
+    return [bytes((x * 37 + y * 91) & 0xFF for x in range(w)) for y in range(h)]
+
+
+def grey16(w, h):
+    return [b"".join(struct.pack(">H", (x * 4099 + y * 12345) & 0xFFFF) for x in range(w)) for y in range(h)]
+
+
+def pngs():
+    w, h = 5, 4
+    return {
+        "grey8.png": png(w, h, 0, 8, grey8(w, h)),
+        "grey16.png": png(w, h, 0, 16, grey16(w, h)),
+        "grey1.png": png(9, 3, 0, 1, [b"\xa5\x80"] * 3),
+        "grey4.png": png(4, 2, 0, 4, [b"\x0f\xa5", b"\x12\x34"]),
+        "greyalpha8.png": png(3, 2, 4, 8, [bytes([0, 255, 128, 0, 254, 200])] * 2),
+        "greyalpha16.png": png(2, 2, 4, 16, [b"\xff\xff\x00\x00\x12\x34\xff\xff"] * 2),
+        "rgb8.png": png(3, 2, 2, 8, [bytes([0, 0, 0, 255, 255, 255, 10, 200, 30])] * 2),
+        "rgb16.png": png(2, 1, 2, 16, [b"\x00\x01\x00\x02\x00\x03\xff\xff\x80\x00\x00\x00"]),
+        "rgba8.png": png(2, 2, 6, 8, [bytes([1, 2, 3, 255, 250, 250, 250, 0])] * 2),
+        "palette.png": png(4, 2, 3, 8, [bytes([0, 1, 2, 1])] * 2, palette=bytes([0, 0, 0, 205, 205, 205, 254, 254, 254])),
+        "palette_trns.png": png(4, 1, 3, 2, [b"\x1b"], palette=bytes([0, 0, 0, 255, 0, 0, 0, 255, 0]), trns=b"\x00\x80"),
+        "grey_trns.png": png(2, 2, 0, 8, [b"\x05\xfe"] * 2, trns=b"\x00\xfe"),
+        "interlaced.png": png(1, 1, 0, 8, [b"\x7f"], interlace=1),
+        "truncated.png": png(5, 4, 0, 8, grey8(5, 4))[:40],
+        "bad_crc.png": png(2, 2, 0, 8, [b"\x00\x01"] * 2)[:-1] + b"\x00",
+        "huge_ihdr.png": png(2, 2, 0, 8, [b"\x00\x01"] * 2).replace(
+            struct.pack(">II", 2, 2), struct.pack(">II", 1000000, 1000000), 1),
+        "empty.png": b"",
+        "magic_only.png": b"\x89PNG\r\n\x1a\n",
+    }
+
+
+def pgms():
+    body8 = bytes(range(0, 240, 20))  # 4 x 3
+    body16 = b"".join(struct.pack(">H", v) for v in (0, 1, 1000, 65535, 32768, 7))
+    return {
+        "p5_8bit.pgm": b"P5\n4 3\n255\n" + body8,
+        "p5_comment.pgm": b"P5\n# CREATOR: hand-written seed\n4 3\n255\n" + body8,
+        "p5_16bit.pgm": b"P5 3 2 65535\n" + body16,
+        "p5_maxval100.pgm": b"P5\n2 2\n100\n" + bytes([0, 50, 99, 100]),
+        "p2_8bit.pgm": b"P2\n# ascii\n3 2\n255\n0 128 255\n205 254 1\n",
+        "p2_16bit.pgm": b"P2\n2 2\n65535\n0 65535\n300 12\n",
+        "p2_comments_everywhere.pgm": b"P2 # a\n2 # b\n1 # c\n15 # d\n3 # e\n15\n",
+        "truncated.pgm": b"P5\n4 3\n255\n\x00\x01",
+        "huge.pgm": b"P5\n100000 100000\n255\n\x00",
+        "maxval0.pgm": b"P5\n1 1\n0\n\x00",
+        "maxval_big.pgm": b"P5\n1 1\n70000\n\x00\x00",
+        "negative.pgm": b"P2\n-3 2\n255\n0 0 0\n",
+        "p6.pgm": b"P6\n1 1\n255\n\x00\x00\x00",
+        "empty.pgm": b"",
+    }
+
+
+def maps():
+    lf = b"type octile\nheight 3\nwidth 4\nmap\n.@.T\nGS.O\nW...\n"
+    return {
+        "small.map": lf,
+        "crlf.map": lf.replace(b"\n", b"\r\n"),
+        "crlf_no_final_newline.map": lf.replace(b"\n", b"\r\n")[:-2],
+        "no_final_newline.map": lf[:-1],
+        "one_cell.map": b"type octile\nheight 1\nwidth 1\nmap\n.\n",
+        "width_first.map": b"type octile\nwidth 2\nheight 2\nmap\n..\n@@\n",
+        "short_row.map": b"type octile\nheight 2\nwidth 3\nmap\n...\n..\n",
+        "long_row.map": b"type octile\nheight 1\nwidth 2\nmap\n...\n",
+        "missing_row.map": b"type octile\nheight 3\nwidth 2\nmap\n..\n..\n",
+        "extra_row.map": b"type octile\nheight 1\nwidth 2\nmap\n..\n..\n",
+        "bad_char.map": b"type octile\nheight 1\nwidth 3\nmap\n.x.\n",
+        "zero.map": b"type octile\nheight 0\nwidth 0\nmap\n",
+        "negative.map": b"type octile\nheight -1\nwidth 2\nmap\n..\n",
+        "huge.map": b"type octile\nheight 2147483647\nwidth 2147483647\nmap\n.\n",
+        "overflow.map": b"type octile\nheight 99999999999999999999\nwidth 1\nmap\n.\n",
+        "no_type.map": b"height 1\nwidth 1\nmap\n.\n",
+        "empty.map": b"",
+    }
+
+
+def scens():
+    v1 = (b"version 1\n"
+          b"0\tmaps/dao/tiny.map\t4\t3\t0\t0\t3\t2\t3.82842712\n"
+          b"1\ttiny.map\t4\t3\t2\t1\t2\t1\t0\n"
+          b"3\ttiny.map\t4\t3\t0\t2\t3\t0\t0\n")
+    return {
+        "v1.scen": v1,
+        "v1_crlf.scen": v1.replace(b"\n", b"\r\n"),
+        "v1_no_final_newline.scen": v1[:-1],
+        "v1_header_only.scen": b"version 1\n",
+        "bg512.scen": b"version 1.0\n61 maps/bgmaps/tiny.map 4 3 0 0 3 2 3.83\n7 maps/bgmaps/tiny.map 4 3 1 1 2 1 1.00\n",
+        "v1_exponent.scen": b"version 1\n0\tm.map\t4\t3\t0\t0\t1\t1\t1.4142e0\n",
+        "v1_nan.scen": b"version 1\n0\tm.map\t4\t3\t0\t0\t1\t1\tnan\n",
+        "v1_missing_field.scen": b"version 1\n0\tm.map\t4\t3\t0\t0\t1\t1\n",
+        "v1_extra_field.scen": b"version 1\n0\tm.map\t4\t3\t0\t0\t1\t1\t1.41421\t9\n",
+        "v1_negative.scen": b"version 1\n0\tm.map\t4\t3\t-1\t0\t1\t1\t1.4\n",
+        "v1_overflow.scen": b"version 1\n0\tm.map\t4\t3\t99999999999\t0\t1\t1\t1.4\n",
+        "version2.scen": b"version 2\n",
+        "no_version.scen": b"0\tm.map\t4\t3\t0\t0\t1\t1\t1.4\n",
+        "empty.scen": b"",
+    }
+
+
+def ros_yamls():
+    image = b"P5\n3 2\n255\n\x00\xcd\xfe\x80\xff\x10"
+    base = (b"image: m.pgm\nresolution: 0.05\norigin: [-10.0, -10.0, 0.0]\nnegate: 0\n"
+            b"occupied_thresh: 0.65\nfree_thresh: 0.196\n")
+    return {
+        "map_saver.yaml": base,
+        "map_saver_with_image.yaml": base + SEP + image,
+        "trinary.yaml": base + b"mode: trinary\n" + SEP + image,
+        "scale.yaml": base.replace(b"negate: 0", b"negate: 1") + b"mode: scale\n" + SEP + image,
+        "raw.yaml": base + b"mode: raw\n" + SEP + image,
+        "yaw.yaml": b"image: m.pgm\nresolution: 0.1\norigin: [2.0, 3.0, 1.0]\nnegate: false\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
+        "flow.yaml": b"{image: m.pgm, resolution: 1, origin: [0, 0, 0], negate: 0, occupied_thresh: 0.9, free_thresh: 0.1}\n" + SEP + image,
+        "extra_key.yaml": base + b"map_type: occupancy\n",
+        "missing_resolution.yaml": b"image: m.pgm\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
+        "bad_origin.yaml": base.replace(b"[-10.0, -10.0, 0.0]", b"[1, 2]"),
+        "bad_mode.yaml": base + b"mode: fancy\n",
+        "neg_resolution.yaml": base.replace(b"0.05", b"-0.05"),
+        "nan_resolution.yaml": base.replace(b"0.05", b".nan"),
+        "thresh_swapped.yaml": base.replace(b"0.65", b"0.1").replace(b"0.196", b"0.9"),
+        "not_a_map.yaml": b"- 1\n- 2\n",
+        "scalar.yaml": b"hello\n",
+        "tabs.yaml": b"image:\tm.pgm\n",
+        "unclosed.yaml": b"origin: [0, 0\n",
+        "anchors.yaml": b"a: &x [0, 0, 0]\nimage: m.pgm\nresolution: 1\norigin: *x\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
+        "empty.yaml": b"",
+    }
+
+
+def ascs():
+    corner = (b"ncols 4\nnrows 3\nxllcorner 100.0\nyllcorner 200.0\ncellsize 2.5\nNODATA_value -9999\n"
+              b"1 2 3 4\n5 -9999 7 8\n9.5 10 11 1e2\n")
+    return {
+        "corner.asc": corner,
+        "center.asc": corner.replace(b"xllcorner", b"xllcenter").replace(b"yllcorner", b"yllcenter"),
+        "crlf.asc": corner.replace(b"\n", b"\r\n"),
+        "uppercase.asc": corner.replace(b"ncols", b"NCOLS").replace(b"nrows", b"NROWS").replace(b"cellsize", b"CELLSIZE"),
+        "no_nodata.asc": b"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 4\n",
+        "one_line.asc": b"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -1\n1 2 3 4\n",
+        "nodata_all.asc": b"ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -1\n-1\n",
+        "too_few.asc": b"ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4\n",
+        "too_many.asc": b"ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n",
+        "huge.asc": b"ncols 1000000\nnrows 1000000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n",
+        "nan.asc": b"ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\nnan inf\n",
+        "zero_cellsize.asc": b"ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 0\n1\n",
+        "negative.asc": b"ncols -2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n",
+        "missing_header.asc": b"ncols 1\n1\n",
+        "empty.asc": b"",
+    }
+
+
+def csvs():
+    return {
+        "grid.csv": b"1,2,3\n4,5,6\n",
+        "unobserved.csv": b"1.5,,3\n,-2e3,\n",
+        "crlf.csv": b"1,2\r\n3,4\r\n",
+        "no_final_newline.csv": b"0.25,0.5\n0.75,1",
+        "single.csv": b"42\n",
+        "ragged.csv": b"1,2,3\n4,5\n",
+        "text.csv": b"1,abc\n2,3\n",
+        "nan.csv": b"nan,inf\n-inf,1\n",
+        "all_empty.csv": b",\n,\n",
+        "spaces.csv": b" 1 , 2\n3 ,4 \n",
+        "blank_line.csv": b"1,2\n\n3,4\n",
+        "empty.csv": b"",
+    }
+
+
+def elevation_yamls():
+    img16 = png(3, 2, 0, 16, [b"\x00\x00\x80\x00\xff\xff", b"\x00\x01\x12\x34\x00\x00"])
+    img8 = png(2, 2, 0, 8, grey8(2, 2))
+    base = b"image: e.png\nresolution: 0.5\norigin: [1.0, 2.0, 0.0]\nz_min: -1.5\nz_max: 10.0\n"
+    return {
+        "elev16.yaml": base + SEP + img16,
+        "elev16_nodata.yaml": base + b"nodata: 0\n" + SEP + img16,
+        "elev16_width_height.yaml": base + b"width: 3\nheight: 2\n" + SEP + img16,
+        "elev16_wrong_width.yaml": base + b"width: 4\nheight: 2\n" + SEP + img16,
+        "elev8.yaml": base + SEP + img8,
+        "elev_yaw.yaml": base.replace(b"0.0]", b"0.7]") + SEP + img16,
+        "elev_rgb.yaml": base + SEP + png(1, 1, 2, 8, [b"\x01\x02\x03"]),
+        "elev_flat.yaml": base.replace(b"10.0", b"-1.5") + SEP + img16,
+        "zmin_gt_zmax.yaml": base.replace(b"10.0", b"-5") + SEP + img16,
+        "missing_zmax.yaml": b"image: e.png\nresolution: 0.5\norigin: [0, 0, 0]\nz_min: 0\n" + SEP + img16,
+        "nodata_big.yaml": base + b"nodata: 70000\n" + SEP + img16,
+        "pgm_image.yaml": base + SEP + b"P5\n1 1\n255\n\x05",
+        "no_image.yaml": base,
+        "bad_png.yaml": base + SEP + img16[:30],
+        "nan_zmax.yaml": base.replace(b"10.0", b".nan") + SEP + img16,
+    }
+
+
+def unity_raws():
+    def sidecar(size, w, h, zmin=0.0, zmax=4.0, res=1.0, extra=""):
+        return (f"format: unity_raw\nbyte_order: little\nsize: {size}\nwidth: {w}\nheight: {h}\n"
+                f"resolution: {res}\norigin: [0.5, -2, 0.1]\nz_min: {zmin}\nz_max: {zmax}\n{extra}").encode()
+
+    def raw(size, f):
+        return b"".join(struct.pack("<H", f(x, y) & 0xFFFF) for y in range(size) for x in range(size))
+
+    return {
+        "raw3.raw": sidecar(3, 3, 3) + SEP + raw(3, lambda x, y: x * 1000 + y * 7),
+        "raw5_padded.raw": sidecar(5, 4, 3) + SEP + raw(5, lambda x, y: (x + y) * 5000),
+        "raw2.raw": sidecar(2, 2, 2) + SEP + raw(2, lambda x, y: 65535 * x),
+        "raw_short.raw": sidecar(3, 3, 3) + SEP + raw(3, lambda x, y: 1)[:-3],
+        "raw_long.raw": sidecar(3, 3, 3) + SEP + raw(3, lambda x, y: 1) + b"\x00\x00",
+        "raw_odd_size.raw": sidecar(4, 4, 4) + SEP + raw(4, lambda x, y: 9),
+        "raw_bigger_wh.raw": sidecar(3, 9, 9) + SEP + raw(3, lambda x, y: 9),
+        "raw_huge_size.raw": sidecar(65537, 65537, 65537) + SEP + raw(3, lambda x, y: 9),
+        "raw_no_sidecar.raw": SEP + raw(3, lambda x, y: 2),
+        "raw_nan.raw": sidecar(3, 3, 3, zmax=".nan") + SEP + raw(3, lambda x, y: 2),
+        "raw_nodata.raw": sidecar(3, 2, 3, extra="nodata: 0\n") + SEP + raw(3, lambda x, y: x * 30000),
+        "raw_big_endian.raw": sidecar(2, 2, 2).replace(b"little", b"big") + SEP + raw(2, lambda x, y: 1),
+        "raw_minimal_keys.raw": b"size: 3\nwidth: 3\nheight: 3\nresolution: 1\norigin: [0, 0, 0]\nz_min: 0\nz_max: 1\n" + SEP + raw(3, lambda x, y: 7),
+    }
+
+
+TARGETS = {
+    "fuzz_movingai_map": maps,
+    "fuzz_movingai_scen": scens,
+    "fuzz_pgm": pgms,
+    "fuzz_png": pngs,
+    "fuzz_ros_yaml": ros_yamls,
+    "fuzz_asc": ascs,
+    "fuzz_elevation_csv": csvs,
+    "fuzz_elevation_yaml": elevation_yamls,
+    "fuzz_unity_raw": unity_raws,
+}
+
+
+def main():
+    root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "corpus")
+    only = set(sys.argv[2:])
+    for target, make in TARGETS.items():
+        if only and target not in only:
+            continue
+        out = os.path.join(root, target)
+        os.makedirs(out, exist_ok=True)
+        for name, data in make().items():
+            # libFuzzer names corpus files by SHA-1; seeds keep a readable prefix instead.
+            path = os.path.join(out, f"seed-{name}")
+            with open(path, "wb") as f:
+                f.write(data)
+        print(f"{target}: {len(make())} seeds in {out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,32 @@
+#include "starnav/io/file_bytes.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "starnav/core/error.hpp"
+
+namespace starnav {
+
+std::string read_file_bytes(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error("is a directory, not a file", path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(std::string("cannot open file: ") + std::strerror(errno), path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw Error("read error", path);
+  return ss.str();
+}
+
+void write_file_bytes(const std::string& path, std::string_view bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw Error(std::string("cannot create file: ") + std::strerror(errno), path);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) throw Error("write error", path);
+}
+
+}  // namespace starnav

@@ -1,0 +1,149 @@
+#include "starnav/io/map_file.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "starnav/core/error.hpp"
+#include "starnav/io/elevation_io.hpp"
+
+namespace starnav {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// A .yaml is an elevation sidecar when it has z_min/z_max, a map_server map when it has
+// occupied_thresh (conventions.md).
+MapFormat detect_yaml_kind(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw Error("file not found", path);
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw Error("not valid YAML: " + e.msg, path, e.mark.line >= 0 ? e.mark.line + 1 : 0);
+  }
+  if (!root.IsMap()) throw Error("expected a YAML mapping of keys", path);
+  if (root["z_min"] || root["z_max"]) return MapFormat::ElevationYaml;
+  if (root["occupied_thresh"] || root["free_thresh"] || root["negate"]) return MapFormat::RosMap;
+  throw Error("neither an elevation map (z_min, z_max) nor a map_server map (occupied_thresh)", path);
+}
+
+// Index grids (MovingAI, row 0 on top) and metric grids (row 0 at the bottom) store rows in
+// opposite orders; converting between them flips the rows so the picture stays the same.
+OccupancyGrid with_row_order(const OccupancyGrid& grid, bool y_down) {
+  if (grid.geometry().y_down == y_down) return grid;
+  GridGeometry g = grid.geometry();
+  g.y_down = y_down;
+  OccupancyGrid out(g);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) out(x, y) = grid(x, g.height - 1 - y);
+  return out;
+}
+
+}  // namespace
+
+const char* map_format_name(MapFormat f) {
+  switch (f) {
+    case MapFormat::MovingAi: return "movingai";
+    case MapFormat::RosMap: return "ros_map";
+    case MapFormat::ElevationYaml: return "elevation_png";
+    case MapFormat::Asc: return "asc";
+    case MapFormat::Csv: return "csv";
+    case MapFormat::UnityRaw: return "unity_raw";
+    case MapFormat::GeoTiff: return "geotiff";
+  }
+  return "unknown";
+}
+
+MapFormat detect_map_format(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".map") return MapFormat::MovingAi;
+  if (ext == ".yaml" || ext == ".yml") return detect_yaml_kind(path);
+  if (ext == ".asc") return MapFormat::Asc;
+  if (ext == ".csv") return MapFormat::Csv;
+  if (ext == ".raw" || ext == ".r16") return MapFormat::UnityRaw;
+  if (ext == ".tif" || ext == ".tiff") return MapFormat::GeoTiff;
+  throw Error("unknown map format (expected .map, .yaml, .asc, .csv, .raw, .tif)", path);
+}
+
+const GridGeometry& LoadedMap::geometry() const {
+  return is_elevation() ? elevation().geometry() : occupancy().geometry();
+}
+
+OccupancyThresholds LoadedMap::thresholds() const {
+  OccupancyThresholds t;
+  if (ros) {
+    // map_server already applied its thresholds when it turned pixels into 0/100/-1 (trinary)
+    // or 0..99 (scale); what remains is to read those values back with the same cut-offs.
+    t.occupied_percent = ros->occupied_thresh * 100.0;
+    t.free_percent = ros->free_thresh * 100.0;
+  }
+  return t;
+}
+
+LoadedMap load_map(const std::string& path) {
+  LoadedMap out;
+  out.format = detect_map_format(path);
+  switch (out.format) {
+    case MapFormat::MovingAi: {
+      MovingAiMap m = read_movingai_map(path);
+      out.map = m.to_occupancy();
+      out.movingai = std::move(m);
+      break;
+    }
+    case MapFormat::RosMap: {
+      RosMapMetadata meta;
+      out.map = read_ros_map(path, &meta);
+      out.ros = meta;
+      break;
+    }
+    case MapFormat::ElevationYaml: out.map = read_elevation_yaml(path); break;
+    case MapFormat::Asc: out.map = read_asc(path); break;
+    case MapFormat::Csv: out.map = read_elevation_csv(path); break;
+    case MapFormat::UnityRaw: out.map = read_unity_raw(path); break;
+    case MapFormat::GeoTiff: out.map = read_geotiff(path); break;
+  }
+  return out;
+}
+
+void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
+  const bool elevation_format = format == MapFormat::ElevationYaml || format == MapFormat::Asc ||
+                                format == MapFormat::Csv || format == MapFormat::UnityRaw ||
+                                format == MapFormat::GeoTiff;
+  if (elevation_format != map.is_elevation())
+    throw Error(std::string("cannot write ") + (map.is_elevation() ? "an elevation map" : "an occupancy grid") +
+                    " as " + map_format_name(format),
+                path);
+  switch (format) {
+    case MapFormat::MovingAi:
+      if (map.movingai)
+        write_movingai_map(*map.movingai, path);
+      else
+        write_movingai_map(MovingAiMap::from_occupancy(with_row_order(map.occupancy(), true), map.thresholds()), path);
+      return;
+    case MapFormat::RosMap: {
+      RosMapMetadata meta = map.ros.value_or(RosMapMetadata{});
+      meta.image.clear();  // write the image beside the new YAML, named after it
+      meta.resolution = map.occupancy().resolution();
+      meta.origin = map.occupancy().origin();
+      write_ros_map(with_row_order(map.occupancy(), false), path, meta);
+      return;
+    }
+    case MapFormat::ElevationYaml: write_elevation_yaml(map.elevation(), path); return;
+    case MapFormat::Asc: write_asc(map.elevation(), path); return;
+    case MapFormat::Csv: write_elevation_csv(map.elevation(), path); return;
+    case MapFormat::UnityRaw: write_unity_raw(map.elevation(), path); return;
+    case MapFormat::GeoTiff: throw Error("writing GeoTIFF is not supported (read only)", path);
+  }
+}
+
+}  // namespace starnav

@@ -1,0 +1,46 @@
+#pragma once
+// The query-level interface of every planner on occupancy grids, used by the CLI, the
+// benchmarks and (later) the navigation stack. Virtual dispatch happens once per query; inside a
+// search everything is templated (see search_core.hpp), so the interface costs nothing per node.
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "starnav/map/occupancy_grid.hpp"
+#include "starnav/plan/plan_result.hpp"
+
+namespace starnav {
+
+struct GridPlannerOptions {
+  int connectivity = 8;           // 4 or 8 (8: no corner cutting, conventions.md)
+  bool unknown_is_free = false;   // optimistic planning in unknown space
+  OccupancyThresholds thresholds;
+  double weight = 1.0;            // weighted A*: f = g + w*h, w >= 1
+  std::string heuristic;          // "" = the planner's default; "octile", "manhattan", "euclidean", "zero"
+  bool record_trace = false;      // keep the expanded cells (for pictures)
+};
+
+class GridPlanner {
+ public:
+  virtual ~GridPlanner() = default;
+  virtual std::string_view name() const = 0;
+  // False when the returned cost may exceed the optimum (weighted A*, inadmissible heuristics).
+  virtual bool admissible() const = 0;
+  virtual PlanResult plan(Cell start, Cell goal, const SearchLimits& limits = {}) = 0;
+  // Per-map preprocessing time (e.g. JPS+ jump tables), not counted in any query's time.
+  virtual double preprocess_ms() const { return 0.0; }
+  // Cells expanded by the last query when options.record_trace was set.
+  virtual const std::vector<Cell>& trace() const {
+    static const std::vector<Cell> empty;
+    return empty;
+  }
+};
+
+// Names: dijkstra, astar, wastar, jps, jpsplus, thetastar, dstarlite. Throws Error for an unknown
+// name or options the planner cannot honour (e.g. jps with connectivity 4).
+std::unique_ptr<GridPlanner> make_grid_planner(std::string_view name, const OccupancyGrid& grid,
+                                               const GridPlannerOptions& options = {});
+std::vector<std::string> grid_planner_names();
+
+}  // namespace starnav

@@ -1,3 +1,0 @@
-#include <gtest/gtest.h>
-#include "starnav/core/rng.hpp"
-TEST(Smoke, Rng) { starnav::Rng r(1); EXPECT_NE(r.next(), r.next()); }
