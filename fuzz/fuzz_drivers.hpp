@@ -7,7 +7,8 @@
 // escapes, and so does InvariantViolation when a parser accepts an input but returns something
 // inconsistent (cell count != width * height, a documented round trip that does not hold, ...).
 //
-// Targets that read files (fuzz_elevation_yaml, fuzz_unity_raw, and fuzz_ros_yaml with an image)
+// Targets that read files (fuzz_elevation_yaml, fuzz_unity_raw; fuzz_ros_yaml with an image and
+// fuzz_asc with a .prj)
 // take two files in one input: the YAML text, then the line kFileSeparator, then the bytes of the
 // second file, which is written to a per-process scratch folder under the name the seeds use.
 #include <unistd.h>
@@ -233,9 +234,23 @@ inline void fuzz_ros_yaml(std::string_view data) {
   }
 }
 
+// The grid alone through parse_asc; with a second file (a .prj: WKT or the old ESRI keywords)
+// both are written as g.asc and g.prj and read with read_asc, which converts the geometry.
 inline void fuzz_asc(std::string_view data) {
+  const auto [asc, prj] = split_files(data);
+  if (prj.empty()) {
+    try {
+      check_elevation(parse_asc(asc, "fuzz.asc"));
+    } catch (const Error&) {
+    }
+    return;
+  }
+  const ScratchFolder& dir = scratch();
+  dir.write("g.prj", prj);
+  const std::string asc_path = dir.write("g.asc", asc);
   try {
-    check_elevation(parse_asc(data, "fuzz.asc"));
+    ElevationGeoref georef;
+    check_elevation(read_asc(asc_path, &georef));
   } catch (const Error&) {
   }
 }

@@ -178,6 +178,19 @@ def ascs():
         "negative.asc": b"ncols -2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n",
         "missing_header.asc": b"ncols 1\n1\n",
         "empty.asc": b"",
+        # With a .prj after the separator: read_asc converts degrees / feet to metres.
+        "geographic_prj.asc": corner.replace(b"100.0", b"-105.5").replace(b"200.0", b"39.5").replace(b"2.5", b"0.000833333")
+        + SEP + b'GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",SPHEROID["WGS_1984",6378137.0,298.257223563]],'
+                b'PRIMEM["Greenwich",0.0],UNIT["Degree",0.0174532925199433]]',
+        "projected_prj.asc": corner + SEP + b'PROJCS["NAD_1983_UTM_Zone_13N",GEOGCS["GCS_North_American_1983",'
+        b'DATUM["D_North_American_1983",SPHEROID["GRS_1980",6378137.0,298.257222101]],PRIMEM["Greenwich",0.0],'
+        b'UNIT["Degree",0.0174532925199433]],PROJECTION["Transverse_Mercator"],PARAMETER["False_Easting",500000.0],'
+        b'UNIT["Foot_US",0.3048006096012192]]',
+        "esri_old_geographic.asc": corner.replace(b"200.0", b"89.99") + SEP + b"Projection    GEOGRAPHIC\nDatum         WGS84\nZunits        NO\nUnits         DD\n",
+        "esri_old_feet.asc": corner + SEP + b"Projection UTM\nZone 13\nUnits FEET\n",
+        "wkt2_prj.asc": corner + SEP + b'GEOGCRS["WGS 84",ELLIPSOID["WGS 84",6378137,298.257223563],ANGLEUNIT["degree",0.0174532925199433]]',
+        "bad_latitude_prj.asc": corner.replace(b"200.0", b"95") + SEP + b'GEOGCS["x",UNIT["Degree",0.0174532925199433]]',
+        "garbage_prj.asc": corner + SEP + b'PROJCS["unterminated,UNIT[',
     }
 
 

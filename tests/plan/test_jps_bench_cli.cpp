@@ -127,6 +127,7 @@ TEST(BenchMovingAiCli, ExactCountsAndJsonKeys) {
     EXPECT_EQ(p["exact"], kProblems.size());
     EXPECT_EQ(p["solved"], kProblems.size() - 1);  // the unsolvable one has no path
     EXPECT_EQ(p["unsolvable"], 1);
+    EXPECT_EQ(p["shorter"], 0);
     EXPECT_LE(p["max_abs_error"].get<double>(), 1e-7);
     EXPECT_GE(p["median_time_us"].get<double>(), 0.0);
     EXPECT_GT(p["total_expanded"].get<long long>(), 0);

@@ -93,8 +93,9 @@ inline CliResult run_cli(const std::vector<std::string>& args) {
   const std::string out_path = (tmp / ("starnav_cli_out_" + tag)).string();
   const std::string err_path = (tmp / ("starnav_cli_err_" + tag)).string();
   std::string cmd = shell_quote(STARNAV_CLI_PATH);
-  for (const auto& a : args) cmd += " " + shell_quote(a);
-  cmd += " >" + shell_quote(out_path) + " 2>" + shell_quote(err_path) + " </dev/null";
+  // append() rather than `" " + ...`: GCC 12 warns falsely (-Wrestrict) on operator+ with a literal.
+  for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
+  cmd.append(" >").append(shell_quote(out_path)).append(" 2>").append(shell_quote(err_path)).append(" </dev/null");
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);

@@ -1,5 +1,5 @@
 // GeoTIFF elevation maps through GDAL (built only with -DSTARNAV_WITH_GDAL=ON; the twin
-// elevation_nogdal.cpp says clearly that GDAL is missing). See docs/formats-elevation.md.
+// elevation_nogdal.cpp says clearly that GDAL is missing). See docs/formats.md.
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <gdal_priv.h>

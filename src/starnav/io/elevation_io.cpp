@@ -1,5 +1,5 @@
 // Elevation map files: PNG16 + YAML sidecar, ESRI ASCII grid, CSV, Unity RAW (GeoTIFF lives in
-// elevation_gdal.cpp / elevation_nogdal.cpp). See docs/formats-elevation.md.
+// elevation_gdal.cpp / elevation_nogdal.cpp). See docs/formats.md.
 #include "starnav/io/elevation_io.hpp"
 
 #include <yaml-cpp/yaml.h>

@@ -43,7 +43,7 @@ ElevationMap read_geotiff(const std::string& path);
 // ---- Additions ---------------------------------------------------------------------------------
 
 // How a file's horizontal coordinates became the map's metric geometry
-// (docs/formats-elevation.md, "Geographic coordinates").
+// (docs/formats.md, "Geographic coordinates").
 struct ElevationGeoref {
   enum class Crs {
     None,        // no CRS known (.asc without .prj, GeoTIFF without one): coordinates kept as given

@@ -37,18 +37,6 @@ MapFormat detect_yaml_kind(const std::string& path) {
   throw Error("neither an elevation map (z_min, z_max) nor a map_server map (occupied_thresh)", path);
 }
 
-// Index grids (MovingAI, row 0 on top) and metric grids (row 0 at the bottom) store rows in
-// opposite orders; converting between them flips the rows so the picture stays the same.
-OccupancyGrid with_row_order(const OccupancyGrid& grid, bool y_down) {
-  if (grid.geometry().y_down == y_down) return grid;
-  GridGeometry g = grid.geometry();
-  g.y_down = y_down;
-  OccupancyGrid out(g);
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) out(x, y) = grid(x, g.height - 1 - y);
-  return out;
-}
-
 }  // namespace
 
 const char* map_format_name(MapFormat f) {
@@ -128,14 +116,14 @@ void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
       if (map.movingai)
         write_movingai_map(*map.movingai, path);
       else
-        write_movingai_map(MovingAiMap::from_occupancy(with_row_order(map.occupancy(), true), map.thresholds()), path);
+        write_movingai_map(MovingAiMap::from_occupancy(map.occupancy(), map.thresholds()), path);
       return;
     case MapFormat::RosMap: {
       RosMapMetadata meta = map.ros.value_or(RosMapMetadata{});
       meta.image.clear();  // write the image beside the new YAML, named after it
       meta.resolution = map.occupancy().resolution();
       meta.origin = map.occupancy().origin();
-      write_ros_map(with_row_order(map.occupancy(), false), path, meta);
+      write_ros_map(map.occupancy(), path, meta);
       return;
     }
     case MapFormat::ElevationYaml: write_elevation_yaml(map.elevation(), path); return;

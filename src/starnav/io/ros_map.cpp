@@ -326,7 +326,8 @@ RasterImage ros_map_to_image(const OccupancyGrid& grid, const RosMapMetadata& md
   const bool invert = md.negate && md.mode != RosMapMode::Raw;  // raw mode never negates
 
   for (int row = 0; row < image.height; ++row) {
-    const int iy = image.height - 1 - row;
+    // Index grids (MovingAI) keep their top row first already; metric grids are bottom-up.
+    const int iy = grid.geometry().y_down ? row : image.height - 1 - row;
     for (int x = 0; x < image.width; ++x) {
       const int v = grid(x, iy);
       const bool unknown = v < 0 || v > 100;

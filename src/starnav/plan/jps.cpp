@@ -335,6 +335,7 @@ class JpsPlanner final : public GridPlanner {
 
   PlanResult plan(Cell start, Cell goal, const SearchLimits& limits) override {
     PlanResult result;
+    trace_.clear();
     if (!geometry_.contains(start)) {
       result.status = PlanStatus::StartOutsideMap;
       return result;
@@ -351,7 +352,6 @@ class JpsPlanner final : public GridPlanner {
       result.status = PlanStatus::GoalBlocked;
       return result;
     }
-    trace_.clear();
     const auto t0 = Clock::now();
     result.status = search(start, goal, limits, result);
     if (result.status == PlanStatus::Found) build_path(start, goal);
@@ -387,7 +387,7 @@ class JpsPlanner final : public GridPlanner {
     const int gx = goal.x, gy = goal.y;
     const std::uint32_t goal_id = cell_id(gx, gy);
     const std::uint32_t start_id = cell_id(start.x, start.y);
-    const bool timed = limits.time_budget_s > 0.0;
+    const bool timed = limits.time_budget_s > 0.0 && limits.time_budget_s < 1e9;  // beyond: no limit
     const auto deadline = timed ? Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                                      std::chrono::duration<double>(limits.time_budget_s))
                                 : Clock::time_point{};
