@@ -225,6 +225,14 @@ std::string format_number(double v, int precision) {
   return s.str();
 }
 
+// A CSV field, quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& v) {
+  if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 void print_table(std::ostream& out, const std::vector<nlohmann::ordered_json>& rows, bool with_map) {
   struct Col {
     const char* title;
@@ -364,7 +372,7 @@ int run_bench_movingai(const MovingAiBenchOptions& o) {
         t.expanded += res.expanded;
         t.generated += res.generated;
         if (csv) {
-          *csv << pair.name << ',' << chosen[i] + 1 << ',' << e.bucket << ',' << e.start_x << ',' << e.start_y << ','
+          *csv << csv_field(pair.name) << ',' << chosen[i] + 1 << ',' << e.bucket << ',' << e.start_x << ',' << e.start_y << ','
                << e.goal_x << ',' << e.goal_y << ',' << e.optimal_length << ',' << planners[pi] << ','
                << plan_status_reason(res.status) << ',' << (res.found() ? 1 : 0) << ',' << res.cost << ','
                << abs_error << ',' << subopt << ',' << (exact ? 1 : 0) << ',' << res.expanded << ','

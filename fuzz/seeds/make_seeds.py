@@ -61,6 +61,8 @@ def pngs():
             struct.pack(">II", 2, 2), struct.pack(">II", 1000000, 1000000), 1),
         "empty.png": b"",
         "magic_only.png": b"\x89PNG\r\n\x1a\n",
+        # Valid CRCs, header of a 40000 x 40000 RGBA16 image (12.8 GB decoded), no pixel data.
+        "big_header_no_data.png": png(40000, 40000, 6, 16, [b""]),
     }
 
 
@@ -156,6 +158,7 @@ def ros_yamls():
         "unclosed.yaml": b"origin: [0, 0\n",
         "anchors.yaml": b"a: &x [0, 0, 0]\nimage: m.pgm\nresolution: 1\norigin: *x\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
         "empty.yaml": b"",
+        "deep_nesting.yaml": b"image: " + b"[" * 3000 + b"\n",
     }
 
 
@@ -231,6 +234,7 @@ def elevation_yamls():
         "no_image.yaml": base,
         "bad_png.yaml": base + SEP + img16[:30],
         "nan_zmax.yaml": base.replace(b"10.0", b".nan") + SEP + img16,
+        "deep_nesting.yaml": b"origin: " + b"{a: " * 2000 + b"\n" + SEP + img16,
     }
 
 

@@ -1,0 +1,57 @@
+#include "starnav/terrain/liu_cost.hpp"
+
+#include "starnav/core/error.hpp"
+
+namespace starnav {
+
+namespace {
+void check_positive(double v, const char* field) {
+  if (!std::isfinite(v) || !(v > 0.0)) throw Error("must be a finite number > 0", {}, 0, field);
+}
+void check_non_negative(double v, const char* field) {
+  if (!std::isfinite(v) || v < 0.0) throw Error("must be a finite number >= 0", {}, 0, field);
+}
+}  // namespace
+
+void LiuCostParams::validate() const {
+  check_positive(h_y, "h_y");
+  check_positive(a_y, "a_y");
+  if (a_y >= 1.5707963267948966) throw Error("must be below pi/2", {}, 0, "a_y");
+  check_positive(s_y, "s_y");
+  check_non_negative(w_s, "w_s");
+  check_non_negative(w_e, "w_e");
+  check_non_negative(w_r, "w_r");
+  check_non_negative(w1, "w1");
+  check_non_negative(w2, "w2");
+  check_non_negative(unobserved_g, "unobserved_g");
+  if (std::abs(w_s + w_e + w_r - 1.0) > 1e-6)
+    throw Error("w_s + w_e + w_r must be 1, got " + std::to_string(w_s + w_e + w_r), {}, 0, "weights");
+}
+
+double liu_g(double a, double h, double s, const LiuCostParams& p) {
+  if (!liu_passable(a, h, s, p)) return kImpassable;
+  return p.w_s * liu_f_slope(a, p) + p.w_e * liu_f_step(h, p) + p.w_r * liu_f_rugged(s, p);
+}
+
+double liu_move_cost(double a, double h, double s_child, double d, double resolution, const LiuCostParams& p) {
+  const double g = liu_g(a, h, s_child, p);
+  if (g == kImpassable) return kImpassable;
+  const double scale = p.cost_per_metre ? d / resolution : 1.0;
+  return p.w1 * g * scale + p.w2 * d;
+}
+
+double liu_move_cost_from_heights(double z_parent, double z_child, double s_child, double d, double resolution,
+                                  const LiuCostParams& p) {
+  const double h = std::abs(z_child - z_parent);
+  return liu_move_cost(liu_slope(h, d), h, s_child, d, resolution, p);
+}
+
+const char* liu_heuristic_name(LiuHeuristic h) { return h == LiuHeuristic::Paper ? "paper" : "admissible"; }
+
+LiuHeuristic parse_liu_heuristic(const std::string& name, const std::string& field) {
+  if (name == "paper") return LiuHeuristic::Paper;
+  if (name == "admissible") return LiuHeuristic::Admissible;
+  throw Error("unknown heuristic '" + name + "' (paper, admissible)", {}, 0, field);
+}
+
+}  // namespace starnav
