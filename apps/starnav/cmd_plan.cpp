@@ -3,6 +3,13 @@
 //   starnav plan --map FILE --start X,Y --goal X,Y [--planner NAME] [--weight W]
 //                [--connectivity 4|8] [--unknown free|blocked] [--cells] [--json]
 //                [--out path.csv] [--svg picture.svg] [--expanded] [--force]
+//                [--heuristic H] [--inflate R] [--inflate-cost-radius R2] [--inflate-cost SCALE]
+//                [--turn-cost K] [--turn-exact] [--adaptive-weight] [--smooth none|los]
+//                [--start-heading-deg A]
+//
+// The second group are the features of Ou et al. 2022 (issue 4, plan/ou2022_options.hpp): all of
+// them with --planner astar and ou2022 (whose defaults are the paper's), hard inflation and
+// smoothing with the others; --json adds the path metrics (plan/path_metrics.hpp) under `metrics`.
 //
 // Coordinates are cells on MovingAI maps (x column, y row from the top, as in .scen files) and
 // metres in the map frame on metric maps (--cells: cell indices there too). Exit 0 when a path is
@@ -20,6 +27,8 @@
 #include "starnav/core/error.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/plan/grid_planner.hpp"
+#include "starnav/plan/inflation.hpp"
+#include "starnav/plan/path_metrics.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav::cli {
@@ -42,7 +51,37 @@ struct PlanOptions {
   bool force = false;
   double max_expansions = 0;
   double time_budget_s = 0;
+  // Issue 4 (Ou et al. 2022). Options whose absence means "the planner's default" are read
+  // through their CLI::Option (count() == 0: not given).
+  std::string heuristic;
+  double inflate = 0.0;
+  double inflate_cost_radius = 0.0;
+  double inflate_cost = InflationOptions{}.cost_scale;
+  double inflate_cost_weight = InflationOptions{}.cost_weight;
+  double turn_cost = 1.0;
+  bool turn_exact = false;
+  bool adaptive_weight = false;
+  std::string smooth;
+  double start_heading_deg = 0.0;
+  CLI::Option* turn_cost_opt = nullptr;
+  CLI::Option* adaptive_weight_opt = nullptr;
+  CLI::Option* smooth_opt = nullptr;
+  CLI::Option* start_heading_opt = nullptr;
 };
+
+// The path metrics as JSON (non-finite clearances, e.g. on a map without obstacles, are null).
+nlohmann::ordered_json metrics_json(const PathMetrics& m) {
+  nlohmann::ordered_json j;
+  j["length"] = m.length;
+  j["vertices"] = m.vertices;
+  j["turning_points"] = m.turning_points;
+  j["turn_total_rad"] = m.turn_total_rad;
+  j["turn_max_rad"] = m.turn_max_rad;
+  j["clearance_min"] = std::isfinite(m.clearance_min) ? nlohmann::ordered_json(m.clearance_min) : nullptr;
+  j["clearance_mean"] = std::isfinite(m.clearance_mean) ? nlohmann::ordered_json(m.clearance_mean) : nullptr;
+  j["smoothness"] = m.smoothness;
+  return j;
+}
 
 // A query endpoint as a cell. In cell mode X,Y must be integers; in metric mode a world point
 // outside the map gives a cell outside it (a result, not an error).
@@ -93,6 +132,24 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   options.thresholds = loaded.thresholds();
   options.weight = o.weight;
   options.record_trace = o.expanded;
+  options.heuristic = o.heuristic;
+  options.ou2022.inflation.radius_m = o.inflate;
+  options.ou2022.inflation.cost_radius_m = o.inflate_cost_radius;
+  options.ou2022.inflation.cost_scale = o.inflate_cost;
+  options.ou2022.inflation.cost_weight = o.inflate_cost_weight;
+  if (o.turn_cost_opt->count()) options.ou2022.turn_cost = o.turn_cost;
+  options.ou2022.turn_exact = o.turn_exact;
+  if (o.adaptive_weight_opt->count()) options.ou2022.adaptive_weight = o.adaptive_weight;
+  if (o.smooth_opt->count()) {
+    if (o.smooth == "none") options.ou2022.smoothing = PathSmoothing::None;
+    else if (o.smooth == "los") options.ou2022.smoothing = PathSmoothing::LineOfSight;
+    else throw Error("expected none or los, got '" + o.smooth + "'", {}, 0, "--smooth");
+  }
+  if (o.start_heading_opt->count()) {
+    if (!std::isfinite(o.start_heading_deg)) throw Error("expected a finite angle in degrees", {}, 0, "--start-heading-deg");
+    // World yaw -> the grid's cell axes (index grids: already in cell axes).
+    options.ou2022.start_heading_rad = deg_to_rad(o.start_heading_deg) - (index_grid ? 0.0 : geometry.origin.yaw);
+  }
   std::unique_ptr<GridPlanner> planner;
   try {
     planner = make_grid_planner(o.planner, grid, options);
@@ -101,6 +158,15 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     const std::string flag = e.field() == "connectivity" ? "--connectivity"
                              : e.field() == "weight"     ? "--weight"
                              : e.field() == "planner"    ? "--planner"
+                             : e.field() == "heuristic"  ? "--heuristic"
+                             : e.field() == "inflate"    ? "--inflate"
+                             : e.field() == "inflate_cost_radius" ? "--inflate-cost-radius"
+                             : e.field() == "inflate_cost"        ? "--inflate-cost"
+                             : e.field() == "inflate_cost_weight" ? "--inflate-cost-weight"
+                             : e.field() == "turn_cost"           ? "--turn-cost"
+                             : e.field() == "turn_exact"          ? "--turn-exact"
+                             : e.field() == "adaptive_weight"     ? "--adaptive-weight"
+                             : e.field() == "start_heading"       ? "--start-heading-deg"
                                                          : e.field();
     throw Error(e.message(), {}, 0, flag);
   }
@@ -108,6 +174,12 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   limits.max_expansions = static_cast<std::uint64_t>(o.max_expansions);
   limits.time_budget_s = o.time_budget_s;
   const PlanResult r = planner->plan(start, goal, limits);
+  // Path metrics (clearance from the original map's obstacles, as the planner sees them).
+  const ClearanceField clearance = ClearanceField::of_grid(grid, options.thresholds, !options.unknown_is_free);
+  const PathMetrics metrics = compute_path_metrics(r.path_world, &clearance);
+  const std::vector<Cell>& unsmoothed = planner->unsmoothed_path();
+  const PathMetrics unsmoothed_metrics =
+      compute_path_metrics(cell_centres(unsmoothed, geometry), &clearance);
 
   // Points in the map's units: cells on index grids, metres (cell centres, any-angle vertices)
   // on metric maps.
@@ -141,8 +213,26 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     picture_options.title =
         std::string(planner->name()) + ": " + (r.found() ? "cost " + number(r.cost) : plan_status_reason(r.status));
     viz::MapPicture picture(grid, picture_options);
+    if (options.ou2022.inflation.hard()) {
+      // The cells blocked by hard inflation alone.
+      const InflatedMap inflated =
+          inflate_obstacles(grid, options.thresholds, options.unknown_is_free, options.ou2022.inflation);
+      std::vector<Cell> cells;
+      for (std::size_t i = 0; i < inflated.blocked.size(); ++i)
+        if (inflated.blocked[i] && inflated.clearance_m[i] > 0.0) cells.push_back(geometry.cell_of_index(i));
+      picture.add_cells(cells, viz::parse_colour("orange"), 0.35, "inflation");
+    }
     if (o.expanded) picture.add_cells(planner->trace(), viz::parse_colour("sky"), 0.45, "expanded");
     auto point_of = [&](const Cell& c) { return index_grid ? Vec2(c.x + 0.5, c.y + 0.5) : geometry.cell_center(c); };
+    if (r.found() && !unsmoothed.empty()) {
+      std::vector<Vec2> points;
+      for (const Cell& c : unsmoothed) points.push_back(point_of(c));
+      viz::LineStyle line;
+      line.colour = viz::categorical_colour(0);
+      line.width_px = 1.5;
+      line.dashed = true;
+      picture.add_polyline(points, line, "before smoothing");
+    }
     if (r.found()) {
       std::vector<Vec2> points;
       for (std::size_t i = 0; i < r.path_cells.size(); ++i)
@@ -174,6 +264,10 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     j["generated"] = r.generated;
     j["path"] = path;
     j["path_cells"] = path_cells;
+    if (r.found()) {
+      j["metrics"] = metrics_json(metrics);
+      if (!unsmoothed.empty()) j["metrics_before_smoothing"] = metrics_json(unsmoothed_metrics);
+    }
     if (o.expanded) {
       nlohmann::ordered_json cells = nlohmann::ordered_json::array();
       for (const Cell& c : planner->trace()) cells.push_back({c.x, c.y});
@@ -188,6 +282,14 @@ void run_plan(const PlanOptions& o, Context& ctx) {
       std::cout << "found:      yes, " << r.path_cells.size() << " points\n";
       std::cout << "cost:       " << number(r.cost) << "\n";
       std::cout << "length:     " << number(r.length) << " " << unit << "\n";
+      if (!unsmoothed.empty())
+        std::cout << "smoothing:  " << unsmoothed_metrics.vertices << " -> " << metrics.vertices << " vertices, "
+                  << unsmoothed_metrics.turning_points << " -> " << metrics.turning_points << " turning points\n";
+      else std::cout << "turns:      " << metrics.turning_points << " turning points\n";
+      std::cout << "turning:    " << number(metrics.turn_total_rad) << " rad total, " << number(metrics.turn_max_rad)
+                << " rad max\n";
+      std::cout << "clearance:  " << number(metrics.clearance_min) << " min, " << number(metrics.clearance_mean)
+                << " mean (" << unit << ")\n";
     } else {
       std::cout << "found:      no (" << plan_status_reason(r.status) << ")\n";
     }
@@ -218,13 +320,38 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   plan->add_flag("--cells", o->cells, "--start/--goal are cell indices on metric maps too");
   plan->add_flag("--json", o->json,
                  "one JSON object: planner, admissible, found, reason, cost, length, units, expanded, generated, "
-                 "path, path_cells, time_ms");
+                 "path, path_cells, metrics {length, vertices, turning_points, turn_total_rad, turn_max_rad, "
+                 "clearance_min, clearance_mean, smoothness} (and metrics_before_smoothing when smoothed), time_ms");
   plan->add_option("--out", o->out, "write the path as CSV (only when found)");
   plan->add_option("--svg", o->svg, "draw the map, the path and (with --expanded) the expanded cells");
   plan->add_flag("--expanded", o->expanded, "also report the expanded cells (JSON key expanded_cells; --svg draws them)");
   plan->add_option("--max-expansions", o->max_expansions, "stop after this many expansions (0: no limit)");
   plan->add_option("--time-budget", o->time_budget_s, "stop after this many seconds of search (0: no limit)");
   plan->add_flag("--force", o->force, "overwrite existing output files");
+  // Ou et al. 2022 (issue 4).
+  plan->add_option("--heuristic", o->heuristic,
+                   "manhattan|octile|euclidean|zero (default octile on 8-connected grids, manhattan on 4-connected "
+                   "ones and for ou2022; manhattan on 8-connected grids is inadmissible)");
+  plan->add_option("--inflate", o->inflate,
+                   "block every cell within R of an obstacle (metres; cells on MovingAI maps; default 0)");
+  plan->add_option("--inflate-cost-radius", o->inflate_cost_radius,
+                   "graded cost band from --inflate out to R2 (ROS inflation_radius): moves into a cell at distance "
+                   "d cost 1 + W*exp(-SCALE*(d - R)) times more (astar, ou2022)");
+  plan->add_option("--inflate-cost", o->inflate_cost, "SCALE of the band's decay, 1/m (ROS cost_scaling_factor; default 10)");
+  plan->add_option("--inflate-cost-weight", o->inflate_cost_weight, "W, the band's extra cost at the hard edge (default 4)");
+  o->turn_cost_opt = plan->add_option("--turn-cost", o->turn_cost,
+                                      "steering cost K: a turn of D degrees costs K*D/45 cells (astar, ou2022; ou2022 "
+                                      "default 1, the paper's k = 10)");
+  plan->add_flag("--turn-exact", o->turn_exact,
+                 "search (cell, incoming direction) states: optimal for the turn-inclusive cost (the paper's cell "
+                 "states are not)");
+  o->adaptive_weight_opt = plan->add_flag("--adaptive-weight,!--no-adaptive-weight", o->adaptive_weight,
+                                          "f = g + (1 + d/D)*h (inadmissible; ou2022 default on)");
+  o->smooth_opt = plan->add_option("--smooth", o->smooth,
+                                   "none|los: remove redundant nodes by line of sight (ou2022 default los)");
+  o->start_heading_opt = plan->add_option("--start-heading-deg", o->start_heading_deg,
+                                          "the robot's initial yaw, so the first move's turn is charged (map frame; "
+                                          "cell axes on MovingAI maps)");
   plan->callback([o, &ctx] { run_plan(*o, ctx); });
 }
 

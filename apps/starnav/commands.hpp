@@ -13,6 +13,8 @@ struct Context {
 void register_map_commands(CLI::App& app, Context& ctx);    // cmd_map.cpp
 void register_plan_commands(CLI::App& app, Context& ctx);   // cmd_plan.cpp
 void register_bench_commands(CLI::App& app, Context& ctx);  // cmd_bench.cpp
+void register_bench_ablation(CLI::App& app, Context& ctx);  // cmd_bench_ablation.cpp (after register_bench_commands)
 void register_map_render(CLI::App& map, Context& ctx);       // cmd_map_render.cpp
+void register_terrain_commands(CLI::App& app, Context& ctx);  // cmd_terrain.cpp
 
 }  // namespace starnav::cli

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   starnav::cli::register_map_commands(app, ctx);
   starnav::cli::register_plan_commands(app, ctx);
   starnav::cli::register_bench_commands(app, ctx);
+  starnav::cli::register_bench_ablation(app, ctx);
+  starnav::cli::register_terrain_commands(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -1,10 +1,5 @@
 // `starnav plan` end to end: exit codes 0 / 1 / 2, the JSON keys, units on MovingAI and metric
 // maps, --out and --force.
-// GCC 12 reports a false -Wrestrict in std::string concatenation inlined from run_cli (GCC bug
-// 105329); the code is fine.
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12
-#pragma GCC diagnostic ignored "-Wrestrict"
-#endif
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "starnav/map/occupancy_grid.hpp"
+#include "starnav/plan/ou2022_options.hpp"
 #include "starnav/plan/plan_result.hpp"
 
 namespace starnav {
@@ -19,6 +20,7 @@ struct GridPlannerOptions {
   double weight = 1.0;            // weighted A*: f = g + w*h, w >= 1
   std::string heuristic;          // "" = the planner's default; "octile", "manhattan", "euclidean", "zero"
   bool record_trace = false;      // keep the expanded cells (for pictures)
+  Ou2022Options ou2022;           // inflation, smoothing, steering cost, adaptive weight (issue 4)
 };
 
 class GridPlanner {
@@ -35,9 +37,16 @@ class GridPlanner {
     static const std::vector<Cell> empty;
     return empty;
   }
+  // The grid path of the last query before line-of-sight smoothing (empty when the planner did
+  // not smooth it); path_cells of the result is then the smoothed path.
+  virtual const std::vector<Cell>& unsmoothed_path() const {
+    static const std::vector<Cell> empty;
+    return empty;
+  }
 };
 
-// Names: dijkstra, astar, wastar, jps, jpsplus, thetastar, dstarlite. Throws Error for an unknown
+// Names: dijkstra, astar, wastar, jps, jpsplus, thetastar, dstarlite, ou2022 (see ou2022_options.hpp
+// for which planner honours which of options.ou2022). Throws Error for an unknown
 // name or options the planner cannot honour (e.g. jps with connectivity 4).
 std::unique_ptr<GridPlanner> make_grid_planner(std::string_view name, const OccupancyGrid& grid,
                                                const GridPlannerOptions& options = {});

@@ -34,10 +34,8 @@ double liu_g(double a, double h, double s, const LiuCostParams& p) {
 }
 
 double liu_move_cost(double a, double h, double s_child, double d, double resolution, const LiuCostParams& p) {
-  const double g = liu_g(a, h, s_child, p);
-  if (g == kImpassable) return kImpassable;
-  const double scale = p.cost_per_metre ? d / resolution : 1.0;
-  return p.w1 * g * scale + p.w2 * d;
+  if (!liu_passable(a, h, s_child, p)) return kImpassable;
+  return liu_move_cost_from_terms(liu_f_slope(a, p), liu_f_step(h, p), liu_f_rugged(s_child, p), d, resolution, p);
 }
 
 double liu_move_cost_from_heights(double z_parent, double z_child, double s_child, double d, double resolution,

@@ -66,6 +66,16 @@ inline bool liu_passable(double a, double h, double s, const LiuCostParams& p) {
 // weight: passability does not depend on the weights).
 double liu_g(double a, double h, double s, const LiuCostParams& p);
 
+// The move cost from its three terms (f_s, f_e, f_r all finite): w1 * g * scale + w2 * d with
+// g = w_s f_s + w_e f_e + w_r f_r. liu_move_cost is this; callers that cache the terms (the
+// IA* move-cost table: f_s and f_e per neighbour pair, f_r per cell) get identical bits.
+inline double liu_move_cost_from_terms(double f_s, double f_e, double f_r, double d, double resolution,
+                                       const LiuCostParams& p) {
+  const double g = p.w_s * f_s + p.w_e * f_e + p.w_r * f_r;
+  const double scale = p.cost_per_metre ? d / resolution : 1.0;
+  return p.w1 * g * scale + p.w2 * d;
+}
+
 // Slope of a move: atan(h / l).
 inline double liu_slope(double h, double l) { return std::atan(std::abs(h) / l); }
 

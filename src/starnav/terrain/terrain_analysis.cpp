@@ -240,13 +240,32 @@ double TerrainAnalysis::cell_slope(int x, int y) const {
 
 namespace {
 
+// Whether a move of height difference h and length l reaches a threshold: h >= h_y or
+// atan(h / l) >= a_y. The atan is only evaluated within a relative 1e-12 of the slope limit
+// h = l tan(a_y); elsewhere the comparison on h decides the same.
+struct ThresholdTest {
+  double h_y, a_y, limit_straight, limit_diagonal;
+  ThresholdTest(const LiuCostParams& p, double resolution)
+      : h_y(p.h_y), a_y(p.a_y), limit_straight(resolution * std::tan(p.a_y)),
+        limit_diagonal(resolution * std::sqrt(2.0) * std::tan(p.a_y)) {}
+  bool reached(double h, double l, bool diagonal) const {
+    if (!(h < h_y)) return true;
+    const double limit = diagonal ? limit_diagonal : limit_straight;
+    if (h < limit * (1.0 - 1e-12)) return false;
+    if (h > limit * (1.0 + 1e-12)) return true;
+    return !(liu_slope(h, l) < a_y);
+  }
+};
+
 // The Liu obstacle test of one cell (docs/terrain.md).
-bool liu_obstacle_at(const TerrainAnalysis& t, int x, int y, const LiuCostParams& p) {
+bool liu_obstacle_at(const TerrainAnalysis& t, int x, int y, const LiuCostParams& p, const ThresholdTest& test) {
   if (!t.observed(x, y)) return t.options().unobserved == UnobservedPolicy::Blocked;
   if (!(t.ruggedness(x, y) < p.s_y)) return true;
+  const double z = t.z(x, y);
   for (int k = 0; k < kMoveCount; ++k) {
-    const MoveTerrain m = t.move(x, y, k);
-    if (m.known && !(m.h < p.h_y && m.a < p.a_y)) return true;
+    const int nx = x + kMoveDx[k], ny = y + kMoveDy[k];
+    if (!t.contains(nx, ny) || !t.observed(nx, ny)) continue;
+    if (test.reached(std::abs(t.z(nx, ny) - z), t.move_length(k), move_is_diagonal(k))) return true;
   }
   return false;
 }
@@ -256,10 +275,11 @@ bool liu_obstacle_at(const TerrainAnalysis& t, int x, int y, const LiuCostParams
 void TerrainAnalysis::compute_masks(const CellRect& r) {
   const double k_slope = std::tan(options_.li.max_slope_rad);
   const bool unobserved_blocked = options_.unobserved == UnobservedPolicy::Blocked;
+  const ThresholdTest test(options_.thresholds, geometry_.resolution);
   for (int y = r.y0; y < r.y1; ++y)
     for (int x = r.x0; x < r.x1; ++x) {
       const std::size_t i = index(x, y);
-      obstacle_[i] = liu_obstacle_at(*this, x, y, options_.thresholds) ? 1 : 0;
+      obstacle_[i] = liu_obstacle_at(*this, x, y, options_.thresholds, test) ? 1 : 0;
       if (!observed_[i]) {
         li_blocked_[i] = unobserved_blocked ? 1 : 0;
         continue;
@@ -332,9 +352,10 @@ void TerrainAnalysis::compute_expansion(const CellRect& affected) {
 
 std::vector<std::uint8_t> liu_obstacle_mask(const TerrainAnalysis& analysis, const LiuCostParams& thresholds) {
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(analysis.width()) * static_cast<std::size_t>(analysis.height()));
+  const ThresholdTest test(thresholds, analysis.resolution());
   for (int y = 0; y < analysis.height(); ++y)
     for (int x = 0; x < analysis.width(); ++x)
-      mask[analysis.index(x, y)] = liu_obstacle_at(analysis, x, y, thresholds) ? 1 : 0;
+      mask[analysis.index(x, y)] = liu_obstacle_at(analysis, x, y, thresholds, test) ? 1 : 0;
   return mask;
 }
 

@@ -1,0 +1,292 @@
+// starnav terrain generate: seeded terrains (hills, road-PSD stochastic ground) in every
+// elevation format, with a metadata sidecar FILE.terrain.json (docs/terrain.md).
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cli_util.hpp"
+#include "commands.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/io/map_file.hpp"
+#include "starnav/terrain/terrain_generator.hpp"
+
+namespace starnav::cli {
+
+namespace {
+
+struct TerrainGenerateOptions {
+  std::string kind;
+  std::string road_class;
+  std::string method;
+  std::string size_m;
+  std::string resolution;
+  std::string seed = "0";
+  std::string amplitude;
+  std::string band;
+  std::string intervals;
+  std::string directions;
+  std::string blur_cells;
+  std::vector<std::string> pits;
+  std::vector<std::string> mounds;
+  std::string out;
+  bool force = false;
+  bool json = false;
+};
+
+bool to_double(const std::string& s, double& out) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtod(s.c_str(), &end);
+  return errno == 0 && end == s.c_str() + s.size() && std::isfinite(out);
+}
+
+double parse_number(const std::string& text, const std::string& flag) {
+  double v = 0.0;
+  if (!to_double(text, v)) throw Error("expected a number, got '" + text + "'", {}, 0, flag);
+  return v;
+}
+
+double parse_positive(const std::string& text, const std::string& flag) {
+  const double v = parse_number(text, flag);
+  if (!(v > 0.0)) throw Error("must be > 0, got '" + text + "'", {}, 0, flag);
+  return v;
+}
+
+std::uint64_t parse_seed(const std::string& text, const std::string& flag) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    throw Error("expected a non-negative integer, got '" + text + "'", {}, 0, flag);
+  errno = 0;
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+  if (errno == ERANGE) throw Error("out of range (at most 2^64 - 1), got '" + text + "'", {}, 0, flag);
+  return static_cast<std::uint64_t>(v);
+}
+
+int parse_count(const std::string& text, const std::string& flag, int lo, int hi) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() > 9)
+    throw Error("expected an integer " + std::to_string(lo) + ".." + std::to_string(hi) + ", got '" + text + "'", {}, 0,
+                flag);
+  const int v = std::atoi(text.c_str());
+  if (v < lo || v > hi)
+    throw Error("expected an integer " + std::to_string(lo) + ".." + std::to_string(hi) + ", got '" + text + "'", {}, 0,
+                flag);
+  return v;
+}
+
+std::vector<double> parse_list(const std::string& text, const std::string& flag, std::size_t count, const char* what) {
+  std::vector<double> values;
+  std::size_t pos = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', pos);
+    double v = 0.0;
+    if (!to_double(text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos), v)) {
+      values.clear();
+      break;
+    }
+    values.push_back(v);
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  if (values.size() != count) throw Error(std::string("expected ") + what + ", got '" + text + "'", {}, 0, flag);
+  return values;
+}
+
+TerrainFeature parse_feature(const std::string& text, TerrainFeature::Kind kind, const std::string& flag) {
+  const char* what = kind == TerrainFeature::Kind::Pit ? "X,Y,RADIUS,DEPTH (metres)" : "X,Y,RADIUS,HEIGHT (metres)";
+  const std::vector<double> v = parse_list(text, flag, 4, what);
+  if (!(v[2] > 0.0) || !(v[3] > 0.0)) throw Error(std::string("radius and depth must be > 0 in ") + what, {}, 0, flag);
+  TerrainFeature f;
+  f.kind = kind;
+  f.centre = Vec2(v[0], v[1]);
+  f.radius_m = v[2];
+  f.depth_m = v[3];
+  return f;
+}
+
+nlohmann::ordered_json feature_json(const TerrainFeature& f) {
+  nlohmann::ordered_json j;
+  j["kind"] = f.kind == TerrainFeature::Kind::Pit ? "pit" : "mound";
+  j["centre_m"] = {f.centre.x(), f.centre.y()};
+  j["radius_m"] = f.radius_m;
+  j[f.kind == TerrainFeature::Kind::Pit ? "depth_m" : "height_m"] = f.depth_m;
+  return j;
+}
+
+void require_kind(bool given, bool allowed, const std::string& flag, const char* kind) {
+  if (given && !allowed) throw Error(std::string("only for --kind ") + kind, {}, 0, flag);
+}
+
+void run_terrain_generate(const TerrainGenerateOptions& o) {
+  if (o.kind != "hills" && o.kind != "road")
+    throw Error("unknown kind '" + o.kind + "' (hills, road)", {}, 0, "--kind");
+  const bool road = o.kind == "road";
+  require_kind(!o.road_class.empty(), road, "--class", "road");
+  require_kind(!o.method.empty(), road, "--method", "road");
+  require_kind(!o.band.empty(), road, "--band", "road");
+  require_kind(!o.intervals.empty(), road, "--intervals", "road");
+  require_kind(!o.directions.empty(), road, "--directions", "road");
+  require_kind(!o.blur_cells.empty(), road, "--blur-cells", "road");
+  require_kind(!o.amplitude.empty(), !road, "--amplitude", "hills");
+
+  const Vec2 size = parse_xy(o.size_m, "--size-m");
+  if (!(size.x() > 0.0) || !(size.y() > 0.0)) throw Error("width and height must be > 0", {}, 0, "--size-m");
+  const double resolution = parse_positive(o.resolution, "--resolution");
+  const std::uint64_t seed = parse_seed(o.seed, "--seed");
+  std::vector<TerrainFeature> features;
+  for (const auto& p : o.pits) features.push_back(parse_feature(p, TerrainFeature::Kind::Pit, "--pit"));
+  for (const auto& m : o.mounds) features.push_back(parse_feature(m, TerrainFeature::Kind::Mound, "--mound"));
+
+  // Output checks before any work.
+  const MapFormat format = output_map_format(o.out, true);
+  if (format == MapFormat::MovingAi || format == MapFormat::RosMap || format == MapFormat::GeoTiff)
+    throw Error("not a writable elevation format (use .yaml, .asc, .csv, .raw)", o.out, 0, "--out");
+  check_output_path(o.out, o.force, "--out");
+  const std::string meta_path = o.out + ".terrain.json";
+  check_output_path(meta_path, o.force, "--out");
+
+  // Geometry errors name the CLI flags.
+  try {
+    terrain_geometry(size.x(), size.y(), resolution);
+  } catch (const Error& e) {
+    throw Error(e.message(), {}, 0, e.field() == "resolution" ? "--resolution" : "--size-m");
+  }
+
+  nlohmann::ordered_json meta;
+  meta["kind"] = o.kind;
+  meta["seed"] = seed;
+  LoadedMap out;
+  out.format = format;
+  if (!road) {
+    HillsOptions h;
+    h.width_m = size.x();
+    h.height_m = size.y();
+    h.resolution = resolution;
+    h.seed = seed;
+    if (!o.amplitude.empty()) {
+      h.amplitude = parse_number(o.amplitude, "--amplitude");
+      if (h.amplitude < 0.0) throw Error("must be >= 0", {}, 0, "--amplitude");
+    }
+    h.features = features;
+    out.map = generate_hills(h);
+    meta["amplitude"] = h.amplitude;
+    meta["hills_per_100m2"] = h.hills_per_100m2;
+    meta["hill_height_m"] = {h.hill_height_min_m, h.hill_height_max_m};
+    meta["hill_sigma_m"] = {h.hill_sigma_min_m, h.hill_sigma_max_m};
+    meta["roughness_m"] = h.roughness_m;
+    meta["roughness_correlation_m"] = h.roughness_correlation_m;
+  } else {
+    RoadOptions r;
+    r.width_m = size.x();
+    r.height_m = size.y();
+    r.resolution = resolution;
+    r.seed = seed;
+    if (!o.road_class.empty()) {
+      if (o.road_class.size() != 1) throw Error("unknown road class '" + o.road_class + "' (A..H)", {}, 0, "--class");
+      road_class_gd_n0(o.road_class[0], "--class");
+      r.road_class = static_cast<char>(std::toupper(static_cast<unsigned char>(o.road_class[0])));
+    }
+    if (!o.method.empty()) r.method = parse_road_method(o.method, "--method");
+    if (!o.band.empty()) {
+      const std::vector<double> b = parse_list(o.band, "--band", 2, "N1,N2 (1/m)");
+      if (!(b[0] > 0.0) || !(b[1] > b[0])) throw Error("need 0 < N1 < N2", {}, 0, "--band");
+      r.n1 = b[0];
+      r.n2 = b[1];
+    }
+    if (!o.intervals.empty()) r.intervals = parse_count(o.intervals, "--intervals", 1, 100000);
+    if (!o.directions.empty()) r.directions = parse_count(o.directions, "--directions", 1, 10000);
+    if (!o.blur_cells.empty()) {
+      r.blur_sigma_cells = parse_number(o.blur_cells, "--blur-cells");
+      if (r.blur_sigma_cells < 0.0) throw Error("must be >= 0", {}, 0, "--blur-cells");
+    }
+    r.features = features;
+    RoadTerrain t;
+    try {
+      t = generate_road(r);
+    } catch (const Error& e) {
+      if (e.field() == "size_m") throw Error(e.message(), {}, 0, "--size-m");
+      throw;
+    }
+    out.map = std::move(t.map);
+    meta["class"] = std::string(1, r.road_class);
+    meta["method"] = road_method_name(r.method);
+    meta["gd_n0_m3"] = t.spectrum.gd_n0;
+    meta["n0_per_m"] = r.n0;
+    meta["waviness"] = r.waviness;
+    meta["band_per_m"] = {r.n1, r.n2};
+    meta["band_used_per_m"] = {t.spectrum.n_low, t.spectrum.n_high};
+    meta["intervals"] = r.intervals;
+    if (r.method == RoadMethod::Directional) meta["directions"] = r.directions;
+    else meta["blur_sigma_cells"] = r.blur_sigma_cells;
+    meta["sigma2_m2"] = t.spectrum.sigma2;
+    meta["sigma_m"] = std::sqrt(t.spectrum.sigma2);
+  }
+  const ElevationMap& map = out.elevation();
+  meta["width"] = map.width();
+  meta["height"] = map.height();
+  meta["resolution_m"] = map.resolution();
+  meta["size_m"] = {map.geometry().width_m(), map.geometry().height_m()};
+  nlohmann::ordered_json fj = nlohmann::ordered_json::array();
+  for (const auto& f : features) fj.push_back(feature_json(f));
+  meta["features"] = fj;
+  const auto range = map.height_range();
+  meta["z_min_m"] = range ? range->min : 0.0;
+  meta["z_max_m"] = range ? range->max : 0.0;
+  meta["file"] = o.out;
+  meta["format"] = map_format_name(format);
+
+  save_map(out, o.out, format);
+  {
+    std::ofstream f(meta_path, std::ios::binary);
+    if (!f) throw Error("cannot write", meta_path, 0, "--out");
+    f << meta.dump(2) << "\n";
+    if (!f) throw Error("cannot write", meta_path, 0, "--out");
+  }
+  if (o.json) {
+    std::cout << meta.dump(2) << "\n";
+  } else {
+    std::cout << "wrote " << o.out << " (" << map_format_name(format) << ", " << map.width() << " x " << map.height()
+              << " cells)";
+    if (road) std::cout << ", sigma^2 = " << meta["sigma2_m2"].get<double>() << " m^2";
+    std::cout << "; metadata " << meta_path << "\n";
+  }
+}
+
+}  // namespace
+
+void register_terrain_commands(CLI::App& app, Context& ctx) {
+  auto* terrain = app.add_subcommand("terrain", "generate terrains (elevation maps)");
+  terrain->require_subcommand(1);
+
+  auto o = std::make_shared<TerrainGenerateOptions>();
+  auto* gen = terrain->add_subcommand(
+      "generate", "seeded terrain: hills (Gaussian hills + roughness) or road (ISO 8608 / GB/T 7031 PSD class)");
+  gen->add_option("--kind", o->kind, "hills | road")->required();
+  gen->add_option("--class", o->road_class, "road class A..H (road; default C)");
+  gen->add_option("--method", o->method, "directional (default) | paper (road)");
+  gen->add_option("--size-m", o->size_m, "W,H: map size in metres")->required();
+  gen->add_option("--resolution", o->resolution, "metres per cell")->required();
+  gen->add_option("--seed", o->seed, "random seed (default 0)");
+  gen->add_option("--amplitude", o->amplitude, "height scale (hills; default 1)");
+  gen->add_option("--band", o->band, "N1,N2: spatial frequency band in 1/m (road; default 0.011,2.83)");
+  gen->add_option("--intervals", o->intervals, "log-spaced frequency intervals (road; default 64)");
+  gen->add_option("--directions", o->directions, "wave directions (road, directional; default 16)");
+  gen->add_option("--blur-cells", o->blur_cells, "Gaussian blur sigma in cells (road, paper; default 2)");
+  gen->add_option("--pit", o->pits, "X,Y,RADIUS,DEPTH: a pit (metres, world frame; repeatable)");
+  gen->add_option("--mound", o->mounds, "X,Y,RADIUS,HEIGHT: a mound (metres, world frame; repeatable)");
+  gen->add_option("--out", o->out, "output file: .yaml (16-bit PNG + YAML), .asc, .csv, .raw (Unity)")->required();
+  gen->add_flag("--force", o->force, "overwrite existing outputs");
+  gen->add_flag("--json", o->json, "print the metadata as JSON");
+  gen->callback([o, &ctx] {
+    run_terrain_generate(*o);
+    ctx.exit_code = 0;
+  });
+}
+
+}  // namespace starnav::cli
