@@ -54,7 +54,7 @@ say() { echo "fuzz.sh: $*" >&2; }
 die() { say "error: $*"; exit 2; }
 
 usage() {
-  sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 
