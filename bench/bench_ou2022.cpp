@@ -41,7 +41,7 @@ struct MapSpec {
   double inflate;  // cells
 };
 // Room maps have doors one cell wide: any inflation would close them.
-const MapSpec kMaps[] = {{"bg512/AR0011SR", 1.0}, {"dao/den520d", 1.0}, {"room/32room_000", 0.0}};
+const MapSpec kMaps[] = {{"bg512/AR0011SR", 1.0}, {"dao/den520d", 1.0}, {"room/32room_000", 0.0}, {"room/8room_000", 0.0}};
 
 struct BenchMap {
   std::string name;

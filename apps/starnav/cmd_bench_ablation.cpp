@@ -31,8 +31,8 @@
 //
 // Output (with --out DIR; the Markdown summary is always printed): DIR/ablation.md (summary and
 // per-query tables), DIR/ablation.json, DIR/queries.csv (the queries, reusable with --queries)
-// and DIR/svg/query_NNN.svg (the map, the inflation and the paths of A*, A* + turn_w + W, the full
-// method and JPS + LOS overlaid, as the paper's Fig. 15).
+// and DIR/svg/query_NNN.svg (the map around the query, the inflation and the paths of A*, A* +
+// turn_w + W, the full method and JPS + LOS overlaid, as the paper's Fig. 15).
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -476,14 +476,41 @@ json table_json(const Table& t, const std::vector<Summary>& s, const std::vector
   return j;
 }
 
-// The paper's Fig. 15: the paths of one query overlaid on the map.
-void write_query_svg(const std::string& path, const OccupancyGrid& grid, const std::vector<Cell>& inflated_cells,
-                     const Query& q, std::size_t index, const std::vector<std::pair<std::string, const Run*>>& paths) {
+// The paper's Fig. 15: the paths of one query overlaid on the map, cropped to the query's
+// surroundings (the paths' bounding box with a margin) so that short paths on large maps stay
+// legible. The crop keeps world coordinates: its origin is the world pose of its first cell.
+void write_query_svg(const std::string& path, const OccupancyGrid& grid, const OccupancyThresholds& thresholds,
+                     const std::vector<std::uint8_t>& inflated, const Query& q, std::size_t index, const std::vector<std::pair<std::string, const Run*>>& paths) {
+  const GridGeometry& g = grid.geometry();
+  int x0 = std::min(q.start.x, q.goal.x), x1 = std::max(q.start.x, q.goal.x);
+  int y0 = std::min(q.start.y, q.goal.y), y1 = std::max(q.start.y, q.goal.y);
+  for (const auto& [label, run] : paths)
+    if (run && run->found)
+      for (const Cell& c : run->path) {
+        x0 = std::min(x0, c.x), x1 = std::max(x1, c.x);
+        y0 = std::min(y0, c.y), y1 = std::max(y1, c.y);
+      }
+  const int margin = std::max(8, std::max(x1 - x0, y1 - y0) / 4);
+  x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
+  x1 = std::min(g.width - 1, x1 + margin), y1 = std::min(g.height - 1, y1 + margin);
+  GridGeometry cg = g;
+  cg.width = x1 - x0 + 1;
+  cg.height = y1 - y0 + 1;
+  const Vec2 corner = g.grid_to_world(Vec2(x0 * g.resolution, y0 * g.resolution));
+  cg.origin = Pose2(corner.x(), corner.y(), g.origin.yaw);
+  OccupancyGrid crop(cg);
+  std::vector<Cell> inflated_cells;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      crop(x - x0, y - y0) = grid(x, y);
+      const std::size_t i = g.index(x, y);
+      if (inflated[i] && grid.state(x, y, thresholds) == CellState::Free) inflated_cells.push_back({x - x0, y - y0});
+    }
+
   viz::PictureOptions po;
   po.title = "query " + std::to_string(index) + ": (" + std::to_string(q.start.x) + ", " + std::to_string(q.start.y) +
              ") to (" + std::to_string(q.goal.x) + ", " + std::to_string(q.goal.y) + ")";
-  viz::MapPicture picture(grid, po);
-  const GridGeometry& g = grid.geometry();
+  viz::MapPicture picture(crop, po);
   if (!inflated_cells.empty()) picture.add_cells(inflated_cells, viz::parse_colour("orange"), 0.3, "inflation");
   const double widths[] = {3.5, 2.5, 2.0, 1.5};
   for (std::size_t i = 0; i < paths.size(); ++i) {
@@ -636,19 +663,17 @@ void run_bench_ablation(const AblationOptions& o) {
       if (t->variants[v].name == name) return v;
     return 0;
   };
-  std::vector<Cell> inflated_cells;
-  for (std::size_t i = 0; i < inflated.blocked.size(); ++i)
-    if (inflated.blocked[i] && inflated.clearance_m[i] > 0.0) inflated_cells.push_back(geometry.cell_of_index(i));
   const std::size_t svgs = o.svg_limit < 0 ? queries.size() : std::min<std::size_t>(queries.size(), o.svg_limit);
   for (std::size_t q = 0; q < svgs; ++q) {
     std::ostringstream name;
     name << "query_" << std::setw(3) << std::setfill('0') << q << ".svg";
-    write_query_svg((fs::path(o.out) / "svg" / name.str()).string(), grid, inflated_cells, queries[q], q,
-                    {{"A*", &base->runs[0][q]},
-                     {"A* + turn_w + W", &infl->runs[find(infl, "A* + turn_w + W")][q]},
+    write_query_svg((fs::path(o.out) / "svg" / name.str()).string(), grid, thresholds, inflated.blocked, queries[q], q,
+                    {{o.inflate > 0 ? "A* (original map)" : "A*", &base->runs[0][q]},
+                     {o.inflate > 0 ? "A* + turn_w + W (inflated map)" : "A* + turn_w + W",
+                      &infl->runs[find(infl, "A* + turn_w + W")][q]},
                      {o.inflate > 0 ? "full method (inflation + LOS + turn_w + W)" : "A* + turn_w + W + LOS",
                       &infl->runs[find(infl, "A* + turn_w + W + LOS")][q]},
-                     {"JPS + LOS", &infl->runs[find(infl, "JPS + LOS")][q]}});
+                     {o.inflate > 0 ? "JPS + LOS (inflated map)" : "JPS + LOS", &infl->runs[find(infl, "JPS + LOS")][q]}});
   }
   if (!o.quiet) std::cerr << "bench ablation: wrote " << o.out << "/ablation.md, ablation.json, queries.csv, " << svgs << " SVGs\n";
 }

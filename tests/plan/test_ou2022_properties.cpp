@@ -23,6 +23,7 @@
 #include "plan/plan_test_maps.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/inflation.hpp"
+#include "starnav/plan/line_of_sight.hpp"
 #include "starnav/plan/ou2022.hpp"
 
 namespace starnav {
@@ -235,18 +236,65 @@ TEST(Ou2022Properties, LosPrunedPathsAreSafeAndNeverLonger) {
       ASSERT_EQ(out.back(), raw.back());
       // A subsequence of the grid path whose every segment touches only free cells of the
       // inflated map.
+      std::vector<std::size_t> kept;
       std::size_t k = 0;
       for (const Cell& c : out) {
         while (k < raw.size() && !(raw[k] == c)) ++k;
         ASSERT_LT(k, raw.size()) << "not a subsequence";
+        kept.push_back(k);
       }
       for (std::size_t i = 1; i < out.size(); ++i) ASSERT_TRUE(plantest::segment_free(inflated, out[i - 1], out[i]));
+      // The paper's rule: from each kept vertex, no later vertex than the next kept one is in sight.
+      for (std::size_t i = 0; i + 1 < kept.size(); ++i)
+        for (std::size_t later = kept[i + 1] + 1; later < raw.size(); ++later)
+          ASSERT_FALSE(plantest::segment_free(inflated, raw[kept[i]], raw[later]))
+              << "vertex " << later << " is in sight of kept vertex " << kept[i];
       ASSERT_LE(polyline_cells(out), polyline_cells(raw) + 1e-9);
       ASSERT_NEAR(r.length, 0.5 * polyline_cells(out), 1e-9);
       smoothed += out.size() < raw.size();
     }
   }
   EXPECT_GT(smoothed, 500);  // the property was not vacuous
+}
+
+// On larger maps, the pruning (whose shortcuts skip line tests for vertices hidden behind a
+// blocked cell met before) equals the plain rule: from each anchor, test every later vertex from
+// the last one backwards with line_of_sight and keep the first in sight. Grid paths of A* and
+// any-angle paths of Theta* (long segments) as input.
+TEST(Ou2022Properties, LosPruningEqualsThePlainRule) {
+  Rng rng(4006);
+  auto plain = [](const GridSearchMap& map, const std::vector<Cell>& path) {
+    std::vector<Cell> out{path.front()};
+    for (std::size_t anchor = 0; anchor + 1 < path.size();) {
+      std::size_t next = anchor + 1;
+      for (std::size_t j = path.size() - 1; j > anchor + 1; --j)
+        if (line_of_sight(map, path[anchor].x, path[anchor].y, path[j].x, path[j].y)) {
+          next = j;
+          break;
+        }
+      out.push_back(path[next]);
+      anchor = next;
+    }
+    return out;
+  };
+  int compared = 0;
+  for (int iter = 0; iter < scaled(600); ++iter) {
+    SCOPED_TRACE(iter);
+    const Map m = plantest::any_map(rng, iter, 30 + static_cast<int>(rng.uniform_int(0, 40)));
+    const Cell s = plantest::random_free_cell(rng, m), g = plantest::random_free_cell(rng, m);
+    if (s.x < 0) continue;
+    GridPlannerOptions o;
+    o.ou2022.smoothing = PathSmoothing::LineOfSight;
+    const GridSearchMap map(m.w, m.h, m.blocked);
+    for (const char* planner : {"astar", "thetastar"}) {
+      auto p = make_grid_planner(planner, m.grid(), o);
+      const PlanResult r = p->plan(s, g);
+      if (!r.found() || p->unsmoothed_path().empty()) continue;
+      ASSERT_EQ(r.path_cells, plain(map, p->unsmoothed_path())) << planner;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, scaled(600));
 }
 
 // ---- Steering cost: exact variant vs brute force and vs the paper's variant ----------------------

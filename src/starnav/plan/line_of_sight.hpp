@@ -19,13 +19,20 @@
 
 namespace starnav {
 
-// Cells (x0, y0) and (x1, y1) must be inside the map.
-inline bool line_of_sight(const GridSearchMap& map, int x0, int y0, int x1, int y1) {
+namespace detail {
+// The walk behind line_of_sight; with kReport, *blocker receives the padded state of the first
+// blocked cell met (issue 4: path smoothing uses it to reject later segments in O(1)).
+template <bool kReport>
+inline bool line_of_sight_walk(const GridSearchMap& map, int x0, int y0, int x1, int y1, std::int64_t* blocker) {
   const std::uint8_t* pass = map.data();
   const std::int64_t stride = map.stride();
   std::int64_t id = map.state(x0, y0);
   const std::int64_t goal = map.state(x1, y1);
-  if (!pass[id]) return false;
+  auto blocked_at = [&](std::int64_t cell) {
+    if constexpr (kReport) *blocker = cell;
+    return false;
+  };
+  if (!pass[id]) return blocked_at(id);
   const int dx = std::abs(x1 - x0), dy = std::abs(y1 - y0);
   const std::int64_t sx = x1 > x0 ? 1 : -1;
   const std::int64_t sy = y1 > y0 ? stride : -stride;
@@ -41,14 +48,27 @@ inline bool line_of_sight(const GridSearchMap& map, int x0, int y0, int x1, int 
       id += sy;
       next_y += 2 * static_cast<std::int64_t>(dx);
     } else {  // exactly through a corner: the two side cells must be passable too
-      if (!pass[id + sx] || !pass[id + sy]) return false;
+      if (!pass[id + sx]) return blocked_at(id + sx);
+      if (!pass[id + sy]) return blocked_at(id + sy);
       id += sx + sy;
       next_x += 2 * static_cast<std::int64_t>(dy);
       next_y += 2 * static_cast<std::int64_t>(dx);
     }
-    if (!pass[id]) return false;
+    if (!pass[id]) return blocked_at(id);
   }
   return true;
+}
+}  // namespace detail
+
+// Cells (x0, y0) and (x1, y1) must be inside the map.
+inline bool line_of_sight(const GridSearchMap& map, int x0, int y0, int x1, int y1) {
+  return detail::line_of_sight_walk<false>(map, x0, y0, x1, y1, nullptr);
+}
+
+// As line_of_sight; when the segment is not free, *blocker receives the padded state of the first
+// blocked cell met (a cell whose closed square the segment touches).
+inline bool line_of_sight(const GridSearchMap& map, int x0, int y0, int x1, int y1, std::int64_t* blocker) {
+  return detail::line_of_sight_walk<true>(map, x0, y0, x1, y1, blocker);
 }
 
 // Straight-line distance between two cell centres, in cells.
