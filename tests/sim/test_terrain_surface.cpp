@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "sim/sim_test_support.hpp"
@@ -340,6 +341,16 @@ TEST(TerrainSurface, HolesLetRaysThrough) {
   GridGeometry g;
   g.width = g.height = 4;
   EXPECT_THROW(TerrainSurface{ElevationMap(g)}, Error);
+}
+
+TEST(TerrainSurface, CopiesOutliveTheOriginal) {
+  std::unique_ptr<TerrainSurface> original = std::make_unique<TerrainSurface>(
+      make_map(64, 64, 0.5, Pose2(0, 0, 0), [](double x, double y) { return 0.1 * x - 0.05 * y; }));
+  const TerrainSurface copy = *original;
+  original.reset();
+  const TerrainHit h = cast(copy, Vec3(10, 10, 5), Vec3(0, 0, -1));
+  EXPECT_NEAR(h.distance, 5 - (1.0 - 0.5), 1e-12);
+  EXPECT_EQ(copy.pyramid_levels(), 7);  // 65 x 65 triangle pairs: blocks of 2 ... 128
 }
 
 TEST(TerrainSurface, SingleCellAndThinMaps) {

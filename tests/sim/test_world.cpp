@@ -101,6 +101,20 @@ TEST(World, BroadPhaseMatchesTestingEveryObject) {
   EXPECT_GT(hits, obstacle_hits + 500);
 }
 
+TEST(World, DegenerateRaysHitNothing) {
+  Rng rng(13);
+  const World w(random_world(rng, 50));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(w.cast(Vec3(nan, 0, 1), Vec3(0, 0, -1), 10, 0).hit());
+  EXPECT_FALSE(w.cast(Vec3(0, 0, 1), Vec3(nan, 0, -1), 10, 0).hit());
+  EXPECT_FALSE(w.cast(Vec3(0, 0, 1), Vec3(0, 0, -1), nan, 0).hit());
+  EXPECT_FALSE(w.cast(Vec3(kInf, 0, 1), Vec3(-1, 0, 0), 10, 0).hit());
+  EXPECT_FALSE(w.cast(Vec3(0, 0, 1), Vec3::Zero(), 10, 0).hit());
+  EXPECT_FALSE(w.cast(Vec3(0, 0, 5), Vec3(0, 0, -1), -1.0, 0).hit());
+  // An unbounded range is fine: the terrain and the obstacles bound the search.
+  EXPECT_TRUE(w.cast(Vec3(0, 0, 5), Vec3(0, 0, -1), kInf, 0).hit());
+}
+
 TEST(World, BvhOverThousandsOfSmallPieces) {
   Rng rng(12);
   std::vector<PosedPrimitive> prims;

@@ -17,21 +17,23 @@ inline bool before(const PosedPrimitive& a, const PosedPrimitive& b) {
 }
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Ray against a node's box: entry distance, or +inf when missed within [0, t_max]. A zero
-// direction component uses a huge finite inverse, so 0 * inf never produces NaN.
+// Ray against a node's box (Williams et al.'s slab test: the near and far planes per axis are
+// picked by the sign of the direction, so there is no swap): entry distance, or +inf when missed
+// within [0, t_max]. A zero direction component uses a huge finite inverse of the right sign, so
+// 0 * inf never produces NaN.
 struct RayInv {
   double o[3];
   double inv[3];
+  int near[3];  // 0: the lo plane is the near one (direction >= 0), 1: the hi plane
 };
 
-inline double box_entry(const double* lo, const double* hi, const RayInv& r, double t_max) {
+inline double box_entry(const double (&b)[2][3], const RayInv& r, double t_max) {
   double t0 = 0.0, t1 = t_max;
   for (int a = 0; a < 3; ++a) {
-    double ta = (lo[a] - r.o[a]) * r.inv[a];
-    double tb = (hi[a] - r.o[a]) * r.inv[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = ta > t0 ? ta : t0;
-    t1 = tb < t1 ? tb : t1;
+    const double tn = (b[r.near[a]][a] - r.o[a]) * r.inv[a];
+    const double tf = (b[1 - r.near[a]][a] - r.o[a]) * r.inv[a];
+    t0 = tn > t0 ? tn : t0;
+    t1 = tf < t1 ? tf : t1;
   }
   return t0 <= t1 ? t0 : kInf;
 }
@@ -62,8 +64,8 @@ void PrimitiveSet::build() {
     }
     Node& node = nodes_[static_cast<std::size_t>(task.node)];
     for (int a = 0; a < 3; ++a) {
-      node.lo[a] = box.lo[a];
-      node.hi[a] = box.hi[a];
+      node.b[0][a] = box.lo[a];
+      node.b[1][a] = box.hi[a];
     }
     const int n = task.end - task.begin;
     if (n <= kLeafSize) {
@@ -97,13 +99,14 @@ bool PrimitiveSet::cast(const Vec3& origin, const Vec3& dir, double max_range, d
   for (int a = 0; a < 3; ++a) {
     r.o[a] = origin[a];
     r.inv[a] = dir[a] != 0.0 ? 1.0 / dir[a] : std::copysign(1e300, dir[a]);
+    r.near[a] = std::signbit(r.inv[a]) ? 1 : 0;
   }
   double best = max_range;
   bool found = false;
   PrimitiveHit ph;
   std::int32_t stack[64];
   int sp = 0;
-  if (box_entry(nodes_[0].lo, nodes_[0].hi, r, best) == kInf) return false;
+  if (box_entry(nodes_[0].b, r, best) == kInf) return false;
   std::int32_t current = 0;
   for (;;) {
     const Node& node = nodes_[static_cast<std::size_t>(current)];
@@ -124,8 +127,8 @@ bool PrimitiveSet::cast(const Vec3& origin, const Vec3& dir, double max_range, d
       }
     } else {
       const std::int32_t l = node.first, rr = node.first + 1;
-      const double tl = box_entry(nodes_[static_cast<std::size_t>(l)].lo, nodes_[static_cast<std::size_t>(l)].hi, r, best);
-      const double tr = box_entry(nodes_[static_cast<std::size_t>(rr)].lo, nodes_[static_cast<std::size_t>(rr)].hi, r, best);
+      const double tl = box_entry(nodes_[static_cast<std::size_t>(l)].b, r, best);
+      const double tr = box_entry(nodes_[static_cast<std::size_t>(rr)].b, r, best);
       if (tl != kInf && tr != kInf) {
         // Visit the nearer child first; the other waits on the stack.
         if (tl <= tr) {
@@ -151,7 +154,7 @@ bool PrimitiveSet::cast(const Vec3& origin, const Vec3& dir, double max_range, d
       if (sp == 0) return found;
       current = stack[--sp];
       const Node& c = nodes_[static_cast<std::size_t>(current)];
-      if (box_entry(c.lo, c.hi, r, best) != kInf) break;
+      if (box_entry(c.b, r, best) != kInf) break;
     }
   }
 }

@@ -33,8 +33,7 @@ class PrimitiveSet {
 
  private:
   struct Node {
-    double lo[3];
-    double hi[3];
+    double b[2][3];      // lo, hi corners
     std::int32_t first;  // leaf: first primitive; inner: index of the left child (right = left + 1)
     std::int32_t count;  // leaf: number of primitives (> 0); inner: 0
   };

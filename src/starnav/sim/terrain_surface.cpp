@@ -6,7 +6,6 @@
 #include "starnav/core/error.hpp"
 
 namespace starnav {
-unsigned long long g_ts[6];
 
 namespace {
 
@@ -15,6 +14,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // (the segment ends come from rounded divisions), and in cell units for the diagonal split.
 constexpr double kSegmentSlack = 1e-9;
 constexpr double kDiagonalSlack = 1e-9;
+constexpr int kStartLevel = 3;
 
 float round_down(double v) {
   float f = static_cast<float>(v);
@@ -97,6 +97,16 @@ TerrainSurface::TerrainSurface(const ElevationMap& map) : geometry_(map.geometry
       }
     levels_.push_back(std::move(up));
   }
+  // Pack the levels into one array (level k >= 1 at level_offset_[k]) so that copies of the
+  // surface stay self-contained and the walk needs no per-level indirection.
+  level_offset_.assign(levels_.size() + 1, 0);
+  level_width_.assign(levels_.size() + 1, 0);
+  for (std::size_t k = 0; k < levels_.size(); ++k) {
+    level_offset_[k + 1] = pyramid_.size();
+    level_width_[k + 1] = levels_[k].w;
+    pyramid_.insert(pyramid_.end(), levels_[k].range.begin(), levels_[k].range.end());
+    std::vector<float>().swap(levels_[k].range);
+  }
 }
 
 double TerrainSurface::height(double x, double y) const {
@@ -133,7 +143,8 @@ Vec3 TerrainSurface::normal(double x, double y) const {
 }
 
 bool TerrainSurface::cast(const Vec3& origin, const Vec3& dir, double max_range, TerrainHit& hit) const {
-  if (s_.empty()) return false;
+  // A non-finite ray hits nothing (and must not reach the traversal, whose steps assume numbers).
+  if (s_.empty() || !origin.allFinite() || !dir.allFinite() || std::isnan(max_range)) return false;
   const double res = geometry_.resolution;
   const double wx = origin.x() - geometry_.origin.x, wy = origin.y() - geometry_.origin.y;
   const double ox = (cos_yaw_ * wx + sin_yaw_ * wy) / res + 0.5;
@@ -192,25 +203,21 @@ bool TerrainSurface::cast_local(double ox, double oy, double oz, double dx, doub
   if (!clip(ox, dx, 0.5, w_ + 0.5) || !clip(oy, dy, 0.5, h_ + 0.5) || !clip(oz, dz, min_h_, max_h_)) return false;
 
   const int top = static_cast<int>(levels_.size());
-  // The pyramid's levels as plain pointers (level k >= 1 is levels_[k - 1]).
-  const float* range[32];
-  int width[32];
-  for (int k = 1; k <= top; ++k) {
-    range[k] = levels_[static_cast<std::size_t>(k - 1)].range.data();
-    width[k] = levels_[static_cast<std::size_t>(k - 1)].w;
-  }
-  int level = top;
+  const float* pyramid = pyramid_.data();
+  const std::size_t* offset = level_offset_.data();  // level k's (min, max) pairs, k >= 1
+  const int* width = level_width_.data();
+  // Start a few levels up: the sensor is usually close to the ground, so the top levels (whole
+  // map) would only be descended through; a ray in open space climbs from there at every step.
+  int level = std::min(kStartLevel, top);
   // Positions inside the clipped domain are >= 0 up to rounding, so truncation is floor here
   // (the clamps absorb a rounding step below 0).
   int cx = std::clamp(static_cast<int>(ox + dx * t0), 0, w_);
   int cy = std::clamp(static_cast<int>(oy + dy * t0), 0, h_);
-  const double idx = 1.0 / dx, idy = 1.0 / dy;  // +-inf for a zero component (never used then)
-  const int ix = dx > 0.0 ? 1 : 0, iy = dy > 0.0 ? 1 : 0;
   const bool mx = dx != 0.0, my = dy != 0.0;
+  const double idx = mx ? 1.0 / dx : 0.0, idy = my ? 1.0 / dy : 0.0;
+  const int ix = dx > 0.0 ? 1 : 0, iy = dy > 0.0 ? 1 : 0;
   double t = t0;
-  ++g_ts[5];
   for (;;) {
-    ++g_ts[0];
     const int bx = cx >> level, by = cy >> level;
     const double tx = mx ? (static_cast<double>((bx + ix) << level) - ox) * idx : kInf;
     const double ty = my ? (static_cast<double>((by + iy) << level) - oy) * idy : kInf;
@@ -218,16 +225,14 @@ bool TerrainSurface::cast_local(double ox, double oy, double oz, double dx, doub
     const double te = exit_x ? tx : ty;
     const double tseg = te < t1 ? te : t1;
     if (level > 0) {
-      const float* r = range[level] + 2 * (static_cast<std::ptrdiff_t>(by) * width[level] + bx);
+      const float* r = pyramid + offset[level] + 2 * (static_cast<std::size_t>(by) * static_cast<std::size_t>(width[level]) + static_cast<std::size_t>(bx));
       const double za = oz + dz * t, zb = oz + dz * tseg;
       const double zlo = za < zb ? za : zb, zhi = za < zb ? zb : za;
       if (!(zlo > r[1] || zhi < r[0])) {
-        ++g_ts[1];
         --level;
         continue;
       }
     } else {
-      ++g_ts[2];
       if (test_cell(cx, cy, ox, oy, oz, dx, dy, dz, t, tseg, hit)) return true;
     }
     if (te >= t1) return false;
@@ -243,6 +248,7 @@ bool TerrainSurface::cast_local(double ox, double oy, double oz, double dx, doub
       if (cy < 0 || cy > h_) return false;
     }
     if (te > t) t = te;
+    // Climb while the step crossed into a new block of the level above.
     for (int px = bx >> 1, py = by >> 1; level < top && ((cx >> (level + 1)) != px || (cy >> (level + 1)) != py);
          px >>= 1, py >>= 1)
       ++level;

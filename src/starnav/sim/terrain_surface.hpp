@@ -48,13 +48,12 @@ class TerrainSurface {
   // First crossing of the surface by origin + s * dir, s in [0, max_range] (dir a unit vector).
   bool cast(const Vec3& origin, const Vec3& dir, double max_range, TerrainHit& hit) const;
 
-  // Pyramid statistics of the last casts are not kept (cast is const and thread-safe).
   int pyramid_levels() const { return static_cast<int>(levels_.size()); }
 
  private:
   struct Level {
     int w = 0, h = 0;
-    std::vector<float> range;  // (min, max) pairs per block, row-major
+    std::vector<float> range;  // (min, max) pairs per block, row-major; moved into pyramid_
   };
   // Samples padded by one replicated ring: padded sample (p, q) sits at s = (p, q) in the
   // "sample frame" s = grid_xy / resolution + 0.5; the pair of triangles (p, q) spans [p, p+1] x
@@ -70,6 +69,9 @@ class TerrainSurface {
   int sw_ = 0, sh_ = 0;  // padded samples (w_ + 2, h_ + 2)
   std::vector<double> s_;
   std::vector<Level> levels_;  // levels_[k] covers blocks of 2^(k+1) x 2^(k+1) triangle pairs
+  std::vector<float> pyramid_;             // every level's (min, max) pairs
+  std::vector<std::size_t> level_offset_;  // [k]: start of level k (= levels_[k - 1]) in pyramid_
+  std::vector<int> level_width_;           // [k]: blocks per row of level k
   double min_h_ = 0.0, max_h_ = 0.0;
   double cos_yaw_ = 1.0, sin_yaw_ = 0.0;
 };

@@ -35,6 +35,9 @@ bool replaces(const RayHit& out, double distance, int obstacle, int part) {
 }  // namespace
 
 World::World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+World::~World() = default;
 
 World::World(const WorldDescription& d) {
   if (d.terrain) terrain_ = std::make_unique<TerrainSurface>(*d.terrain);
@@ -68,16 +71,16 @@ World::World(const WorldDescription& d) {
 
 std::shared_ptr<const PrimitiveSet> World::moving_set(double time) const {
   if (moving_.empty()) return nullptr;
-  std::lock_guard<std::mutex> lock(cache_mutex_);
-  if (cache_ && cache_time_ == time) return cache_;
+  std::lock_guard<std::mutex> lock(cache_->mutex);
+  if (cache_->set && cache_->time == time) return cache_->set;
   std::vector<PosedPrimitive> posed;
   for (int i : moving_) {
     const Obstacle& o = obstacles_[static_cast<std::size_t>(i)];
     if (o.exists_at(time)) pose_obstacle(o, i, o.offset_at(time), posed);
   }
-  cache_ = std::make_shared<const PrimitiveSet>(std::move(posed));
-  cache_time_ = time;
-  return cache_;
+  cache_->set = std::make_shared<const PrimitiveSet>(std::move(posed));
+  cache_->time = time;
+  return cache_->set;
 }
 
 RayHit World::cast_with(const PrimitiveSet* moving, const Vec3& origin, const Vec3& dir, double max_range,

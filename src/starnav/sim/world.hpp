@@ -31,8 +31,9 @@ class World final : public RayCaster {
   // Throws Error for an invalid obstacle (field named, message prefixed with the obstacle's index
   // and name) or a terrain without any observed cell.
   explicit World(const WorldDescription& description);
-  World(const World&) = delete;
-  World& operator=(const World&) = delete;
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  ~World() override;
 
   const TerrainSurface* terrain() const { return terrain_ ? terrain_.get() : nullptr; }
   const std::vector<Obstacle>& obstacles() const { return obstacles_; }
@@ -64,9 +65,13 @@ class World final : public RayCaster {
   std::vector<int> moving_;  // indices of moving obstacles
   PrimitiveSet static_set_;
   Aabb static_bounds_;  // terrain and non-moving obstacles (whatever their lifetimes)
-  mutable std::mutex cache_mutex_;
-  mutable double cache_time_ = 0.0;
-  mutable std::shared_ptr<const PrimitiveSet> cache_;
+  // The moving obstacles posed at the last time asked for (shared by concurrent casts).
+  struct MovingCache {
+    std::mutex mutex;
+    double time = 0.0;
+    std::shared_ptr<const PrimitiveSet> set;
+  };
+  std::unique_ptr<MovingCache> cache_ = std::make_unique<MovingCache>();
 };
 
 }  // namespace starnav
