@@ -10,6 +10,50 @@
 
 namespace starnav {
 
+namespace {
+
+// One single-goal query on the search core, shared by the planners of this file: run, count,
+// convert the trace and the path from states to cells.
+template <class Search, class Graph, class Heuristic>
+PlanResult run_grid_query(Search& search, const Graph& graph, Heuristic& heuristic, const GridSearchMap& map,
+                          const GridGeometry& geometry, Cell start, Cell goal, const SearchLimits& limits,
+                          bool record_trace, std::vector<std::uint32_t>& path_states,
+                          std::vector<std::uint32_t>& trace_states, std::vector<Cell>& trace) {
+  PlanResult result;
+  const std::uint32_t goal_state = map.state(goal);
+  heuristic.set_goal(goal_state);
+  const auto started = std::chrono::steady_clock::now();
+  SearchOutcome outcome;
+  if (record_trace) {
+    trace_states.clear();
+    outcome = search.run(graph, heuristic, map.state(start), SingleGoal{goal_state}, limits,
+                         TraceListener{&trace_states});
+  } else {
+    outcome = search.run(graph, heuristic, map.state(start), SingleGoal{goal_state}, limits);
+  }
+  result.time_ms = elapsed_ms(started);
+  result.expanded = search.stats().expanded;
+  result.generated = search.stats().generated;
+  if (record_trace) {
+    trace.clear();
+    trace.reserve(trace_states.size());
+    for (const std::uint32_t s : trace_states) trace.push_back(map.cell(s));
+  }
+  if (outcome == SearchOutcome::Found) {
+    search.path_to(goal_state, path_states);
+    std::vector<Cell> cells;
+    cells.reserve(path_states.size());
+    for (const std::uint32_t s : path_states) cells.push_back(map.cell(s));
+    set_found_path(result, geometry, std::move(cells));
+  } else {
+    result.status = plan_status_of(outcome);
+  }
+  return result;
+}
+
+}  // namespace
+
+
 void validate_grid_planner_options(const GridPlannerOptions& options) {
   if (options.connectivity != 4 && options.connectivity != 8)
     throw Error("must be 4 or 8, got " + std::to_string(options.connectivity), {}, 0, "connectivity");
@@ -85,39 +129,9 @@ bool BestFirstGridPlanner::admissible() const {
 
 template <int Connectivity, class Heuristic>
 PlanResult BestFirstGridPlanner::run(Cell start, Cell goal, const SearchLimits& limits, Heuristic heuristic) {
-  PlanResult result;
   GridGraph<Connectivity> graph(map_);
-  const std::uint32_t goal_state = map_.state(goal);
-  heuristic.set_goal(goal_state);
-  const auto started = std::chrono::steady_clock::now();
-  SearchOutcome outcome;
-  if (record_trace_) {
-    trace_states_.clear();
-    outcome = search_.run(graph, heuristic, map_.state(start), SingleGoal{goal_state}, limits,
-                          TraceListener{&trace_states_});
-  } else {
-    outcome = search_.run(graph, heuristic, map_.state(start), SingleGoal{goal_state}, limits);
-  }
-  result.time_ms = elapsed_ms(started);
-  result.expanded = search_.stats().expanded;
-  result.generated = search_.stats().generated;
-  if (record_trace_) {
-    trace_.clear();
-    trace_.reserve(trace_states_.size());
-    for (const std::uint32_t s : trace_states_) trace_.push_back(map_.cell(s));
-  }
-  switch (outcome) {
-    case SearchOutcome::Found: {
-      search_.path_to(goal_state, path_states_);
-      std::vector<Cell> cells;
-      cells.reserve(path_states_.size());
-      for (const std::uint32_t s : path_states_) cells.push_back(map_.cell(s));
-      set_found_path(result, geometry_, std::move(cells));
-      break;
-    }
-    default: result.status = plan_status_of(outcome); break;
-  }
-  return result;
+  return run_grid_query(search_, graph, heuristic, map_, geometry_, start, goal, limits, record_trace_, path_states_,
+                        trace_states_, trace_);
 }
 
 template <int Connectivity>
@@ -169,39 +183,10 @@ ThetaStarPlanner::ThetaStarPlanner(const OccupancyGrid& grid, const GridPlannerO
 
 template <int Connectivity>
 PlanResult ThetaStarPlanner::run(Cell start, Cell goal, const SearchLimits& limits) {
-  PlanResult result;
   AnyAngleGridGraph<Connectivity> graph(map_);
   EuclideanHeuristic<double> heuristic(map_, 1.0, kSqrt2);
-  const std::uint32_t goal_state = map_.state(goal);
-  heuristic.set_goal(goal_state);
-  const auto started = std::chrono::steady_clock::now();
-  SearchOutcome outcome;
-  if (record_trace_) {
-    trace_states_.clear();
-    outcome = search_.run(graph, heuristic, map_.state(start), SingleGoal{goal_state}, limits,
-                          TraceListener{&trace_states_});
-  } else {
-    outcome = search_.run(graph, heuristic, map_.state(start), SingleGoal{goal_state}, limits);
-  }
-  result.time_ms = elapsed_ms(started);
-  result.expanded = search_.stats().expanded;
-  result.generated = search_.stats().generated;
-  if (record_trace_) {
-    trace_.reserve(trace_states_.size());
-    for (const std::uint32_t s : trace_states_) trace_.push_back(map_.cell(s));
-  }
-  switch (outcome) {
-    case SearchOutcome::Found: {
-      search_.path_to(goal_state, path_states_);
-      std::vector<Cell> cells;
-      cells.reserve(path_states_.size());
-      for (const std::uint32_t s : path_states_) cells.push_back(map_.cell(s));
-      set_found_path(result, geometry_, std::move(cells));
-      break;
-    }
-    default: result.status = plan_status_of(outcome); break;
-  }
-  return result;
+  return run_grid_query(search_, graph, heuristic, map_, geometry_, start, goal, limits, record_trace_, path_states_,
+                        trace_states_, trace_);
 }
 
 PlanResult ThetaStarPlanner::plan(Cell start, Cell goal, const SearchLimits& limits) {
