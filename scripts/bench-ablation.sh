@@ -16,25 +16,12 @@
 # Pinned to core 1 with taskset when available. Times are thread CPU times (the machine may be
 # shared); expansions, paths and metrics are deterministic.
 set -euo pipefail
-here=$(cd "$(dirname "$0")/.." && pwd)
-build=${STARNAV_BUILD:-build}
-case "$build" in /*) ;; *) build="$PWD/$build" ;; esac
-shared=${STARNAV_SHARED:-$here/../shared}
-starnav="$build/bin/starnav"
+source "$(dirname "$0")/bench_common.sh"
+bench_setup bench-ablation jq
 bench="$build/bin/starnav_bench"
 out="$build/bench/ablation"
 queries=${STARNAV_ABLATION_QUERIES:-100}
-if [ ! -x "$starnav" ]; then
-  echo "bench-ablation: $starnav not built (run make build first)" >&2
-  exit 2
-fi
-if ! command -v jq >/dev/null 2>&1; then
-  echo "bench-ablation: needs jq" >&2
-  exit 2
-fi
 mkdir -p "$out"
-pin=()
-if command -v taskset >/dev/null 2>&1 && taskset -c 1 true 2>/dev/null; then pin=(taskset -c 1); fi
 
 # name | map file (relative to ../shared) | hard inflation radius (metres on ROS maps, cells on MovingAI)
 maps=(

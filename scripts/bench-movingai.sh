@@ -6,24 +6,15 @@
 # per problem and planner), movingai_dijkstra.json / .csv. Pinned to core 1 with taskset when it
 # is available. Exit status 1 when an admissible planner missed an optimal answer.
 set -euo pipefail
-here=$(cd "$(dirname "$0")/.." && pwd)
-build=${STARNAV_BUILD:-build}
-case "$build" in /*) ;; *) build="$PWD/$build" ;; esac
-shared=${STARNAV_SHARED:-$here/../shared}
+source "$(dirname "$0")/bench_common.sh"
+bench_setup bench-movingai
 dir="$shared/benchmarks/movingai"
-starnav="$build/bin/starnav"
 if [ ! -d "$dir" ]; then
   echo "bench-movingai: $dir not present, skipped"
   exit 0
 fi
-if [ ! -x "$starnav" ]; then
-  echo "bench-movingai: $starnav not built (run make build first)" >&2
-  exit 2
-fi
 out="$build/bench"
 mkdir -p "$out"
-pin=()
-if command -v taskset >/dev/null 2>&1 && taskset -c 1 true 2>/dev/null; then pin=(taskset -c 1); fi
 
 summary() {  # the per-planner lines of a result file
   if command -v jq >/dev/null 2>&1; then

@@ -1,10 +1,17 @@
 #include "cli_util.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
+#include <iomanip>
+#include <sstream>
+#include <utility>
 
 #include "starnav/core/error.hpp"
 
@@ -56,6 +63,42 @@ bool picture_is_png(const std::string& path, const std::string& flag) {
   if (ext == ".png") return true;
   if (ext == ".svg") return false;
   throw Error("picture must end in .svg or .png", path, 0, flag);
+}
+
+std::string format_fixed(double v, int precision) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "-" : (v > 0 ? "inf" : "-inf");
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(precision) << v;
+  return s.str();
+}
+
+ProgressBar::ProgressBar(std::string label, std::size_t total, bool quiet)
+    : label_(std::move(label)), total_(total), enabled_(!quiet), tty_(!quiet && ::isatty(2) == 1) {}
+
+void ProgressBar::update(std::size_t done, const std::string& what) {
+  if (!enabled_ || total_ == 0) return;
+  if (!tty_) {
+    // One line per tenth of the work, and at the end.
+    if (done < next_line_ && done != total_) return;
+    next_line_ = done + std::max<std::size_t>(1, (total_ + 9) / 10);
+    std::fprintf(stderr, "%s: %zu/%zu %s\n", label_.c_str(), done, total_, what.c_str());
+    return;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  if (done != 0 && done != total_ && now - last_ < std::chrono::milliseconds(100)) return;
+  last_ = now;
+  constexpr int kWidth = 24;
+  const int filled = std::clamp(static_cast<int>(static_cast<double>(done) / static_cast<double>(total_) * kWidth), 0, kWidth);
+  std::string bar(static_cast<std::size_t>(filled), '#');
+  bar.append(static_cast<std::size_t>(kWidth - filled), '.');
+  std::string line = label_ + " [" + bar + "] " + std::to_string(done) + "/" + std::to_string(total_) + " " + what;
+  if (line.size() > 79) line.resize(79);  // one line of an 80-column terminal
+  std::fprintf(stderr, "\r%-79s", line.c_str());
+  std::fflush(stderr);
+}
+
+void ProgressBar::finish() {
+  if (tty_) std::fprintf(stderr, "\r%-79s\r", "");
 }
 
 }  // namespace starnav::cli

@@ -1,6 +1,8 @@
 #pragma once
 // Small helpers shared by the CLI commands: argument parsing that names the flag in errors,
 // output-file rules (conventions.md: never overwrite without --force).
+#include <chrono>
+#include <cstddef>
 #include <string>
 
 #include "starnav/core/geometry.hpp"
@@ -20,5 +22,26 @@ MapFormat output_map_format(const std::string& path, bool elevation);
 
 // True for a .png picture, false for .svg; throws Error naming `flag` for anything else.
 bool picture_is_png(const std::string& path, const std::string& flag);
+
+// A number with a fixed count of decimals; "-" for NaN, "inf" / "-inf" for infinities.
+std::string format_fixed(double v, int precision);
+
+// Progress of a long run on stderr: a live bar when stderr is a terminal, otherwise a line at
+// every tenth of the work (readable in CI logs); nothing when quiet.
+class ProgressBar {
+ public:
+  ProgressBar(std::string label, std::size_t total, bool quiet);
+  // `done` of the total finished; `what` names the current item.
+  void update(std::size_t done, const std::string& what);
+  void finish();
+
+ private:
+  std::string label_;
+  std::size_t total_;
+  bool enabled_;
+  bool tty_;
+  std::size_t next_line_ = 0;
+  std::chrono::steady_clock::time_point last_{};
+};
 
 }  // namespace starnav::cli

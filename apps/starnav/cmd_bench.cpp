@@ -462,6 +462,7 @@ void register_bench_commands(CLI::App& app, Context& ctx) {
   mai->add_flag("--per-map", opts->per_map, "also print a table per map");
   mai->add_flag("--quiet", opts->quiet, "no progress on stderr");
   mai->callback([opts, &ctx] { ctx.exit_code = run_bench_movingai(*opts); });
+  register_bench_terrain(app, ctx);  // Liu 2024 (cmd_bench_terrain.cpp)
 }
 
 }  // namespace starnav::cli

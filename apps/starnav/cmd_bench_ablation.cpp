@@ -119,13 +119,6 @@ struct Table {
   std::vector<std::vector<Run>> runs;  // [variant][query]
 };
 
-std::string fmt(double v, int precision) {
-  if (!std::isfinite(v)) return std::isnan(v) ? "-" : (v > 0 ? "inf" : "-inf");
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << v;
-  return s.str();
-}
-
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
@@ -254,7 +247,7 @@ std::vector<Query> random_queries(const AblationOptions& o, const OccupancyGrid&
   }
   if (static_cast<int>(out.size()) < o.random)
     throw Error("found only " + std::to_string(out.size()) + " of " + std::to_string(o.random) +
-                    " solvable queries at distance " + fmt(o.min_dist, 0) + ".." + fmt(o.max_dist, 0) + " cells",
+                    " solvable queries at distance " + format_fixed(o.min_dist, 0) + ".." + format_fixed(o.max_dist, 0) + " cells",
                 o.map, 0, "--random");
   return out;
 }
@@ -351,7 +344,7 @@ std::vector<Summary> summarise(const Table& t, std::size_t queries) {
 
 std::string table_title(const Table& t, double inflate, const std::string& unit) {
   return std::string(t.heuristic == "manhattan" ? "Manhattan" : "Octile") + " heuristic, " +
-         (t.inflated ? "inflated map (R = " + fmt(inflate, 3) + " " + unit + ")" : "original map");
+         (t.inflated ? "inflated map (R = " + format_fixed(inflate, 3) + " " + unit + ")" : "original map");
 }
 
 void write_summary_markdown(std::ostream& out, const Table& t, const std::vector<Summary>& s, double inflate,
@@ -370,12 +363,12 @@ void write_summary_markdown(std::ostream& out, const Table& t, const std::vector
     const Summary& x = s[v];
     std::string name = t.variants[v].name;
     if (t.variants[v].jps && t.heuristic != "octile") name += " (octile)";
-    out << "| " << name << " | " << x.solved << " | " << fmt(x.time_ms, 4) << " | " << fmt(x.expanded, 1) << " | "
-        << fmt(x.tir, 2) << " (" << fmt(x.tir_total, 2) << ") | " << fmt(x.enr, 2) << " (" << fmt(x.enr_total, 2)
-        << ") | " << fmt(x.cost, 3) << " | " << fmt(x.length, 3) << " | " << fmt(x.turning_points, 2) << " | "
-        << fmt(x.vertices, 2) << " | " << fmt(x.turning_points_los, 2) << " | " << fmt(x.vertices_los, 2) << " | "
-        << fmt(x.turn_total, 3) << " | " << fmt(x.clearance_min, 3) << " | " << fmt(x.clearance_mean, 3) << " | "
-        << fmt(x.smoothness, 4) << " |\n";
+    out << "| " << name << " | " << x.solved << " | " << format_fixed(x.time_ms, 4) << " | " << format_fixed(x.expanded, 1) << " | "
+        << format_fixed(x.tir, 2) << " (" << format_fixed(x.tir_total, 2) << ") | " << format_fixed(x.enr, 2) << " (" << format_fixed(x.enr_total, 2)
+        << ") | " << format_fixed(x.cost, 3) << " | " << format_fixed(x.length, 3) << " | " << format_fixed(x.turning_points, 2) << " | "
+        << format_fixed(x.vertices, 2) << " | " << format_fixed(x.turning_points_los, 2) << " | " << format_fixed(x.vertices_los, 2) << " | "
+        << format_fixed(x.turn_total, 3) << " | " << format_fixed(x.clearance_min, 3) << " | " << format_fixed(x.clearance_mean, 3) << " | "
+        << format_fixed(x.smoothness, 4) << " |\n";
   }
   out << "\n";
 }
@@ -397,11 +390,11 @@ void write_per_query_markdown(std::ostream& out, const Table& t, const std::vect
         continue;
       }
       const bool cmp = a.found;
-      out << fmt(r.time_ms, 4) << " | " << r.expanded << " | "
-          << (cmp ? fmt(improvement_percent(a.time_ms, r.time_ms), 2) : "-") << " | "
-          << (cmp ? fmt(improvement_percent(static_cast<double>(a.expanded), static_cast<double>(r.expanded)), 2) : "-")
-          << " | " << fmt(r.metrics.length, 3) << " | " << r.metrics.turning_points << " | " << r.metrics.vertices
-          << " | " << r.vertices_los << " | " << fmt(r.metrics.clearance_min, 3) << " |\n";
+      out << format_fixed(r.time_ms, 4) << " | " << r.expanded << " | "
+          << (cmp ? format_fixed(improvement_percent(a.time_ms, r.time_ms), 2) : "-") << " | "
+          << (cmp ? format_fixed(improvement_percent(static_cast<double>(a.expanded), static_cast<double>(r.expanded)), 2) : "-")
+          << " | " << format_fixed(r.metrics.length, 3) << " | " << r.metrics.turning_points << " | " << r.metrics.vertices
+          << " | " << r.vertices_los << " | " << format_fixed(r.metrics.clearance_min, 3) << " |\n";
     }
   }
   out << "\n";
@@ -589,16 +582,16 @@ void run_bench_ablation(const AblationOptions& o) {
   std::ostringstream md;
   md << "## Ablation (Ou et al. 2022, Table 2): " << fs::path(o.map).filename().string() << "\n\n";
   md << "Map " << o.map << ": " << grid.width() << " x " << grid.height() << " cells"
-     << (index_grid ? "" : ", " + fmt(geometry.resolution, 3) + " m/cell") << "; " << inflated.obstacle_cells
+     << (index_grid ? "" : ", " + format_fixed(geometry.resolution, 3) + " m/cell") << "; " << inflated.obstacle_cells
      << " obstacle cells";
   if (o.inflate > 0)
-    md << ", inflated by R = " << fmt(o.inflate, 3) << " " << unit << ": " << inflated.inflated_cells
+    md << ", inflated by R = " << format_fixed(o.inflate, 3) << " " << unit << ": " << inflated.inflated_cells
        << " more cells blocked";
   md << ". " << queries.size() << " queries ("
      << (from_file ? "from " + o.queries
-                   : "random, seed " + std::to_string(o.seed) + ", " + fmt(o.min_dist, 0) + ".." + fmt(o.max_dist, 0) +
+                   : "random, seed " + std::to_string(o.seed) + ", " + format_fixed(o.min_dist, 0) + ".." + format_fixed(o.max_dist, 0) +
                          " cells apart")
-     << "), turn cost k_turn = " << fmt(o.turn_cost, 3) << ", time = least thread CPU time of " << o.repeat
+     << "), turn cost k_turn = " << format_fixed(o.turn_cost, 3) << ", time = least thread CPU time of " << o.repeat
      << " runs of each query.\n\n";
   std::vector<std::vector<Summary>> summaries;
   for (const Table& t : tables) {

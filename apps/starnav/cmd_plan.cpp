@@ -14,6 +14,11 @@
 // Coordinates are cells on MovingAI maps (x column, y row from the top, as in .scen files) and
 // metres in the map frame on metric maps (--cells: cell indices there too). Exit 0 when a path is
 // found, 1 when the query has no answer (outside the map, blocked, no path, limit), 2 bad input.
+//
+// On an elevation map plan runs OA*, AOEA* or IA* of Liu et al. 2024 (cmd_plan_terrain.cpp, flags
+// --hy-m ... --unobserved); the occupancy planners and their flags (--weight ... --start-heading-deg)
+// are refused there, and the Liu flags on occupancy maps.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -23,6 +28,7 @@
 #include <sstream>
 
 #include "cli_util.hpp"
+#include "cmd_plan_terrain.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/map_file.hpp"
@@ -67,6 +73,10 @@ struct PlanOptions {
   CLI::Option* adaptive_weight_opt = nullptr;
   CLI::Option* smooth_opt = nullptr;
   CLI::Option* start_heading_opt = nullptr;
+  // Elevation maps (issue 5).
+  TerrainPlanFlags terrain;
+  CLI::Option* planner_opt = nullptr;
+  std::vector<CLI::Option*> occupancy_only;  // flags of the occupancy planners
 };
 
 // The path metrics as JSON (non-finite clearances, e.g. on a map without obstacles, are null).
@@ -105,20 +115,48 @@ std::string number(double v) {
   return s.str();
 }
 
+// Elevation maps: the Liu 2024 planners (cmd_plan_terrain.cpp).
+void run_plan_elevation(const PlanOptions& o, const LoadedMap& loaded, Context& ctx) {
+  for (const CLI::Option* opt : o.occupancy_only)
+    if (opt->count() > 0)
+      throw Error("applies to occupancy maps only (" + o.map + " is an elevation map)", {}, 0, opt->get_name());
+  TerrainPlanRequest rq;
+  rq.map_path = o.map;
+  rq.map = &loaded.elevation();
+  rq.start = endpoint_cell(o.start, "--start", o.cells, loaded.geometry());
+  rq.goal = endpoint_cell(o.goal, "--goal", o.cells, loaded.geometry());
+  if (o.planner_opt->count() > 0) rq.planner = o.planner;
+  rq.json = o.json;
+  rq.out = o.out;
+  rq.svg = o.svg;
+  rq.expanded = o.expanded;
+  rq.limits.max_expansions = static_cast<std::uint64_t>(o.max_expansions);
+  rq.limits.time_budget_s = o.time_budget_s;
+  run_plan_terrain(rq, o.terrain, ctx);
+}
+
 void run_plan(const PlanOptions& o, Context& ctx) {
-  if (o.unknown != "free" && o.unknown != "blocked")
-    throw Error("expected free or blocked, got '" + o.unknown + "'", {}, 0, "--unknown");
-  if (o.weight != 1.0 && o.planner != "wastar") throw Error("only --planner wastar takes a weight", {}, 0, "--weight");
   if (!(o.max_expansions >= 0) || o.max_expansions != std::floor(o.max_expansions))
     throw Error("expected a whole number >= 0", {}, 0, "--max-expansions");
   if (!(o.time_budget_s >= 0) || !std::isfinite(o.time_budget_s))
     throw Error("expected a number of seconds >= 0", {}, 0, "--time-budget");
   if (!o.out.empty()) check_output_path(o.out, o.force, "--out");
   if (!o.svg.empty()) check_output_path(o.svg, o.force, "--svg");
-
   const LoadedMap loaded = load_map(o.map);
-  if (loaded.is_elevation())
-    throw Error("is an elevation map; plan needs an occupancy map (.map, map_server .yaml)", o.map, 0, "--map");
+  if (loaded.is_elevation()) {
+    run_plan_elevation(o, loaded, ctx);
+    return;
+  }
+  if (const CLI::Option* f = o.terrain.first_given())
+    throw Error("applies to elevation maps only (planners oa, aoea, ia)", {}, 0, f->get_name());
+  {
+    const auto rough = rough_terrain_planner_names();
+    if (std::find(rough.begin(), rough.end(), o.planner) != rough.end())
+      throw Error("'" + o.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
+  }
+  if (o.unknown != "free" && o.unknown != "blocked")
+    throw Error("expected free or blocked, got '" + o.unknown + "'", {}, 0, "--unknown");
+  if (o.weight != 1.0 && o.planner != "wastar") throw Error("only --planner wastar takes a weight", {}, 0, "--weight");
   const OccupancyGrid& grid = loaded.occupancy();
   const GridGeometry& geometry = grid.geometry();
   const bool index_grid = loaded.format == MapFormat::MovingAi || geometry.y_down;
@@ -306,14 +344,16 @@ void run_plan(const PlanOptions& o, Context& ctx) {
 void register_plan_commands(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<PlanOptions>();
   auto* plan = app.add_subcommand("plan", "plan a path on a map");
-  plan->add_option("--map", o->map, "map file (MovingAI .map, map_server .yaml)")->required();
+  plan->add_option("--map", o->map,
+                   "map file (MovingAI .map, map_server .yaml; an elevation map runs oa, aoea or ia)")->required();
   plan->add_option("--start", o->start,
                    "start X,Y: cells on MovingAI maps (column, row from the top), metres on metric maps")
       ->required();
   plan->add_option("--goal", o->goal, "goal X,Y (same units as --start)")->required();
   std::string names;
   for (const auto& n : grid_planner_names()) names += (names.empty() ? "" : "|") + n;
-  plan->add_option("--planner", o->planner, names + " (default astar)");
+  plan->add_option("--planner", o->planner,
+                   names + " (default astar); on elevation maps oa|aoea|ia (default ia)");
   plan->add_option("--weight", o->weight, "wastar: f = g + W*h, W >= 1 (default 1; > 1 is inadmissible)");
   plan->add_option("--connectivity", o->connectivity, "4 or 8 (default 8, no corner cutting)");
   plan->add_option("--unknown", o->unknown, "unknown cells are free or blocked (default blocked)");
@@ -321,7 +361,10 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   plan->add_flag("--json", o->json,
                  "one JSON object: planner, admissible, found, reason, cost, length, units, expanded, generated, "
                  "path, path_cells, metrics {length, vertices, turning_points, turn_total_rad, turn_max_rad, "
-                 "clearance_min, clearance_mean, smoothness} (and metrics_before_smoothing when smoothed), time_ms");
+                 "clearance_min, clearance_mean, smoothness} (and metrics_before_smoothing when smoothed), time_ms; on "
+                 "elevation maps instead of metrics: heuristic, reopened, lv_m, av_rad, hv_m, sv_m2, roll_mean_deg, "
+                 "roll_max_deg, pitch_mean_deg, pitch_max_deg, tilt_mean_deg, tilt_max_deg, roll_mean_abs_deg, "
+                 "pitch_mean_abs_deg, moves_measured, cells_measured, attitude_nodes, options");
   plan->add_option("--out", o->out, "write the path as CSV (only when found)");
   plan->add_option("--svg", o->svg, "draw the map, the path and (with --expanded) the expanded cells");
   plan->add_flag("--expanded", o->expanded, "also report the expanded cells (JSON key expanded_cells; --svg draws them)");
@@ -352,6 +395,14 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   o->start_heading_opt = plan->add_option("--start-heading-deg", o->start_heading_deg,
                                           "the robot's initial yaw, so the first move's turn is charged (map frame; "
                                           "cell axes on MovingAI maps)");
+  // Elevation maps (issue 5, cmd_plan_terrain.cpp): the Liu 2024 flags; the flags above that only
+  // the occupancy planners use are refused there.
+  add_terrain_plan_flags(plan, o->terrain);
+  o->planner_opt = plan->get_option("--planner");
+  for (const char* name : {"--weight", "--connectivity", "--unknown", "--heuristic", "--inflate", "--inflate-cost-radius",
+                           "--inflate-cost", "--inflate-cost-weight", "--turn-cost", "--turn-exact", "--adaptive-weight",
+                           "--smooth", "--start-heading-deg"})
+    o->occupancy_only.push_back(plan->get_option(name));
   plan->callback([o, &ctx] { run_plan(*o, ctx); });
 }
 

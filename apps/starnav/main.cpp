@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_bench_commands(app, ctx);
   starnav::cli::register_bench_ablation(app, ctx);
   starnav::cli::register_terrain_commands(app, ctx);
+  starnav::cli::register_sim_commands(app, ctx);
 
   try {
     app.parse(argc, argv);

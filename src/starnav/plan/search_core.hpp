@@ -13,12 +13,19 @@
 //   GoalTest   bool(id): whether a state is a goal (SingleGoal for one state).
 //   OpenList   DecreaseKeyOpenList (default) or LazyOpenList (open_list.hpp).
 //   Listener   on_expand(id) / on_generate(id): statistics, traces; NullListener costs nothing.
+//   Reopen     NeverReopen (default) or ReopenClosed: whether a closed state reached again with a
+//              lower g goes back on the open list (a compile-time choice: the default loop has
+//              no extra test).
 //
 // Order of expansion: lower f = g + h first, then larger g, then lower state id (conventions.md),
-// so a query is deterministic and independent of the open-list variant. Closed states are never
-// reopened (with a consistent heuristic they cannot improve; weighted A* keeps its w bound
-// without reopening). Memory (search_memory.hpp) is sized once per graph and reused with
-// generation stamps; the open list keeps its storage, so queries do not allocate after warm-up.
+// so a query is deterministic and independent of the open-list variant. By default closed states
+// are never reopened (with a consistent heuristic they cannot improve; weighted A* keeps its w
+// bound without reopening). ReopenClosed is A* for heuristics that are admissible but not
+// consistent, or not admissible at all (Liu 2024's IA* with its H = distance, its Algorithm 1):
+// a closed state reached with a lower g is reopened, which keeps A*'s optimality for admissible
+// heuristics at the price of re-expansions (counted in `expanded`, and in `reopened`). Memory
+// (search_memory.hpp) is sized once per graph and reused with generation stamps; the open list
+// keeps its storage, so queries do not allocate after warm-up.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -35,8 +42,17 @@ namespace starnav {
 enum class SearchOutcome : std::uint8_t { Found, Exhausted, ExpansionLimit, TimeLimit, Cancelled };
 
 struct SearchStats {
-  std::uint64_t expanded = 0;   // popped from the open list and closed
+  std::uint64_t expanded = 0;   // popped from the open list and closed (re-expansions included)
   std::uint64_t generated = 0;  // pushed onto the open list, counting each improvement of g
+  std::uint64_t reopened = 0;   // closed states put back on the open list (ReopenClosed only)
+};
+
+// Reopening policies of BestFirstSearch.
+struct NeverReopen {
+  static constexpr bool kReopens = false;
+};
+struct ReopenClosed {
+  static constexpr bool kReopens = true;
 };
 
 struct NullListener {
@@ -60,7 +76,7 @@ struct SingleGoal {
 // expansion (count).
 inline constexpr std::uint64_t kLimitCheckInterval = 1024;
 
-template <class Cost, class OpenList = DefaultOpenList<Cost>>
+template <class Cost, class OpenList = DefaultOpenList<Cost>, class Reopen = NeverReopen>
 class BestFirstSearch {
  public:
   using cost_type = Cost;
@@ -155,7 +171,13 @@ class BestFirstSearch {
   template <class Heuristic, class Listener>
   void relax(std::uint32_t v, std::uint32_t parent, Cost g, const Heuristic& heuristic, Listener& listener) {
     Node& n = memory_.touch(v);
-    if (!(g < n.g) || n.closed()) return;
+    if constexpr (Reopen::kReopens) {
+      if (!(g < n.g)) return;
+      // Both open lists push a closed node afresh (its slot is not a heap position).
+      if (n.closed()) ++stats_.reopened;
+    } else {
+      if (!(g < n.g) || n.closed()) return;
+    }
     n.g = g;
     n.parent = parent;
     open_.push_or_decrease(n, Entry{g + heuristic(v), g, v});

@@ -52,10 +52,44 @@ Attitude footprint_attitude(const TerrainAnalysis& t, const Vec2& centre, double
   if (!terrain_height_at(t, centre + hl * f + hw * l, z_fl) || !terrain_height_at(t, centre + hl * f - hw * l, z_fr) ||
       !terrain_height_at(t, centre - hl * f + hw * l, z_rl) || !terrain_height_at(t, centre - hl * f - hw * l, z_rr))
     return att;
-  // Least-squares plane z = z0 + px x + py y through (+-L/2, +-W/2): with this symmetric design
-  // px = sum(x z) / sum(x^2), py = sum(y z) / sum(y^2).
-  const double px = ((z_fl + z_fr) - (z_rl + z_rr)) / (2.0 * fp.length_m);
-  const double py = ((z_fl + z_rl) - (z_fr + z_rr)) / (2.0 * fp.width_m);
+  const Vec3 corners[4] = {Vec3(hl, hw, z_fl), Vec3(hl, -hw, z_fr), Vec3(-hl, hw, z_rl), Vec3(-hl, -hw, z_rr)};
+  const PlaneFit plane = fit_plane(corners);
+  return plane.valid ? attitude_from_slopes(plane.px, plane.py) : att;
+}
+
+PlaneFit fit_plane(std::span<const Vec3> points) {
+  PlaneFit f;
+  if (points.size() < 3) return f;
+  const double n = static_cast<double>(points.size());
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points) mean += p;
+  mean /= n;
+  double sxx = 0.0, syy = 0.0, sxy = 0.0, sxz = 0.0, syz = 0.0;
+  for (const Vec3& p : points) {
+    const double x = p.x() - mean.x(), y = p.y() - mean.y(), z = p.z() - mean.z();
+    sxx += x * x;
+    syy += y * y;
+    sxy += x * y;
+    sxz += x * z;
+    syz += y * z;
+  }
+  const double det = sxx * syy - sxy * sxy;
+  if (!(det > 1e-12 * (sxx * syy)) || !(sxx > 0.0) || !(syy > 0.0)) return f;
+  f.px = (sxz * syy - syz * sxy) / det;
+  f.py = (syz * sxx - sxz * sxy) / det;
+  f.z0 = mean.z() - f.px * mean.x() - f.py * mean.y();
+  double ss = 0.0;
+  for (const Vec3& p : points) {
+    const double r = p.z() - f.height(p.x(), p.y());
+    ss += r * r;
+  }
+  f.rms_residual = std::sqrt(ss / n);
+  f.valid = true;
+  return f;
+}
+
+Attitude attitude_from_slopes(double px, double py) {
+  Attitude att;
   att.pitch = -std::atan(px);
   att.roll = std::atan2(py, std::sqrt(1.0 + px * px));
   att.tilt = std::atan(std::hypot(px, py));

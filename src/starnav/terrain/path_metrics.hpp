@@ -23,6 +23,7 @@
 // the absolute angles is given too (*_mean_abs_deg). A node whose corners touch an unobserved
 // cell (and no observed one to interpolate from) is left out of the attitude summaries.
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "starnav/core/grid_geometry.hpp"
@@ -69,6 +70,23 @@ struct TerrainPathMetrics {
   double tilt_mean_deg = 0.0;
   double tilt_max_deg = 0.0;
 };
+
+// Least-squares plane z = z0 + px x + py y through points (x, y, z): centred normal equations,
+// exact (to rounding) when the points lie on a plane. `valid` is false for fewer than 3 points or
+// points whose (x, y) are collinear. rms_residual: RMS of the points' heights about the plane.
+struct PlaneFit {
+  double z0 = 0.0;
+  double px = 0.0;
+  double py = 0.0;
+  double rms_residual = 0.0;
+  bool valid = false;
+  double height(double x, double y) const { return z0 + px * x + py * y; }
+};
+PlaneFit fit_plane(std::span<const Vec3> points);
+
+// Roll, pitch and tilt of a body on a plane whose slopes in the body's heading frame are
+// px = dz/dx_forward and py = dz/dy_left (the equations above).
+Attitude attitude_from_slopes(double px, double py);
 
 // Height at a world point, bilinear between cell centres over the observed cells among the
 // four (weights renormalised); clamped to the outermost centres at the border. False when none

@@ -8,7 +8,8 @@
 //   ia    IA*: A* with the Liu move cost w1 * g + w2 * d (liu_cost.hpp) and passability per move;
 //         heuristic the paper's H (Euclidean distance, not admissible: searched with reopening,
 //         as the paper's Algorithm 1, unless options.reopen is off) or the admissible
-//         w2 * Euclidean distance (consistent: the search core, optimal).
+//         w2 * Euclidean distance (consistent: optimal without reopening). Both run on the search
+//         core (search_core.hpp), with its ReopenClosed policy for the paper's H.
 //
 // All three are GridPlanner (grid_planner.hpp): 8-connected, a diagonal move needs both straight
 // moves beside it passable (for IA*: the straight moves from the parent to the two cells beside
@@ -16,7 +17,6 @@
 // runs on TerrainMoveGraph: the cost of every move of every cell precomputed once per planner
 // (8 floats per cell; +inf = impassable), so an expansion reads one 32-byte record.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -157,31 +157,6 @@ class TerrainEuclideanHeuristic {
   double gx_ = 0.0, gy_ = 0.0;
 };
 
-// A* that reopens closed states reached again with a lower g (the paper's Algorithm 1), for
-// heuristics that are not consistent. Same order of expansion as the search core (f, larger
-// g, lower id); counts every expansion, re-expansions included.
-class ReopeningSearch {
- public:
-  void resize(std::size_t states) { memory_.resize(states); }
-  template <class Graph, class Heuristic, class Listener = NullListener>
-  SearchOutcome run(const Graph& graph, const Heuristic& heuristic, std::uint32_t start, std::uint32_t goal,
-                    const SearchLimits& limits = {}, Listener&& listener = {});
-  const SearchStats& stats() const { return stats_; }
-  std::uint64_t reopened() const { return reopened_; }
-  double g(std::uint32_t id) const { return memory_.g(id); }
-  void path_to(std::uint32_t last, std::vector<std::uint32_t>& out) const {
-    out.clear();
-    for (std::uint32_t s = last; s != kNoState; s = memory_[s].parent) out.push_back(s);
-    std::reverse(out.begin(), out.end());
-  }
-
- private:
-  SearchMemory<double> memory_;
-  LazyOpenList<double> open_;
-  SearchStats stats_;
-  std::uint64_t reopened_ = 0;
-};
-
 // ---- The planners ------------------------------------------------------------------------------
 
 class RoughTerrainPlanner final : public GridPlanner {
@@ -227,7 +202,7 @@ class RoughTerrainPlanner final : public GridPlanner {
   // IA*
   MoveCostTable<float> table_;
   BestFirstSearch<double> search_;
-  ReopeningSearch reopening_;
+  BestFirstSearch<double, DefaultOpenList<double>, ReopenClosed> reopening_;
   std::vector<std::uint32_t> path_states_;
   std::vector<std::uint32_t> trace_states_;
   std::vector<Cell> trace_;
@@ -235,55 +210,5 @@ class RoughTerrainPlanner final : public GridPlanner {
 
 std::unique_ptr<RoughTerrainPlanner> make_rough_terrain_planner(std::string_view name, const ElevationMap& map,
                                                                 const RoughTerrainPlannerOptions& options = {});
-
-// ---- ReopeningSearch::run ------------------------------------------------------------------------
-
-template <class Graph, class Heuristic, class Listener>
-SearchOutcome ReopeningSearch::run(const Graph& graph, const Heuristic& heuristic, std::uint32_t start,
-                                   std::uint32_t goal, const SearchLimits& limits, Listener&& listener) {
-  using Node = SearchNode<double>;
-  using Entry = OpenEntry<double>;
-  open_.bind(memory_);
-  memory_.begin_query();
-  open_.clear();
-  stats_ = {};
-  reopened_ = 0;
-  const auto started = std::chrono::steady_clock::now();
-  Node& s = memory_.touch(start);
-  s.g = 0.0;
-  s.parent = kNoState;
-  open_.push_or_decrease(s, Entry{heuristic(start), 0.0, start});
-  ++stats_.generated;
-  listener.on_generate(start);
-  Entry top;
-  while (open_.pop_best(top)) {
-    if ((stats_.expanded % kLimitCheckInterval) == 0) {
-      if (limits.cancel && limits.cancel->load(std::memory_order_relaxed)) return SearchOutcome::Cancelled;
-      if (limits.time_budget_s > 0.0 &&
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() > limits.time_budget_s)
-        return SearchOutcome::TimeLimit;
-    }
-    if (limits.max_expansions != 0 && stats_.expanded >= limits.max_expansions) return SearchOutcome::ExpansionLimit;
-    Node& n = memory_[top.id];
-    n.slot = Node::kClosed;
-    ++stats_.expanded;
-    listener.on_expand(top.id);
-    if (top.id == goal) return SearchOutcome::Found;
-    const double gu = n.g;
-    const std::uint32_t u = top.id;
-    graph.for_each_successor(u, [&](std::uint32_t v, double c) {
-      Node& m = memory_.touch(v);
-      const double g = gu + c;
-      if (!(g < m.g)) return;
-      if (m.closed()) ++reopened_;
-      m.g = g;
-      m.parent = u;
-      open_.push_or_decrease(m, Entry{g + heuristic(v), g, v});
-      ++stats_.generated;
-      listener.on_generate(v);
-    });
-  }
-  return SearchOutcome::Exhausted;
-}
 
 }  // namespace starnav

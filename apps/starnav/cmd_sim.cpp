@@ -1,0 +1,338 @@
+// starnav sim: run a scenario (docs/scenarios.md) and write its records and pictures to a folder.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/io/point_cloud_io.hpp"
+#include "starnav/sim/simulation.hpp"
+#include "starnav/viz/map_picture.hpp"
+#include "starnav/viz/plot_svg.hpp"
+
+namespace starnav::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct SimOptions {
+  std::string scenario;
+  std::string out;
+  std::string seed;
+  std::string duration;
+  std::string point_clouds;
+  bool force = false;
+  bool json = false;
+  bool quiet = false;
+};
+
+std::uint64_t parse_seed(const std::string& text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    throw Error("expected a non-negative integer, got '" + text + "'", {}, 0, "--seed");
+  errno = 0;
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+  if (errno == ERANGE) throw Error("out of range (at most 2^64 - 1), got '" + text + "'", {}, 0, "--seed");
+  return static_cast<std::uint64_t>(v);
+}
+
+double parse_duration(const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || errno != 0 || end != text.c_str() + text.size() || !std::isfinite(v) || !(v > 0.0))
+    throw Error("expected a positive number of seconds, got '" + text + "'", {}, 0, "--duration");
+  return v;
+}
+
+// conventions.md: an existing non-empty folder is not written into without --force. Checked
+// before any work; the folder is created only once the scenario has loaded.
+void check_out_dir(const std::string& dir, bool force) {
+  if (dir.empty()) throw Error("empty output folder", {}, 0, "--out");
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) throw Error("exists and is not a folder", dir, 0, "--out");
+    if (!fs::is_empty(dir, ec) && !force) throw Error("folder exists and is not empty (use --force to overwrite)", dir, 0, "--out");
+  }
+}
+
+void prepare_out_dir(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    fs::remove_all(fs::path(dir) / "clouds", ec);  // stale clouds of an earlier run
+  } else {
+    fs::create_directories(dir, ec);
+    if (ec) throw Error("cannot create the folder: " + ec.message(), dir, 0, "--out");
+  }
+}
+
+// Live progress on stderr when it is a terminal.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled, double duration) : tty_(enabled && ::isatty(2) == 1), duration_(duration) {}
+  void update(double fraction) {
+    if (!tty_) return;
+    const auto now = Clock::now();
+    if (fraction < 1.0 && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    constexpr int kWidth = 30;
+    const int filled = std::clamp(static_cast<int>(fraction * kWidth), 0, kWidth);
+    std::string bar(static_cast<std::size_t>(filled), '#');
+    bar.append(static_cast<std::size_t>(kWidth - filled), '.');
+    std::fprintf(stderr, "\rsim [%s] %3d%%  t = %.1f / %.1f s", bar.c_str(), static_cast<int>(fraction * 100.0 + 0.5),
+                 fraction * duration_, duration_);
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (tty_) std::fprintf(stderr, "\r%-79s\r", "");
+  }
+
+ private:
+  bool tty_;
+  double duration_;
+  Clock::time_point last_{};
+};
+
+// ---- pictures ----------------------------------------------------------------------------------
+
+std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
+  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+  if (p.size() < 3) return p;
+  std::vector<Vec2> h(2 * p.size());
+  std::size_t k = 0;
+  const auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+struct Footprint {
+  std::vector<Vec2> polygon;  // closed outline, or empty for a circle
+  Vec2 centre = Vec2::Zero();
+  double radius = 0.0;
+};
+
+Footprint footprint(const Primitive& part, const Vec3& offset) {
+  Footprint f;
+  if (const auto* b = std::get_if<Box>(&part)) {
+    const Eigen::Matrix3d r = Pose3::from_rpy(Vec3::Zero(), b->roll, b->pitch, b->yaw).rotation();
+    std::vector<Vec2> pts;
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 c(((i & 1) ? 0.5 : -0.5) * b->size.x(), ((i & 2) ? 0.5 : -0.5) * b->size.y(), ((i & 4) ? 0.5 : -0.5) * b->size.z());
+      pts.push_back((b->center + offset + r * c).head<2>());
+    }
+    f.polygon = convex_hull(pts);
+  } else if (const auto* p = std::get_if<Prism>(&part)) {
+    const double c = std::cos(p->yaw), s = std::sin(p->yaw);
+    std::vector<Vec2> pts;
+    for (const double lx : {-0.5 * p->base_width, 0.5 * p->base_width, p->apex_offset})
+      for (const double ly : {-0.5 * p->length, 0.5 * p->length})
+        pts.emplace_back(p->base.x() + offset.x() + c * lx - s * ly, p->base.y() + offset.y() + s * lx + c * ly);
+    f.polygon = convex_hull(pts);
+  } else if (const auto* cy = std::get_if<Cylinder>(&part)) {
+    f.centre = (cy->base + offset).head<2>();
+    f.radius = cy->radius;
+  } else if (const auto* sp = std::get_if<Sphere>(&part)) {
+    f.centre = (sp->center + offset).head<2>();
+    f.radius = sp->radius;
+  }
+  if (!f.polygon.empty()) f.polygon.push_back(f.polygon.front());
+  return f;
+}
+
+void write_scene_svg(const Simulation& sim, const std::string& path) {
+  const World& world = sim.world();
+  std::unique_ptr<viz::MapPicture> pic;
+  viz::PictureOptions opts;
+  opts.title = sim.spec().name + ": top view";
+  if (sim.terrain_map()) {
+    pic = std::make_unique<viz::MapPicture>(*sim.terrain_map(), opts);
+  } else {
+    Aabb b = world.bounds(0.0);
+    for (const TrajectorySample& s : sim.trajectory()) b.extend(s.position);
+    if (b.empty()) b.extend(Vec3::Zero());
+    const double span = std::max({b.hi.x() - b.lo.x(), b.hi.y() - b.lo.y(), 1.0});
+    GridGeometry g;
+    g.resolution = span / 400.0;
+    g.origin = Pose2(b.lo.x() - 0.05 * span, b.lo.y() - 0.05 * span, 0.0);
+    g.width = static_cast<int>(std::ceil((b.hi.x() - b.lo.x() + 0.1 * span) / g.resolution));
+    g.height = static_cast<int>(std::ceil((b.hi.y() - b.lo.y() + 0.1 * span) / g.resolution));
+    pic = std::make_unique<viz::MapPicture>(g, opts);
+  }
+  const viz::Rgba obstacle_colour{60, 60, 60, 255};
+  const viz::Rgba dynamic_colour{204, 121, 167, 255};
+  bool labelled_static = false, labelled_dynamic = false;
+  for (const Obstacle& o : world.obstacles()) {
+    const bool dynamic = o.moving() || o.appear > 0.0 || std::isfinite(o.disappear);
+    const double t = std::isfinite(o.appear) ? o.appear : 0.0;
+    const Vec3 offset = o.offset_at(t);
+    viz::LineStyle style{dynamic ? dynamic_colour : obstacle_colour, 1.2, 1.0, false};
+    std::string label;
+    if (dynamic && !labelled_dynamic) label = "dynamic obstacle (where it appears)", labelled_dynamic = true;
+    if (!dynamic && !labelled_static) label = "obstacle", labelled_static = true;
+    for (const Primitive& part : o.parts) {
+      const Footprint f = footprint(part, offset);
+      if (!f.polygon.empty()) pic->add_polyline(f.polygon, style, label);
+      else pic->add_circle(f.centre, f.radius, style, std::nullopt, label);
+      label.clear();
+    }
+    if (o.moving()) {
+      std::vector<Vec2> path;
+      const double t_end = std::min(o.disappear, sim.spec().duration_s);
+      for (int i = 0; i <= 50; ++i) path.push_back(o.anchor_at(t + (t_end - t) * i / 50.0).head<2>());
+      pic->add_polyline(path, {dynamic_colour, 1.0, 1.0, true});
+    }
+  }
+  if (sim.spec().reference_line.size() >= 2)
+    pic->add_polyline(sim.spec().reference_line, {{0, 0, 0, 255}, 1.0, 0.8, true}, "reference line");
+  std::vector<Vec2> track;
+  for (const TrajectorySample& s : sim.trajectory()) track.push_back(s.position.head<2>());
+  pic->add_polyline(track, {viz::categorical_colour(1), 2.0, 1.0, false}, "trajectory");
+  pic->add_pose(sim.spec().start, 0.4, {viz::categorical_colour(2), 2.0, 1.0, false}, "start");
+  std::vector<Vec2> hits;
+  for (const SimEvent& e : sim.events())
+    if (e.kind == "collision" || e.kind == "step") hits.push_back(e.where);
+  if (!hits.empty()) pic->add_points(hits, {{213, 0, 0, 255}, 4.0, {255, 255, 255, 255}, 1.0, 1.0}, "collision / step");
+  pic->write_svg(path);
+}
+
+void write_height_trace(const Simulation& sim, const std::string& path) {
+  viz::LinePlot plot({.title = sim.spec().name + ": height of base_link over time", .x_label = "t [s]", .y_label = "z [m]"});
+  std::vector<Vec2> z;
+  for (const TrajectorySample& s : sim.trajectory()) z.emplace_back(s.t_s, s.position.z());
+  plot.add_series(z, {viz::categorical_colour(1), 1.8, false, false}, "z(t)");
+  plot.write_svg(path);
+}
+
+void write_track(const Simulation& sim, const std::string& path) {
+  viz::LinePlot plot({.title = sim.spec().name + ": XY track", .x_label = "x [m]", .y_label = "y [m]"});
+  // Static obstacles as shaded x bands, labelled, so the track's wobbles can be read against them.
+  for (const Obstacle& o : sim.world().obstacles()) {
+    if (o.moving() || o.appear > 0.0) continue;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Primitive& part : o.parts) {
+      const Aabb b = bounds(part);
+      lo = std::min(lo, b.lo.x());
+      hi = std::max(hi, b.hi.x());
+    }
+    if (std::isfinite(lo) && std::isfinite(hi)) plot.add_band(lo, hi, {200, 200, 200, 110}, o.name);
+  }
+  if (sim.spec().reference_line.size() >= 2)
+    plot.add_series(sim.spec().reference_line, {{0, 0, 0, 255}, 1.2, true, false}, "reference line");
+  std::vector<Vec2> track;
+  for (const TrajectorySample& s : sim.trajectory()) track.push_back(s.position.head<2>());
+  plot.add_series(track, {viz::categorical_colour(1), 1.8, false, false}, "track");
+  plot.write_svg(path);
+}
+
+// ---- the command -------------------------------------------------------------------------------
+
+void run_sim(const SimOptions& o, Context& ctx) {
+  ScenarioSpec spec = load_scenario(o.scenario);
+  if (!o.seed.empty()) spec.seed = parse_seed(o.seed);
+  if (!o.duration.empty()) spec.duration_s = parse_duration(o.duration);
+  if (!o.point_clouds.empty()) {
+    spec.outputs.point_clouds = parse_cloud_format(o.point_clouds, "--point-clouds");
+    if (spec.outputs.point_clouds != ScenarioOutputs::CloudFormat::None && !spec.lidar)
+      throw Error("the scenario has no sensors.lidar", o.scenario, 0, "--point-clouds");
+  }
+  check_out_dir(o.out, o.force);
+
+  const auto t_setup = Clock::now();
+  Simulation sim(spec);
+  const double setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
+  prepare_out_dir(o.out);
+
+  const auto cloud_format = spec.outputs.point_clouds;
+  std::int64_t scan_index = 0;
+  if (cloud_format != ScenarioOutputs::CloudFormat::None) {
+    const fs::path clouds = fs::path(o.out) / "clouds";
+    std::error_code ec;
+    fs::create_directories(clouds, ec);
+    if (ec) throw Error("cannot create the folder: " + ec.message(), clouds.string(), 0, "--out");
+    const int every = spec.outputs.clouds_every_n_scans;
+    const bool ply = cloud_format == ScenarioOutputs::CloudFormat::Ply;
+    sim.on_scan = [clouds, every, ply, &scan_index](const LidarScan& scan) {
+      if (scan_index % every == 0) {
+        char name[64];
+        std::snprintf(name, sizeof name, "scan_%06lld.%s", static_cast<long long>(scan_index), ply ? "ply" : "pcd");
+        write_point_cloud((clouds / name).string(), scan.points_world, ply ? PointCloudFormat::Ply : PointCloudFormat::Pcd);
+      }
+      ++scan_index;
+    };
+  }
+
+  ProgressBar bar(!o.quiet, spec.duration_s);
+  const auto t_run = Clock::now();
+  sim.run([&bar](double f) { bar.update(f); });
+  const double wall_s = std::chrono::duration<double>(Clock::now() - t_run).count();
+  bar.finish();
+
+  const fs::path dir(o.out);
+  write_simulation_records(sim, o.out);
+  const SimulationMetrics m = sim.metrics();
+  SimulationTiming timing;
+  timing.wall_s = wall_s;
+  timing.setup_s = setup_s;
+  timing.sim_s = sim.time();
+  timing.steps = m.steps;
+  timing.lidar_rays = m.lidar_rays;
+  write_timing_json(timing, (dir / "timing.json").string());
+  write_scene_svg(sim, (dir / "scene.svg").string());
+  write_height_trace(sim, (dir / "height_trace.svg").string());
+  write_track(sim, (dir / "track.svg").string());
+
+  if (o.json) {
+    std::cout << metrics_json(sim);
+  } else {
+    std::printf("%s: %.2f s simulated in %.2f s (%.0fx real time), %.2f m driven, %lld collision%s, z %.3f..%.3f m\n",
+                spec.name.c_str(), sim.time(), wall_s, wall_s > 0 ? sim.time() / wall_s : 0.0, m.distance_m,
+                static_cast<long long>(m.collisions), m.collisions == 1 ? "" : "s", m.z_min_m, m.z_max_m);
+    if (m.has_reference)
+      std::printf("deviation from the reference line: mean %.4f m, max %.4f m\n", m.deviation_mean_m, m.deviation_max_m);
+    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, height_trace.svg, track.svg}\n",
+                o.out.c_str());
+  }
+  ctx.exit_code = 0;
+}
+
+}  // namespace
+
+void register_sim_commands(CLI::App& app, Context& ctx) {
+  auto o = std::make_shared<SimOptions>();
+  auto* sim = app.add_subcommand("sim", "run a scenario (docs/scenarios.md): the robot follows its scripted commands");
+  sim->add_option("scenario", o->scenario, "SCENARIO.yaml")->required();
+  sim->add_option("--out", o->out, "output folder (trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, ...)")
+      ->required();
+  sim->add_option("--seed", o->seed, "random seed (overrides sim.seed)");
+  sim->add_option("--duration", o->duration, "simulated seconds (overrides sim.duration_s)");
+  sim->add_option("--point-clouds", o->point_clouds, "ply | pcd | none: write LiDAR point clouds (world frame) to OUT/clouds/");
+  sim->add_flag("--force", o->force, "write into a non-empty output folder");
+  sim->add_flag("--json", o->json, "print metrics.json to stdout");
+  sim->add_flag("--quiet", o->quiet, "no progress bar");
+  sim->callback([o, &ctx] { run_sim(*o, ctx); });
+}
+
+}  // namespace starnav::cli

@@ -1,0 +1,361 @@
+#include "starnav/nav/node_height_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+
+#include "starnav/core/error.hpp"
+#include "starnav/map/distance_transform.hpp"
+
+namespace starnav {
+
+namespace {
+
+constexpr int kTile = 32;  // cells per side of the tiles the incremental refresh works in
+constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
+
+// Squared radius in cells with a relative tolerance, so that a radius of exactly k cells (given
+// as k * resolution in metres) includes distance k: the same rule as terrain's expand_mask.
+int expansion_margin(double radius_cells) { return static_cast<int>(std::floor(radius_cells * (1.0 + 1e-9))) + 1; }
+
+}  // namespace
+
+void NodeMapParams::validate() const {
+  li.validate();
+  if (!std::isfinite(barrier_distance_m) || barrier_distance_m < 0.0)
+    throw Error("must be a finite number >= 0", {}, 0, "barrier_distance_m");
+  if (!std::isfinite(clear_margin_m) || clear_margin_m < 0.0)
+    throw Error("must be a finite number >= 0", {}, 0, "clear_margin_m");
+  if (hit_gain < 1 || hit_gain > 255) throw Error("must be in 1..255", {}, 0, "hit_gain");
+  if (miss_loss < 1 || miss_loss > 255) throw Error("must be in 1..255", {}, 0, "miss_loss");
+  // A cell hit in a scan must stay observed whatever else happened to it in that scan.
+  if (miss_loss > hit_gain) throw Error("must be <= hit_gain", {}, 0, "miss_loss");
+  if (evidence_max < hit_gain || evidence_max > 255) throw Error("must be in hit_gain..255", {}, 0, "evidence_max");
+}
+
+NodeHeightMap::NodeHeightMap(const GridGeometry& geometry, const NodeMapParams& params)
+    : geometry_(geometry), params_(params) {
+  validate_geometry(geometry_, "geometry");
+  if (geometry_.y_down) throw Error("a navigation map must be metric (y up)", {}, 0, "geometry");
+  params_.validate();
+  const std::size_t n = geometry_.cell_count();
+  evidence_.assign(n, 0);
+  lo_.assign(n, 0.0);
+  hi_.assign(n, 0.0);
+  raw2d_.assign(n, 0);
+  hit_stamp_.assign(n, 0);
+  miss_stamp_.assign(n, 0);
+  touch_stamp_.assign(n, 0);
+  const int tiles_x = (geometry_.width + kTile - 1) / kTile, tiles_y = (geometry_.height + kTile - 1) / kTile;
+  tile_dirty_.assign(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 0);
+  elevation_ = ElevationMap(geometry_);
+  occupancy_ = OccupancyGrid(geometry_, kUnknownOccupancy);
+  rebuild();
+}
+
+void NodeHeightMap::rebuild() {
+  const std::size_t n = geometry_.cell_count();
+  for (std::size_t i = 0; i < n; ++i) raw2d_[i] = evidence_[i] > 0 ? 1 : 0;
+  if (params_.mode == NodeMapMode::Nodes3D) {
+    TerrainAnalysisOptions options;
+    options.unobserved = UnobservedPolicy::FreeFlat;  // unknown cells are free for planning
+    options.li = params_.li;
+    options.robot_radius_m = 0.0;  // the expansion is ours (incremental over tiles)
+    analysis_.compute(elevation_, options);
+  }
+  blocked_ = expand_mask(raw_blocked(), geometry_.width, geometry_.height,
+                         params_.barrier_distance_m / geometry_.resolution);
+  for (std::size_t i = 0; i < n; ++i) occupancy_.data()[i] = occupancy_value(i);
+}
+
+std::int8_t NodeHeightMap::occupancy_value(std::size_t i) const {
+  if (blocked_[i]) return kOccupiedOccupancy;
+  return evidence_[i] > 0 ? kFreeOccupancy : kUnknownOccupancy;
+}
+
+NodeMapUpdate NodeHeightMap::integrate(const LidarScan& scan, double no_return_clear_m) {
+  if (!std::isfinite(no_return_clear_m) || no_return_clear_m < 0.0)
+    throw Error("must be a finite number >= 0", {}, 0, "no_return_clear_m");
+  if (!(no_return_clear_m > 0.0)) return integrate(scan.sensor_pose.position, scan.points_world);
+  pass_ends_.clear();
+  const Eigen::Matrix3d r = scan.sensor_pose.rotation();
+  for (int j = 0; j < scan.lines; ++j)
+    for (int b = 0; b < scan.beams; ++b) {
+      if (std::isfinite(scan.range(j, b))) continue;
+      const double phi = scan.elevations[static_cast<std::size_t>(j)], theta = scan.azimuths[static_cast<std::size_t>(b)];
+      const Vec3 dir(std::cos(phi) * std::cos(theta), std::cos(phi) * std::sin(theta), std::sin(phi));
+      pass_ends_.push_back(scan.sensor_pose.position + no_return_clear_m * (r * dir));
+    }
+  return integrate(scan.sensor_pose.position, scan.points_world, pass_ends_);
+}
+
+void NodeHeightMap::touch(std::uint32_t i) {
+  if (touch_stamp_[i] == scan_) return;
+  touch_stamp_[i] = scan_;
+  touched_.push_back({i, lo_[i], hi_[i], evidence_[i] > 0});
+}
+
+// Amanatides & Woo (1987) over the cells of the segment a -> b (continuous cell coordinates),
+// clipped to the grid; stops before `end_cell`. z runs linearly from za to zb along the segment.
+void NodeHeightMap::walk_beam(const Vec2& a, const Vec2& b, double za, double zb, std::uint32_t end_cell) {
+  const double w = geometry_.width, h = geometry_.height;
+  const Vec2 d = b - a;
+  // Liang-Barsky clip of t in [0, 1] to [0, w] x [0, h].
+  double t0 = 0.0, t1 = 1.0;
+  const double p[4] = {-d.x(), d.x(), -d.y(), d.y()};
+  const double q[4] = {a.x(), w - a.x(), a.y(), h - a.y()};
+  for (int k = 0; k < 4; ++k) {
+    if (p[k] == 0.0) {
+      if (q[k] < 0.0) return;
+      continue;
+    }
+    const double r = q[k] / p[k];
+    if (p[k] < 0.0) t0 = std::max(t0, r);
+    else t1 = std::min(t1, r);
+  }
+  if (!(t0 < t1)) return;
+  const Vec2 s = a + t0 * d;
+  int x = std::clamp(GridGeometry::floor_to_int(s.x()), 0, geometry_.width - 1);
+  int y = std::clamp(GridGeometry::floor_to_int(s.y()), 0, geometry_.height - 1);
+  const int step_x = d.x() > 0 ? 1 : (d.x() < 0 ? -1 : 0);
+  const int step_y = d.y() > 0 ? 1 : (d.y() < 0 ? -1 : 0);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double dt_x = step_x != 0 ? 1.0 / std::abs(d.x()) : kInf;
+  const double dt_y = step_y != 0 ? 1.0 / std::abs(d.y()) : kInf;
+  double next_x = step_x > 0 ? (x + 1 - a.x()) / d.x() : (step_x < 0 ? (x - a.x()) / d.x() : kInf);
+  double next_y = step_y > 0 ? (y + 1 - a.y()) / d.y() : (step_y < 0 ? (y - a.y()) / d.y() : kInf);
+  const bool planar = params_.mode == NodeMapMode::Lidar2D;
+  const double margin = params_.clear_margin_m;
+  double t_in = t0;
+  const int max_steps = geometry_.width + geometry_.height + 2;
+  for (int steps = 0; steps < max_steps; ++steps) {
+    const std::uint32_t i = static_cast<std::uint32_t>(geometry_.index(x, y));
+    if (i == end_cell) return;
+    const double t_out = std::min({next_x, next_y, t1});
+    if (evidence_[i] > 0 && miss_stamp_[i] != scan_) {
+      bool contradicts = planar;
+      if (!planar) {
+        // The beam's highest point inside the cell must lie clearly below the cell's highest hit.
+        const double z_top = std::max(za + t_in * (zb - za), za + t_out * (zb - za));
+        contradicts = hi_[i] > z_top + margin;
+      }
+      if (contradicts) {
+        miss_stamp_[i] = scan_;
+        touch(i);
+      }
+    }
+    if (t_out >= t1) return;
+    t_in = t_out;
+    if (next_x < next_y) {
+      x += step_x;
+      next_x += dt_x;
+    } else {
+      y += step_y;
+      next_y += dt_y;
+    }
+    if (x < 0 || y < 0 || x >= geometry_.width || y >= geometry_.height) return;
+  }
+}
+
+NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3> points,
+                                       std::span<const Vec3> pass_ends) {
+  NodeMapUpdate update;
+  ++scan_;
+  if (scan_ == 0) {  // stamps wrapped: forget them all
+    std::fill(hit_stamp_.begin(), hit_stamp_.end(), 0);
+    std::fill(miss_stamp_.begin(), miss_stamp_.end(), 0);
+    std::fill(touch_stamp_.begin(), touch_stamp_.end(), 0);
+    scan_ = 1;
+  }
+  touched_.clear();
+  const bool planar = params_.mode == NodeMapMode::Lidar2D;
+  const bool origin_ok = origin.allFinite();
+  const Vec2 origin_cell = geometry_.world_to_cell_continuous(origin.head<2>());
+
+  // 1. Passes, judged against the map before this scan.
+  if (params_.clear && any_evidence_ && origin_ok) {
+    for (const Vec3& p : points) {
+      if (!p.allFinite()) continue;
+      const Vec2 c = geometry_.world_to_cell_continuous(p.head<2>());
+      const std::optional<Cell> end = geometry_.world_to_cell(p.head<2>());
+      const std::uint32_t end_cell = end ? static_cast<std::uint32_t>(geometry_.index(end->x, end->y)) : kNoCell;
+      walk_beam(origin_cell, c, origin.z(), p.z(), end_cell);
+    }
+    for (const Vec3& p : pass_ends)
+      if (p.allFinite())
+        walk_beam(origin_cell, geometry_.world_to_cell_continuous(p.head<2>()), origin.z(), p.z(), kNoCell);
+  }
+  update.cells_contradicted = touched_.size();  // so far only passes touched cells
+
+  // 2. Hits. A cell contradicted in this scan, or unobserved, restarts its heights from the scan's
+  // own returns; any other cell accumulates.
+  for (const Vec3& p : points) {
+    if (!p.allFinite()) continue;
+    const std::optional<Cell> cell = geometry_.world_to_cell(p.head<2>());
+    if (!cell) continue;
+    ++update.returns_used;
+    const std::uint32_t i = static_cast<std::uint32_t>(geometry_.index(cell->x, cell->y));
+    const double z = planar ? 0.0 : p.z();
+    if (hit_stamp_[i] != scan_) {
+      hit_stamp_[i] = scan_;
+      touch(i);
+      ++update.cells_hit;
+      if (miss_stamp_[i] == scan_ || evidence_[i] == 0) {
+        lo_[i] = hi_[i] = z;
+        continue;
+      }
+    }
+    lo_[i] = std::min(lo_[i], z);
+    hi_[i] = std::max(hi_[i], z);
+  }
+
+  // 3. Evidence, and the cells whose state changed.
+  const int tiles_x = (geometry_.width + kTile - 1) / kTile;
+  dirty_tiles_.clear();
+  for (const Touched& t : touched_) {
+    const std::uint32_t i = t.index;
+    int e = evidence_[i];
+    if (hit_stamp_[i] == scan_) e += params_.hit_gain;
+    if (miss_stamp_[i] == scan_) e -= params_.miss_loss;
+    e = std::clamp(e, 0, params_.evidence_max);
+    evidence_[i] = static_cast<std::uint8_t>(e);
+    const bool now_observed = e > 0;
+    if (!now_observed) {
+      lo_[i] = hi_[i] = 0.0;
+      if (t.old_observed) ++update.cells_cleared;
+    }
+    const bool changed = now_observed != t.old_observed || (now_observed && (lo_[i] != t.old_lo || hi_[i] != t.old_hi));
+    if (!changed) continue;
+    ++update.cells_changed;
+    const Cell c = geometry_.cell_of_index(i);
+    raw2d_[i] = now_observed ? 1 : 0;
+    if (!planar) {
+      if (now_observed) elevation_.set_cell(c.x, c.y, 0.5 * (lo_[i] + hi_[i]), lo_[i], hi_[i]);
+      else elevation_.clear_cell(c.x, c.y);
+    }
+    const std::uint32_t tile = static_cast<std::uint32_t>((c.y / kTile) * tiles_x + c.x / kTile);
+    if (!tile_dirty_[tile]) {
+      tile_dirty_[tile] = 1;
+      dirty_tiles_.push_back(tile);
+    }
+  }
+  any_evidence_ = any_evidence_ || update.cells_hit > 0;
+
+  // 4. Derived layers over the dirty tiles, in tile order (deterministic): first every tile's
+  // analysis, so that the expansions read final raw masks, then the expansions, then the
+  // occupancy differences (no transient values are reported).
+  std::sort(dirty_tiles_.begin(), dirty_tiles_.end());
+  std::vector<CellRect>& rects = dirty_rects_;
+  rects.clear();
+  for (const std::uint32_t tile : dirty_tiles_) {
+    tile_dirty_[tile] = 0;
+    const int tx = static_cast<int>(tile) % tiles_x, ty = static_cast<int>(tile) / tiles_x;
+    const CellRect r{tx * kTile, ty * kTile, std::min(geometry_.width, (tx + 1) * kTile),
+                     std::min(geometry_.height, (ty + 1) * kTile)};
+    if (!planar) analysis_.update(elevation_, r);
+    rects.push_back(planar ? r : r.grown(1, geometry_.width, geometry_.height));  // Li reads 8 neighbours
+  }
+  for (const CellRect& r : rects) refresh_expansion(r);
+  for (const CellRect& r : rects) refresh_occupancy(r, update);
+  std::sort(update.occupancy_changed.begin(), update.occupancy_changed.end(),
+            [&](const Cell& a, const Cell& b) { return geometry_.index(a.x, a.y) < geometry_.index(b.x, b.y); });
+  return update;
+}
+
+void NodeHeightMap::refresh_occupancy(const CellRect& raw_changed, NodeMapUpdate& update) {
+  const double rc = params_.barrier_distance_m / geometry_.resolution;
+  const CellRect region = raw_changed.grown(expansion_margin(rc), geometry_.width, geometry_.height);
+  for (int y = region.y0; y < region.y1; ++y)
+    for (int x = region.x0; x < region.x1; ++x) {
+      const std::size_t i = geometry_.index(x, y);
+      const std::int8_t v = occupancy_value(i);
+      if (occupancy_.data()[i] == v) continue;
+      occupancy_.data()[i] = v;
+      update.occupancy_changed.push_back({x, y});
+      CellRect& b = update.bounds;
+      if (b.empty()) b = {x, y, x + 1, y + 1};
+      else b = {std::min(b.x0, x), std::min(b.y0, y), std::max(b.x1, x + 1), std::max(b.y1, y + 1)};
+    }
+}
+
+// Cells within the radius of a changed raw cell may change; their nearest raw cells within the
+// radius lie within `margin` more cells, so a window of that size decides them exactly.
+void NodeHeightMap::refresh_expansion(const CellRect& raw_changed) {
+  const int w = geometry_.width, h = geometry_.height;
+  const double rc = params_.barrier_distance_m / geometry_.resolution;
+  const int margin = expansion_margin(rc);
+  const CellRect region = raw_changed.grown(margin, w, h);
+  const CellRect window = region.grown(margin, w, h);
+  const int ww = window.x1 - window.x0, wh = window.y1 - window.y0;
+  const std::vector<std::uint8_t>& raw = raw_blocked();
+  sub_.resize(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh));
+  for (int y = window.y0; y < window.y1; ++y)
+    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(geometry_.index(window.x0, y)), ww,
+                sub_.begin() + static_cast<std::ptrdiff_t>(y - window.y0) * ww);
+  // Same rule as terrain's expand_mask (a radius of exactly k cells includes distance k), with
+  // the transform's buffers kept between calls.
+  const bool expand = rc > 0.0;
+  if (expand) dt_.compute(sub_, ww, wh);
+  const double limit = rc * rc * (1.0 + 1e-9) + 1e-12;
+  for (int y = region.y0; y < region.y1; ++y)
+    for (int x = region.x0; x < region.x1; ++x) {
+      const std::size_t k = static_cast<std::size_t>(y - window.y0) * static_cast<std::size_t>(ww) +
+                            static_cast<std::size_t>(x - window.x0);
+      blocked_[geometry_.index(x, y)] = expand ? (dt_.squared_cells()[k] <= limit ? 1 : 0) : (sub_[k] ? 1 : 0);
+    }
+}
+
+std::optional<Cell> NodeHeightMap::escape_cell(Cell start, std::vector<Cell>* path) const {
+  if (path) path->clear();
+  if (!geometry_.contains(start)) return std::nullopt;
+  const std::vector<std::uint8_t>& raw = raw_blocked();
+  const std::size_t s = geometry_.index(start.x, start.y);
+  if (raw[s]) return std::nullopt;
+  if (!blocked_[s]) {
+    if (path) path->push_back(start);
+    return start;
+  }
+  // Dijkstra from start through cells that are not raw blocked; the first settled cell outside
+  // the band is the cheapest way out (ties: lower cost first, then lower index).
+  const std::size_t n = geometry_.cell_count();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> dist(n, kInf);
+  std::vector<std::uint32_t> parent(n, kNoCell);
+  using Entry = std::pair<double, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  dist[s] = 0.0;
+  open.push({0.0, static_cast<std::uint32_t>(s)});
+  const double diag = std::sqrt(2.0);
+  while (!open.empty()) {
+    const auto [d, u] = open.top();
+    open.pop();
+    if (d > dist[u]) continue;
+    if (!blocked_[u]) {
+      const Cell out = geometry_.cell_of_index(u);
+      if (path) {
+        for (std::uint32_t v = u; v != kNoCell; v = parent[v]) path->push_back(geometry_.cell_of_index(v));
+        std::reverse(path->begin(), path->end());
+      }
+      return out;
+    }
+    const Cell c = geometry_.cell_of_index(u);
+    for (int k = 0; k < kMoveCount; ++k) {
+      const int nx = c.x + kMoveDx[k], ny = c.y + kMoveDy[k];
+      if (!geometry_.contains(nx, ny) || raw[geometry_.index(nx, ny)]) continue;
+      if (move_is_diagonal(k) && (raw[geometry_.index(c.x + kMoveDx[k], c.y)] || raw[geometry_.index(c.x, c.y + kMoveDy[k])]))
+        continue;  // no corner cutting past an obstacle
+      const std::uint32_t v = static_cast<std::uint32_t>(geometry_.index(nx, ny));
+      const double nd = d + (move_is_diagonal(k) ? diag : 1.0);
+      if (nd < dist[v]) {
+        dist[v] = nd;
+        parent[v] = u;
+        open.push({nd, v});
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace starnav
