@@ -6,6 +6,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/planar_motion.hpp"
 
 namespace starnav {
 
@@ -23,18 +24,8 @@ constexpr double kMaxRoughnessScale = 3.0;
 // The pose reached from `p` after `t` seconds of constant body twist `v` (exact arc) plus a
 // constant world-frame drift.
 Pose2 advance(const Pose2& p, const BodyTwist& v, const Vec2& drift, double t) {
-  const double th = v.wz * t;
-  double dx, dy;
-  if (std::abs(th) > 1e-9) {
-    const double s = std::sin(th), c1 = 2.0 * std::sin(0.5 * th) * std::sin(0.5 * th);  // 1 - cos
-    dx = (v.vx * s - v.vy * c1) / v.wz;
-    dy = (v.vx * c1 + v.vy * s) / v.wz;
-  } else {  // second order in th, the arc to rounding
-    dx = (v.vx - 0.5 * v.vy * th) * t;
-    dy = (v.vy + 0.5 * v.vx * th) * t;
-  }
-  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  return {p.x + c * dx - s * dy + drift.x() * t, p.y + s * dx + c * dy + drift.y() * t, wrap_angle(p.yaw + th)};
+  const Pose2 q = advance_on_arc(p, v.vx, v.vy, v.wz, t);
+  return {q.x + drift.x() * t, q.y + drift.y() * t, q.yaw};
 }
 
 bool overlaps(const Aabb& a, const Aabb& b) {
