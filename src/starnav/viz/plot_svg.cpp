@@ -105,8 +105,10 @@ std::string LinePlot::svg_string() const {
         ylo = std::min(ylo, p.y());
         yhi = std::max(yhi, p.y());
       }
-  auto [x0, x1] = options_.x_range ? *options_.x_range : auto_range(xlo, xhi, false);
-  auto [y0, y1] = options_.y_range ? *options_.y_range : auto_range(ylo, yhi, true);
+  // Plain variables, not structured bindings: the lambdas below capture them.
+  const auto x_range = options_.x_range ? *options_.x_range : auto_range(xlo, xhi, false);
+  const auto y_range = options_.y_range ? *options_.y_range : auto_range(ylo, yhi, true);
+  double x0 = x_range.first, x1 = x_range.second, y0 = y_range.first, y1 = y_range.second;
   if (!(x1 > x0)) x1 = x0 + 1.0;
   if (!(y1 > y0)) y1 = y0 + 1.0;
 
