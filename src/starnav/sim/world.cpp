@@ -9,8 +9,6 @@ namespace starnav {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 void pose_obstacle(const Obstacle& o, int index, const Vec3& offset, std::vector<PosedPrimitive>& out) {
   for (std::size_t j = 0; j < o.parts.size(); ++j) {
     PosedPrimitive p = pose_primitive(offset == Vec3::Zero() ? o.parts[j] : translated(o.parts[j], offset));
