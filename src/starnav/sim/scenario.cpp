@@ -564,22 +564,9 @@ Obstacle place_obstacle(const ScenarioObstacle& s, double ground_z, const Terrai
   std::visit(
       [&](const auto& shape) {
         using T = std::decay_t<decltype(shape)>;
-        if constexpr (std::is_same_v<T, Box>) {
-          Box b = shape;
-          b.center += at;
-          o.parts.emplace_back(b);
-        } else if constexpr (std::is_same_v<T, Cylinder>) {
-          Cylinder c = shape;
-          c.base += at;
-          o.parts.emplace_back(c);
-        } else if constexpr (std::is_same_v<T, Prism>) {
-          Prism p = shape;
-          p.base += at;
-          o.parts.emplace_back(p);
-        } else if constexpr (std::is_same_v<T, Sphere>) {
-          Sphere p = shape;
-          p.center += at;
-          o.parts.emplace_back(p);
+        if constexpr (std::is_same_v<T, Box> || std::is_same_v<T, Cylinder> || std::is_same_v<T, Prism> ||
+                      std::is_same_v<T, Sphere>) {
+          o.parts.push_back(translated(Primitive(shape), at));
         } else if constexpr (std::is_same_v<T, SlopeStep>) {
           SlopeStep c = shape;
           c.position = at;
