@@ -190,15 +190,8 @@ void Simulation::step() {
   ++step_;
   const double t1 = time();
 
-  // Vehicle events: one record per episode (same kind and detail on consecutive steps).
-  std::map<std::pair<std::string, std::string>, bool> now;
-  for (const VehicleEvent& e : vehicle_events_) {
-    auto key = std::make_pair(e.kind, e.detail);
-    if (now.count(key)) continue;
-    now[key] = true;
-    if (!active_.count(key)) add_event(t1, e.kind, e.detail, e.where);
-  }
-  active_ = std::move(now);
+  // The vehicle reports each episode once, when it starts (Vehicle::step).
+  for (const VehicleEvent& e : vehicle_events_) add_event(t1, e.kind, e.detail, e.where);
 
   for (const Obstacle& o : world_.obstacles()) {
     if (o.appear > t0 && o.appear <= t1) add_event(t1, "appear", o.name, o.anchor_at(o.appear).head<2>());

@@ -6,8 +6,7 @@
 // Step k takes the clock from t_k = k dt to t_{k+1} (times are k * dt, never accumulated):
 //   1. the command at t_k from the script (zero after its end);
 //   2. Vehicle::step(command, dt);
-//   3. events at t_{k+1}: the vehicle's (an episode of the same kind and detail on consecutive
-//      steps is recorded once, when it starts), obstacles appearing/disappearing within
+//   3. events at t_{k+1}: the vehicle's (it reports each episode once, when it starts), obstacles appearing/disappearing within
 //      (t_k, t_{k+1}], bumper contact changes, command segment changes;
 //   4. sensors whose next sample time is <= t_{k+1} sample the state at t_{k+1} (LiDAR scan n is
 //      due at n / rate_hz, so scans fall on steps when the period is a multiple of dt);
@@ -134,7 +133,6 @@ class Simulation {
   int segment_ = -1;
   bool started_ = false;  // the t = 0 sensor samples are taken
   bool bumper_ = false;
-  std::map<std::pair<std::string, std::string>, bool> active_;  // vehicle event episodes of the last step
   std::vector<VehicleEvent> vehicle_events_;
 
   std::vector<TrajectorySample> trajectory_;
