@@ -1,11 +1,16 @@
 #!/usr/bin/env bash
-# The main job on the built-in default: plan across the demo office map and draw it.
+# The main job on the built-in default: navigate the paper's dynamic dead-end scenario (E4,
+# Li 2019) with a simulated VLP-16, then plan across the demo office map and draw it.
 set -euo pipefail
 bin=${1:-build/bin/starnav}
 here=$(cd "$(dirname "$0")/.." && pwd)
 out=$here/out/demo
 mkdir -p "$out"
 map=$here/scenarios/maps/office.map
+echo "== starnav sim scenarios/e4_dynamic_dead_end.yaml (navigation in an unknown, dynamic world)"
+"$bin" sim "$here/scenarios/e4_dynamic_dead_end.yaml" --out "$out/e4" --force
+echo "   pictures: $out/e4/scene.svg (detected cells, paths P1..Pn, trajectory)"
+echo "             $out/e4/overlay.svg (planned paths vs executed trajectory)"
 echo "== starnav map info $map"
 "$bin" map info "$map"
 "$bin" map render "$map" --out "$out/office.svg" --force >/dev/null

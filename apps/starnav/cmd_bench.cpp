@@ -463,6 +463,7 @@ void register_bench_commands(CLI::App& app, Context& ctx) {
   mai->add_flag("--quiet", opts->quiet, "no progress on stderr");
   mai->callback([opts, &ctx] { ctx.exit_code = run_bench_movingai(*opts); });
   register_bench_terrain(app, ctx);  // Liu 2024 (cmd_bench_terrain.cpp)
+  register_bench_nav(app, ctx);      // Li 2019 navigation over seeds (cmd_bench_nav.cpp)
 }
 
 }  // namespace starnav::cli

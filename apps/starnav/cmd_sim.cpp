@@ -17,6 +17,8 @@
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/point_cloud_io.hpp"
+#include "starnav/nav/navigation_pictures.hpp"
+#include "starnav/nav/navigation_run.hpp"
 #include "starnav/sim/simulation.hpp"
 #include "starnav/viz/map_picture.hpp"
 #include "starnav/viz/plot_svg.hpp"
@@ -34,6 +36,11 @@ struct SimOptions {
   std::string seed;
   std::string duration;
   std::string point_clouds;
+  std::string motion_mode;
+  std::string planner;
+  bool compare_astar = false;
+  bool step_all_hits = false;
+  bool png = false;
   bool force = false;
   bool json = false;
   bool quiet = false;
@@ -249,6 +256,73 @@ void write_track(const Simulation& sim, const std::string& path) {
 
 // ---- the command -------------------------------------------------------------------------------
 
+// Point clouds of every n-th scan into OUT/clouds/, after whatever the simulation's on_scan did.
+void add_cloud_writer(Simulation& sim, const ScenarioSpec& spec, const std::string& out) {
+  const auto cloud_format = spec.outputs.point_clouds;
+  if (cloud_format == ScenarioOutputs::CloudFormat::None) return;
+  const fs::path clouds = fs::path(out) / "clouds";
+  std::error_code ec;
+  fs::create_directories(clouds, ec);
+  if (ec) throw Error("cannot create the folder: " + ec.message(), clouds.string(), 0, "--out");
+  const int every = spec.outputs.clouds_every_n_scans;
+  const bool ply = cloud_format == ScenarioOutputs::CloudFormat::Ply;
+  auto scan_index = std::make_shared<std::int64_t>(0);
+  sim.on_scan = [before = sim.on_scan, clouds, every, ply, scan_index](const LidarScan& scan) {
+    if (before) before(scan);
+    if (*scan_index % every == 0) {
+      char name[64];
+      std::snprintf(name, sizeof name, "scan_%06lld.%s", static_cast<long long>(*scan_index), ply ? "ply" : "pcd");
+      write_point_cloud((clouds / name).string(), scan.points_world, ply ? PointCloudFormat::Ply : PointCloudFormat::Pcd);
+    }
+    ++*scan_index;
+  };
+}
+
+// A navigation scenario (a `navigation` section): the navigation stack drives.
+void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Context& ctx) {
+  NavigationOptions options;
+  if (!o.motion_mode.empty()) options.motion_mode = o.motion_mode;
+  if (!o.planner.empty()) options.planner = o.planner;
+  options.compare_astar = o.compare_astar;
+  options.step_all_hits = o.step_all_hits;
+  NavigationRun run(spec, options);
+  prepare_out_dir(o.out);
+  add_cloud_writer(run.simulation(), spec, o.out);
+
+  ProgressBar bar(!o.quiet, spec.duration_s);
+  run.run([&bar](double f) { bar.update(f); });
+  bar.finish();
+
+  const fs::path dir(o.out);
+  write_navigation_records(run, o.out);
+  write_navigation_scene(run, (dir / "scene.svg").string());
+  write_navigation_overlay(run, (dir / "overlay.svg").string());
+  if (o.png) write_navigation_scene(run, (dir / "scene.png").string());
+  const NavigationMetrics m = run.metrics();
+  if (o.json) {
+    std::cout << navigation_metrics_json(run);
+  } else {
+    const double sim_s = run.simulation().time();
+    std::printf("%s (%s, %s): %s after %.2f s simulated in %.2f s (%.0fx real time); %.2f m driven, %d plan%s "
+                "(%llu nodes expanded), %lld collision%s, deviation from the path mean %.3f m, max %.3f m\n",
+                spec.name.c_str(), m.planner.c_str(), m.motion_mode.c_str(), m.outcome.c_str(), sim_s, run.wall_s(),
+                run.wall_s() > 0 ? sim_s / run.wall_s() : 0.0, m.distance_m, m.plans, m.plans == 1 ? "" : "s",
+                static_cast<unsigned long long>(m.expanded_total), static_cast<long long>(m.collisions),
+                m.collisions == 1 ? "" : "s", m.deviation_mean_m, m.deviation_max_m);
+    std::printf("wrote %s/{trajectory.csv, paths.csv, replans.csv, events.csv, steps.jsonl, map.yaml, map.pgm, "
+                "metrics.json, timing.json, scene.svg, overlay.svg%s}\n",
+                o.out.c_str(), o.png ? ", scene.png" : "");
+  }
+  if (m.success) {
+    ctx.exit_code = 0;
+  } else {
+    std::fprintf(stderr, "starnav: error: %s: navigation: %s%s%s\n", spec.file.c_str(),
+                 m.outcome == "timeout" ? "the goal was not reached within sim.duration_s" : "no path",
+                 m.reason.empty() ? "" : ": ", m.reason.c_str());
+    ctx.exit_code = 1;
+  }
+}
+
 void run_sim(const SimOptions& o, Context& ctx) {
   ScenarioSpec spec = load_scenario(o.scenario);
   if (!o.seed.empty()) spec.seed = parse_seed(o.seed);
@@ -258,31 +332,19 @@ void run_sim(const SimOptions& o, Context& ctx) {
     if (spec.outputs.point_clouds != ScenarioOutputs::CloudFormat::None && !spec.lidar)
       throw Error("the scenario has no sensors.lidar", o.scenario, 0, "--point-clouds");
   }
+  if (!spec.navigation) {
+    for (const auto& [flag, given] : {std::pair{"--motion-mode", !o.motion_mode.empty()}, std::pair{"--planner", !o.planner.empty()},
+                                      std::pair{"--compare-astar", o.compare_astar}, std::pair{"--all-hits", o.step_all_hits}})
+      if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
+  }
   check_out_dir(o.out, o.force);
+  if (spec.navigation) return run_navigation_scenario(spec, o, ctx);
 
   const auto t_setup = Clock::now();
   Simulation sim(spec);
   const double setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
   prepare_out_dir(o.out);
-
-  const auto cloud_format = spec.outputs.point_clouds;
-  std::int64_t scan_index = 0;
-  if (cloud_format != ScenarioOutputs::CloudFormat::None) {
-    const fs::path clouds = fs::path(o.out) / "clouds";
-    std::error_code ec;
-    fs::create_directories(clouds, ec);
-    if (ec) throw Error("cannot create the folder: " + ec.message(), clouds.string(), 0, "--out");
-    const int every = spec.outputs.clouds_every_n_scans;
-    const bool ply = cloud_format == ScenarioOutputs::CloudFormat::Ply;
-    sim.on_scan = [clouds, every, ply, &scan_index](const LidarScan& scan) {
-      if (scan_index % every == 0) {
-        char name[64];
-        std::snprintf(name, sizeof name, "scan_%06lld.%s", static_cast<long long>(scan_index), ply ? "ply" : "pcd");
-        write_point_cloud((clouds / name).string(), scan.points_world, ply ? PointCloudFormat::Ply : PointCloudFormat::Pcd);
-      }
-      ++scan_index;
-    };
-  }
+  add_cloud_writer(sim, spec, o.out);
 
   ProgressBar bar(!o.quiet, spec.duration_s);
   const auto t_run = Clock::now();
@@ -322,13 +384,19 @@ void run_sim(const SimOptions& o, Context& ctx) {
 
 void register_sim_commands(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<SimOptions>();
-  auto* sim = app.add_subcommand("sim", "run a scenario (docs/scenarios.md): the robot follows its scripted commands");
+  auto* sim = app.add_subcommand("sim", "run a scenario (docs/scenarios.md): the robot follows its scripted commands, or navigates to the goal of a navigation scenario (docs/navigation.md)");
   sim->add_option("scenario", o->scenario, "SCENARIO.yaml")->required();
   sim->add_option("--out", o->out, "output folder (trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, ...)")
       ->required();
   sim->add_option("--seed", o->seed, "random seed (overrides sim.seed)");
   sim->add_option("--duration", o->duration, "simulated seconds (overrides sim.duration_s)");
   sim->add_option("--point-clouds", o->point_clouds, "ply | pcd | none: write LiDAR point clouds (world frame) to OUT/clouds/");
+  sim->add_option("--motion-mode", o->motion_mode,
+                  "navigation: auto | turn_then_drive | holonomic | pure_pursuit (overrides motion_mode)");
+  sim->add_option("--planner", o->planner, "navigation: astar | dstar_lite (overrides navigation.planner)");
+  sim->add_flag("--compare-astar", o->compare_astar, "navigation with dstar_lite: also run A* from scratch at every plan");
+  sim->add_flag("--all-hits", o->step_all_hits, "navigation: steps.jsonl holds every LiDAR return, not only obstacle hits");
+  sim->add_flag("--png", o->png, "navigation: also write scene.png");
   sim->add_flag("--force", o->force, "write into a non-empty output folder");
   sim->add_flag("--json", o->json, "print metrics.json to stdout");
   sim->add_flag("--quiet", o->quiet, "no progress bar");

@@ -15,6 +15,7 @@ void register_plan_commands(CLI::App& app, Context& ctx);   // cmd_plan.cpp
 void register_bench_commands(CLI::App& app, Context& ctx);  // cmd_bench.cpp
 void register_bench_ablation(CLI::App& app, Context& ctx);  // cmd_bench_ablation.cpp (after register_bench_commands)
 void register_bench_terrain(CLI::App& app, Context& ctx);   // cmd_bench_terrain.cpp (called by register_bench_commands)
+void register_bench_nav(CLI::App& app, Context& ctx);       // cmd_bench_nav.cpp (called by register_bench_commands)
 void register_map_render(CLI::App& map, Context& ctx);       // cmd_map_render.cpp
 void register_terrain_commands(CLI::App& app, Context& ctx);  // cmd_terrain.cpp
 void register_sim_commands(CLI::App& app, Context& ctx);      // cmd_sim.cpp

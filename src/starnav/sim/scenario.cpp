@@ -700,6 +700,68 @@ ScenarioLidar parse_lidar(const Value& v, const Doc& doc, const RobotConfig& rob
 
 // ---- the document ------------------------------------------------------------------------------
 
+ScenarioNavigation parse_navigation(const Value& v, const Doc& doc) {
+  ScenarioNavigation n;
+  n.source = {v.line(), v.field()};
+  Fields f = fields_of(v, doc);
+  {
+    const Value g = f.required("goal");
+    n.goal_source = {g.line(), g.field()};
+    Fields gf = fields_of(g, doc);
+    n.goal = Vec2(gf.required("x_m").number(), gf.required("y_m").number());
+    gf.finish("x_m, y_m");
+  }
+  n.goal_tolerance_m = f.positive("goal_tolerance_m", n.goal_tolerance_m);
+  if (auto p = f.take("planner")) {
+    n.planner = p->string();
+    if (n.planner != "astar" && n.planner != "dstar_lite") p->fail("unknown planner '" + n.planner + "' (astar, dstar_lite)");
+  }
+  if (auto m = f.take("map")) {
+    Fields g = fields_of(*m, doc);
+    n.resolution_m = g.positive("resolution_m", n.resolution_m);
+    if (auto e = g.take("extent")) {
+      n.extent = e->string();
+      if (n.extent != "world" && n.extent != "paper") e->fail("unknown extent '" + n.extent + "' (world, paper)");
+    }
+    n.paper_min_size_m = g.positive("paper_min_size_m", n.paper_min_size_m);
+    if (auto e = g.take("mode")) {
+      n.map_mode = e->string();
+      if (n.map_mode != "nodes_3d" && n.map_mode != "lidar_2d") e->fail("unknown map mode '" + n.map_mode + "' (nodes_3d, lidar_2d)");
+    }
+    if (auto e = g.take("barrier_distance_m")) n.barrier_distance_m = e->non_negative();
+    if (auto e = g.take("max_step_m")) n.max_step_m = e->positive();
+    if (auto e = g.take("max_slope_deg")) {
+      const double deg = e->number();
+      if (!(deg > 0.0 && deg < 90.0)) e->fail("must be in (0, 90)");
+      n.max_slope_rad = deg_to_rad(deg);
+    }
+    if (auto e = g.take("clear_margin_m")) n.clear_margin_m = e->non_negative();
+    if (auto e = g.take("hit_gain")) n.hit_gain = static_cast<int>(e->integer(1, 255));
+    if (auto e = g.take("miss_loss")) n.miss_loss = static_cast<int>(e->integer(0, 255));
+    if (auto e = g.take("evidence_max")) n.evidence_max = static_cast<int>(e->integer(1, 255));
+    n.no_return_clear_m = g.non_negative("no_return_clear_m", n.no_return_clear_m);
+    g.finish("resolution_m, extent, paper_min_size_m, mode, barrier_distance_m, max_step_m, max_slope_deg, clear_margin_m, "
+             "hit_gain, miss_loss, evidence_max, no_return_clear_m");
+  }
+  if (auto fo = f.take("follower")) {
+    Fields g = fields_of(*fo, doc);
+    const auto pos = [&](const char* key, std::optional<double>& out) {
+      if (auto e = g.take(key)) out = e->positive();
+    };
+    pos("cruise_speed_mps", n.cruise_speed_mps);
+    pos("look_ahead_m", n.look_ahead_m);
+    pos("pursuit_look_ahead_m", n.pursuit_look_ahead_m);
+    pos("heading_gain", n.heading_gain);
+    if (auto e = g.take("max_yaw_rate_degps")) n.max_yaw_rate_radps = deg_to_rad(e->positive());
+    if (auto e = g.take("turn_tolerance_deg")) n.turn_tolerance_rad = deg_to_rad(e->positive());
+    pos("slow_down_distance_m", n.slow_down_distance_m);
+    g.finish("cruise_speed_mps, look_ahead_m, pursuit_look_ahead_m, heading_gain, max_yaw_rate_degps, turn_tolerance_deg, "
+             "slow_down_distance_m");
+  }
+  f.finish("goal, goal_tolerance_m, planner, map, follower");
+  return n;
+}
+
 ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
   Doc doc{file};
   ScenarioSpec s;
@@ -881,8 +943,16 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
 
   if (auto v = top.take("motion_mode")) {
     s.motion_mode = v->string();
-    if (s.motion_mode != "turn_then_drive" && s.motion_mode != "holonomic")
-      v->fail("unknown motion mode '" + s.motion_mode + "' (turn_then_drive, holonomic)");
+    s.motion_mode_source = {v->line(), v->field()};
+    if (s.motion_mode != "auto" && s.motion_mode != "turn_then_drive" && s.motion_mode != "holonomic" &&
+        s.motion_mode != "pure_pursuit")
+      v->fail("unknown motion mode '" + s.motion_mode + "' (auto, turn_then_drive, holonomic, pure_pursuit)");
+  }
+  if (auto v = top.take("navigation")) {
+    s.navigation = parse_navigation(*v, doc);
+    if (!s.commands.empty())
+      throw Error("a navigation scenario has no command script (the navigation stack drives)", file,
+                  top.line_of("commands"), "commands");
   }
 
   if (auto v = top.take("metrics")) {
@@ -917,7 +987,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
     f.finish("trajectory_every_n_steps, point_clouds");
   }
 
-  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, motion_mode, metrics, outputs");
+  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, motion_mode, navigation, metrics, outputs");
   return s;
 }
 

@@ -108,6 +108,31 @@ struct ScenarioOutputs {
   int clouds_every_n_scans = 1;
 };
 
+// The `navigation` section (docs/scenarios.md): plain values, read by the navigation stack
+// (nav/navigation_run), which fills every value not given from its own defaults. The simulator
+// itself ignores the section.
+struct ScenarioNavigation {
+  Vec2 goal = Vec2::Zero();
+  double goal_tolerance_m = 0.15;
+  std::string planner = "astar";  // astar (from scratch at every replan, as the paper) | dstar_lite
+  // map
+  double resolution_m = 0.1;
+  std::string extent = "world";   // world: the world's bounds; paper: 1.5 x |goal - start| per axis
+  double paper_min_size_m = 4.0;  // extent: paper, smallest side
+  std::string map_mode;           // "" (from the LiDAR: 3D -> nodes_3d, 2D -> lidar_2d) | nodes_3d | lidar_2d
+  std::optional<double> barrier_distance_m;  // default: the body's circumscribed radius
+  std::optional<double> max_step_m;          // default: robot.max_step_m
+  std::optional<double> max_slope_rad;       // map.max_slope_deg
+  std::optional<double> clear_margin_m;
+  std::optional<int> hit_gain, miss_loss, evidence_max;
+  double no_return_clear_m = 0.0;
+  // follower (defaults: PathFollowerConfig)
+  std::optional<double> cruise_speed_mps, look_ahead_m, pursuit_look_ahead_m, heading_gain, max_yaw_rate_radps,
+      turn_tolerance_rad, slow_down_distance_m;
+  ScenarioSource source;       // the section
+  ScenarioSource goal_source;  // navigation.goal
+};
+
 struct ScenarioSpec {
   std::string file;  // the scenario file as given (errors name it)
   std::string name;
@@ -131,7 +156,11 @@ struct ScenarioSpec {
   std::uint64_t seed = 0;
 
   std::vector<CommandSegment> commands;  // consecutive, starting at 0
-  std::string motion_mode;               // reserved for navigation: "", turn_then_drive, holonomic
+  // navigation: "" (auto), turn_then_drive, holonomic, pure_pursuit (checked against the drive by
+  // the navigation stack).
+  std::string motion_mode;
+  ScenarioSource motion_mode_source;
+  std::optional<ScenarioNavigation> navigation;  // present: a navigation scenario (no command script)
 
   // metrics.reference_line_m: the line the robot is meant to follow (E1: the centre line); the
   // recorder reports the track's distance from it.

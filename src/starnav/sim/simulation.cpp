@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -20,24 +21,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // sample due by t (to a nanosecond, so exact multiples of dt are not lost to rounding).
 bool due(std::int64_t n, double rate_hz, double t) { return static_cast<double>(n) / rate_hz <= t + 1e-9; }
 
-std::string fixed(double v) {
-  char buf[64];
-  const int n = std::snprintf(buf, sizeof buf, "%.6f", v);
-  std::string s(buf, static_cast<std::size_t>(n));
-  if (s == "-0.000000") s = "0.000000";  // the same bytes whichever side of zero rounding fell
-  return s;
-}
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (const char c : s) {
-    if (c == '"') q += "\"\"";
-    else if (c == '\n' || c == '\r') q += ' ';
-    else q += c;
-  }
-  return q + "\"";
-}
+std::string fixed(double v) { return format_fixed6(v); }
 
 void write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -46,9 +30,6 @@ void write_file(const std::string& path, const std::string& text) {
   if (!out) throw Error("cannot write the file", path);
 }
 
-// -0.0 prints as "-0.0" in JSON; the same quantity should read the same whichever side it came from.
-double unsigned_zero(double v) { return v == 0.0 ? 0.0 : v; }
-
 std::string twist_text(const BodyTwist& t) {
   char buf[128];
   std::snprintf(buf, sizeof buf, "vx=%g vy=%g wz=%g", t.vx, t.vy, t.wz);
@@ -56,18 +37,6 @@ std::string twist_text(const BodyTwist& t) {
 }
 
 }  // namespace
-
-double distance_to_polyline(const Vec2& p, const std::vector<Vec2>& line) {
-  double best = kInf;
-  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-    const Vec2 a = line[i], d = line[i + 1] - a;
-    const double len2 = d.squaredNorm();
-    const double s = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (p - (a + s * d)).norm());
-  }
-  if (line.size() == 1) best = (p - line[0]).norm();
-  return best;
-}
 
 Simulation::Simulation(const ScenarioSpec& spec) : Simulation(spec, build_world(spec)) {}
 
@@ -184,7 +153,10 @@ void Simulation::step() {
     else if (!spec_.commands.empty())
       add_event(t0, "command", "end of script: stop", at);
   }
-  const BodyTwist command = seg >= 0 ? spec_.commands[static_cast<std::size_t>(seg)].twist : BodyTwist{};
+  const BodyTwist command = command_source ? command_source(t0)
+                            : seg >= 0     ? spec_.commands[static_cast<std::size_t>(seg)].twist
+                                           : BodyTwist{};
+  if (stopped_) return;  // command_source stopped the run
   vehicle_events_.clear();
   vehicle_->step(command, spec_.dt_s, vehicle_events_);
   ++step_;
@@ -222,6 +194,12 @@ void Simulation::track_step() {
   }
   last_ = s;
   if (step_ % spec_.outputs.trajectory_every_n_steps == 0 || finished()) trajectory_.push_back(s);
+}
+
+void Simulation::stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  if (trajectory_.empty() || trajectory_.back().t_s != time()) trajectory_.push_back(sample_now());
 }
 
 void Simulation::run(const std::function<void(double)>& progress) {

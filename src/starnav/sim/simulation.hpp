@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "starnav/core/polyline.hpp"
 #include "starnav/sense/imu.hpp"
 #include "starnav/sense/lidar.hpp"
 #include "starnav/sense/wheel_encoders.hpp"
@@ -88,6 +89,9 @@ class Simulation {
 
   // Called with every LiDAR scan as it is taken (point clouds, navigation, tests). Set before run.
   std::function<void(const LidarScan&)> on_scan;
+  // When set, replaces the command script: called at every step with t_k and the vehicle in its
+  // state at t_k; returns the body twist to apply over the step (navigation drives through it).
+  std::function<BodyTwist(double t)> command_source;
 
   const ScenarioSpec& spec() const { return spec_; }
   const World& world() const { return world_; }
@@ -97,7 +101,11 @@ class Simulation {
   double time() const { return static_cast<double>(step_) * spec_.dt_s; }
   std::int64_t step_count() const { return step_; }
   std::int64_t total_steps() const { return total_steps_; }
-  bool finished() const { return step_ >= total_steps_; }
+  bool finished() const { return stopped_ || step_ >= total_steps_; }
+  // Ends the run now (navigation: goal reached, or no path); the current state is recorded as the
+  // trajectory's last sample. May be called from on_scan or command_source.
+  void stop();
+  bool stopped() const { return stopped_; }
 
   void step();
   // Runs to the end; `progress(fraction)` is called about every 1% of the steps.
@@ -132,6 +140,7 @@ class Simulation {
   double last_imu_t_ = 0.0;
   int segment_ = -1;
   bool started_ = false;  // the t = 0 sensor samples are taken
+  bool stopped_ = false;
   bool bumper_ = false;
   std::vector<VehicleEvent> vehicle_events_;
 
@@ -149,8 +158,6 @@ class Simulation {
   std::int64_t rays_ = 0, returns_ = 0;
 };
 
-// Distance from a point to a polyline (>= 2 points).
-double distance_to_polyline(const Vec2& p, const std::vector<Vec2>& line);
 
 // The recorder: deterministic files (fixed number formats) in `dir`:
 //   trajectory.csv  t_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,wz_radps

@@ -1,0 +1,33 @@
+#pragma once
+// Number and field formats of the deterministic records (CSV, JSON) the simulator and the
+// navigation stack write: fixed decimals, so the same run gives the same bytes.
+#include <cstdio>
+#include <string>
+
+namespace starnav {
+
+// Six decimals; "-0.000000" prints as "0.000000" (the same bytes whichever side of zero rounding fell).
+inline std::string format_fixed6(double v) {
+  char buf[64];
+  const int n = std::snprintf(buf, sizeof buf, "%.6f", v);
+  std::string s(buf, static_cast<std::size_t>(n));
+  if (s == "-0.000000") s = "0.000000";
+  return s;
+}
+
+// A CSV field, quoted when it holds a comma, a quote or a line break (line breaks become spaces).
+inline std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (const char c : s) {
+    if (c == '"') q += "\"\"";
+    else if (c == '\n' || c == '\r') q += ' ';
+    else q += c;
+  }
+  return q + "\"";
+}
+
+// -0.0 prints as "-0.0" in JSON; the same quantity should read the same whichever side it came from.
+inline double unsigned_zero(double v) { return v == 0.0 ? 0.0 : v; }
+
+}  // namespace starnav

@@ -1,0 +1,353 @@
+#include "starnav/nav/navigation_pictures.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "starnav/core/error.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+#include "starnav/sim/primitives.hpp"
+
+namespace starnav {
+
+namespace {
+
+// More plans than this and the legends list only a summary entry (the labels on the map stay).
+constexpr std::size_t kLegendPlans = 12;
+
+const viz::Rgba kBlack{0, 0, 0, 255};
+const viz::Rgba kRawBlocked{213, 0, 0, 255};
+const viz::Rgba kBand{255, 140, 150, 255};
+const viz::Rgba kStart{0, 158, 115, 255};  // bluish green
+const viz::Rgba kGoal{213, 94, 0, 255};    // vermillion
+const viz::Rgba kStaticObstacle{60, 60, 60, 255};
+const viz::Rgba kUnobserved{250, 250, 250, 255};
+
+// Plans take the Okabe-Ito colours without vermillion (the goal; close to the red blocked cells)
+// and yellow (unreadable on white), so P_k looks the same in both pictures.
+viz::Rgba plan_colour(std::size_t k) {
+  static constexpr std::array<std::size_t, 5> kOrder{1, 4, 3, 5, 2};
+  return viz::categorical_colour(kOrder[k % kOrder.size()]);
+}
+
+std::string plan_name(const NavPlan& p) {
+  std::string s = "P";  // built in steps: g++ 12 warns (-Wrestrict, a false positive) on "P" + to_string
+  s += std::to_string(p.id);
+  return s;
+}
+
+std::string plan_legend(const NavigationPictureData& d, std::size_t k, bool with_cause) {
+  const NavPlan& p = d.plans[k];
+  if (d.plans.size() <= kLegendPlans) return with_cause && !p.cause.empty() ? plan_name(p) + " (" + p.cause + ")" : plan_name(p);
+  if (k == 0) return "planned paths P" + std::to_string(p.id) + "..P" + std::to_string(d.plans.back().id);
+  return {};
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+std::string title_suffix(const NavigationPictureData& d) {
+  std::string s = " (";
+  if (!d.status.empty()) s += d.status + ", ";
+  return s + "t = " + fixed(d.end_time_s, 1) + " s)";
+}
+
+std::vector<Vec2> circle_points(const Vec2& c, double r, int n = 72) {
+  std::vector<Vec2> pts;
+  for (int i = 0; i <= n; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / n;
+    pts.emplace_back(c.x() + r * std::cos(a), c.y() + r * std::sin(a));
+  }
+  return pts;
+}
+
+// ---- true obstacles' footprints (as apps/starnav/cmd_sim.cpp draws them) ----------------------
+
+std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
+  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+  if (p.size() < 3) return p;
+  std::vector<Vec2> h(2 * p.size());
+  std::size_t k = 0;
+  const auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+struct Footprint {
+  std::vector<Vec2> polygon;  // closed outline, or empty for a circle
+  Vec2 centre = Vec2::Zero();
+  double radius = 0.0;
+};
+
+Footprint footprint(const Primitive& part, const Vec3& offset) {
+  Footprint f;
+  if (const auto* b = std::get_if<Box>(&part)) {
+    const Eigen::Matrix3d r = Pose3::from_rpy(Vec3::Zero(), b->roll, b->pitch, b->yaw).rotation();
+    std::vector<Vec2> pts;
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 c(((i & 1) ? 0.5 : -0.5) * b->size.x(), ((i & 2) ? 0.5 : -0.5) * b->size.y(), ((i & 4) ? 0.5 : -0.5) * b->size.z());
+      pts.push_back((b->center + offset + r * c).head<2>());
+    }
+    f.polygon = convex_hull(pts);
+  } else if (const auto* p = std::get_if<Prism>(&part)) {
+    const double c = std::cos(p->yaw), s = std::sin(p->yaw);
+    std::vector<Vec2> pts;
+    for (const double lx : {-0.5 * p->base_width, 0.5 * p->base_width, p->apex_offset})
+      for (const double ly : {-0.5 * p->length, 0.5 * p->length})
+        pts.emplace_back(p->base.x() + offset.x() + c * lx - s * ly, p->base.y() + offset.y() + s * lx + c * ly);
+    f.polygon = convex_hull(pts);
+  } else if (const auto* cy = std::get_if<Cylinder>(&part)) {
+    f.centre = (cy->base + offset).head<2>();
+    f.radius = cy->radius;
+  } else if (const auto* sp = std::get_if<Sphere>(&part)) {
+    f.centre = (sp->center + offset).head<2>();
+    f.radius = sp->radius;
+  }
+  if (!f.polygon.empty()) f.polygon.push_back(f.polygon.front());
+  return f;
+}
+
+void add_obstacles(viz::MapPicture& pic, const NavigationPictureData& d) {
+  bool labelled_static = false, labelled_dynamic = false;
+  for (const Obstacle& o : d.obstacles) {
+    if (o.appear > d.end_time_s) continue;  // never there during the run
+    const bool dynamic = o.moving() || o.appear > 0.0 || std::isfinite(o.disappear);
+    const double t = std::isfinite(o.appear) ? std::max(o.appear, 0.0) : 0.0;
+    const Vec3 offset = o.offset_at(t);
+    const viz::LineStyle style{kStaticObstacle, 1.0, 1.0, dynamic};
+    std::string label;
+    if (dynamic && !labelled_dynamic) label = "true obstacle, dynamic (where it appeared)", labelled_dynamic = true;
+    if (!dynamic && !labelled_static) label = "true obstacle", labelled_static = true;
+    for (const Primitive& part : o.parts) {
+      const Footprint f = footprint(part, offset);
+      if (!f.polygon.empty()) pic.add_polyline(f.polygon, style, label);
+      else pic.add_circle(f.centre, f.radius, style, std::nullopt, label);
+      label.clear();
+    }
+    if (o.moving()) {
+      std::vector<Vec2> path;
+      const double t_end = std::max(t, std::min(o.disappear, d.end_time_s));
+      for (int i = 0; i <= 50; ++i) path.push_back(o.anchor_at(t + (t_end - t) * i / 50.0).head<2>());
+      pic.add_polyline(path, {kStaticObstacle, 0.8, 1.0, true});
+    }
+  }
+}
+
+// The base picture: observed cells grey, darker the higher their mid height (the paper's scenes
+// are light, and coloured paths stay readable on grey; a height ramp would compete with them), or
+// one grey in 2D mode where heights are all 0; unobserved cells near white. The two ends of the
+// grey scale get (empty) legend entries with their heights.
+viz::MapPicture base_picture(const NodeHeightMap& map, viz::PictureOptions opts) {
+  constexpr int kLow = 12, kHigh = 60;  // occupancy values: grey 224 .. 102
+  opts.plot_background = kUnobserved;
+  opts.occupancy.unknown = kUnobserved;
+  // Observed by evidence (in 2D mode the elevation layer may stay empty).
+  const ElevationMap& e = map.elevation();
+  const bool heights = map.params().mode == NodeMapMode::Nodes3D;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  bool any = false;
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) {
+      if (!map.observed(x, y)) continue;
+      any = true;
+      if (heights && e.observed_at(x, y)) lo = std::min(lo, e.height_at(x, y)), hi = std::max(hi, e.height_at(x, y));
+    }
+  const bool shaded = heights && hi - lo > 1e-9;
+  OccupancyGrid grey(map.geometry(), kUnknownOccupancy);
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) {
+      if (!map.observed(x, y)) continue;
+      const double t = shaded && e.observed_at(x, y) ? (e.height_at(x, y) - lo) / (hi - lo) : 0.0;
+      grey(x, y) = static_cast<std::int8_t>(std::lround(kLow + t * (kHigh - kLow)));
+    }
+  viz::MapPicture pic(grey, opts);
+  const auto grey_of = [&](int v) { return viz::occupancy_colour(static_cast<std::int8_t>(v), opts.occupancy); };
+  if (shaded) {
+    pic.add_cells({}, grey_of(kLow), 1.0, "observed, lowest (" + fixed(lo, 2) + " m)");
+    pic.add_cells({}, grey_of(kHigh), 1.0, "observed, highest (" + fixed(hi, 2) + " m)");
+  } else if (any) {
+    pic.add_cells({}, grey_of(kLow), 1.0, "observed");
+  }
+  return pic;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// Errors raised while drawing (bad coordinates, too large a picture) name the file too.
+template <typename F>
+void naming_file(const std::string& path, F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    if (e.file().empty()) throw e.with_file(path);
+    throw;
+  }
+}
+
+}  // namespace
+
+NavigationPictureData navigation_picture_data(const NavigationRun& run) {
+  const Simulation& sim = run.simulation();
+  const Navigator& nav = run.navigator();
+  NavigationPictureData d;
+  d.name = run.spec().name;
+  d.status = nav_status_name(nav.status());
+  d.end_time_s = sim.trajectory().empty() ? sim.time() : sim.trajectory().back().t_s;
+  d.map = &nav.map();
+  d.plans = nav.plans();
+  d.trajectory.reserve(sim.trajectory().size());
+  for (const TrajectorySample& s : sim.trajectory()) d.trajectory.push_back(s.position.head<2>());
+  d.start = run.spec().start;
+  d.goal = nav.goal();
+  d.goal_tolerance_m = nav.config().goal_tolerance_m;
+  d.obstacles = sim.world().obstacles();
+  return d;
+}
+
+viz::MapPicture navigation_scene_picture(const NavigationPictureData& d) {
+  if (d.map == nullptr) throw Error("navigation picture without a map", {}, 0, "map");
+  const NodeHeightMap& map = *d.map;
+  const GridGeometry& g = map.geometry();
+  viz::PictureOptions opts;
+  opts.title = d.name + ": navigation scene" + title_suffix(d);
+  viz::MapPicture pic = base_picture(map, opts);
+
+  // Detected obstacles and the band the planners avoid besides them.
+  std::vector<Cell> raw, band;
+  for (std::size_t i = 0; i < g.cell_count(); ++i) {
+    if (map.raw_blocked()[i]) raw.push_back(g.cell_of_index(i));
+    else if (map.blocked()[i]) band.push_back(g.cell_of_index(i));
+  }
+  pic.add_cells(band, kBand, 0.7, "expansion band");
+  pic.add_cells(raw, kRawBlocked, 0.9, "detected obstacle (raw blocked)");
+
+  add_obstacles(pic, d);
+
+  // Sizes in world units that scale with the map, so labels and arrows read the same at any extent.
+  const double span = std::max(g.width, g.height) * g.resolution;
+  const double label_offset = 0.025 * span;
+
+  struct Label {
+    Vec2 at;
+    std::string text;
+    viz::Rgba colour;
+  };
+  std::vector<Label> labels;
+  for (std::size_t k = 0; k < d.plans.size(); ++k) {
+    const NavPlan& p = d.plans[k];
+    if (p.points.size() < 2) continue;  // a failed plan has no path to draw
+    pic.add_polyline(p.points, {plan_colour(k), 2.0, 0.9, false}, plan_legend(d, k, true));
+    // The label beside the start, to the left of the first leg, where the replan happened.
+    Vec2 dir = p.points[1] - p.points[0];
+    dir = dir.norm() > 0.0 ? Vec2(dir / dir.norm()) : Vec2(1.0, 0.0);
+    labels.push_back({p.points.front() + label_offset * Vec2(-dir.y(), dir.x()), plan_name(p), plan_colour(k)});
+  }
+  if (!d.trajectory.empty()) pic.add_polyline(d.trajectory, {kBlack, 3.0, 1.0, false}, "executed trajectory");
+  if (d.goal_tolerance_m > 0.0) pic.add_circle(d.goal, d.goal_tolerance_m, {kBlack, 1.0, 1.0, true}, std::nullopt, "goal tolerance");
+  pic.add_pose(d.start, 0.06 * span, {kBlack, 1.5, 1.0, false});
+  pic.add_points({d.start.translation()}, {kStart, 5.0, kBlack, 1.0, 1.0}, "start");
+  pic.add_points({d.goal}, {kGoal, 5.0, kBlack, 1.0, 1.0}, "goal");
+  for (const Label& l : labels) pic.add_text(l.at, l.text, {l.colour, 14.0, viz::TextAnchor::Middle, true});
+  return pic;
+}
+
+viz::LinePlot navigation_overlay_plot(const NavigationPictureData& d) {
+  struct Series {
+    std::vector<Vec2> points;
+    viz::SeriesStyle style;
+    std::string label;
+  };
+  std::vector<Series> series;
+  for (std::size_t k = 0; k < d.plans.size(); ++k) {
+    const NavPlan& p = d.plans[k];
+    if (p.points.size() < 2) continue;
+    series.push_back({p.points, {plan_colour(k), 1.4, false, false}, plan_legend(d, k, false)});
+  }
+  if (!d.trajectory.empty()) series.push_back({d.trajectory, {kBlack, 2.8, false, false}, "executed"});
+  if (d.goal_tolerance_m > 0.0)
+    series.push_back({circle_points(d.goal, d.goal_tolerance_m), {{90, 90, 90, 255}, 1.0, true, false}, "goal tolerance"});
+  series.push_back({{d.start.translation()}, {kStart, 0.0, false, true}, "start"});
+  series.push_back({{d.goal}, {kGoal, 0.0, false, true}, "goal"});
+
+  // Explicit ranges: LinePlot pads only y, and its legend sits inside the plot at the top right.
+  // The data's box gets a margin all round and room on the right as wide as the legend (its
+  // layout: a 20 px line, the label right-aligned 32 px from the plot's edge).
+  viz::PlotOptions opts{.title = d.name + ": planned vs executed" + title_suffix(d),
+                        .x_label = "x [m]",
+                        .y_label = "y [m]",
+                        .equal_aspect = true};
+  double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo, ylo = xlo, yhi = -xlo;
+  std::size_t longest = 0;
+  for (const Series& s : series) {
+    for (const Vec2& p : s.points) {
+      if (!p.allFinite()) continue;
+      xlo = std::min(xlo, p.x()), xhi = std::max(xhi, p.x());
+      ylo = std::min(ylo, p.y()), yhi = std::max(yhi, p.y());
+    }
+    longest = std::max(longest, s.label.size());
+  }
+  if (std::isfinite(xlo) && std::isfinite(ylo)) {
+    const double m = 0.06 * std::max({xhi - xlo, yhi - ylo, 0.5});
+    xlo -= m, xhi += m, ylo -= m, yhi += m;
+    const double plot_px = opts.width_px - (5.5 * opts.font_px + 10.0) - 20.0;  // LinePlot's plot width
+    const double legend_px = 45.0 + 0.6 * opts.font_px * static_cast<double>(longest);
+    xhi = xlo + (xhi - xlo) * plot_px / std::max(plot_px - legend_px, 0.5 * plot_px);
+    opts.x_range = std::pair{xlo, xhi};
+    opts.y_range = std::pair{ylo, yhi};
+  }
+  viz::LinePlot plot(opts);
+  for (Series& s : series) plot.add_series(std::move(s.points), s.style, std::move(s.label));
+  return plot;
+}
+
+void write_navigation_scene(const NavigationPictureData& data, const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".svg" && ext != ".png") throw Error("the scene picture must be .svg or .png", path);
+  naming_file(path, [&] {
+    const viz::MapPicture pic = navigation_scene_picture(data);
+    if (ext == ".png") pic.write_png(path);
+    else pic.write_svg(path);
+  });
+}
+
+void write_navigation_scene(const NavigationRun& run, const std::string& path) {
+  write_navigation_scene(navigation_picture_data(run), path);
+}
+
+void write_navigation_overlay(const NavigationPictureData& data, const std::string& path) {
+  if (lower_extension(path) != ".svg") throw Error("the overlay plot must be .svg", path);
+  naming_file(path, [&] { navigation_overlay_plot(data).write_svg(path); });
+}
+
+void write_navigation_overlay(const NavigationRun& run, const std::string& path) {
+  write_navigation_overlay(navigation_picture_data(run), path);
+}
+
+}  // namespace starnav

@@ -1,0 +1,115 @@
+#pragma once
+// A navigation scenario run: the simulator (ground truth, LiDAR) drives a Navigator (map, plans,
+// follower) through Simulation's hooks, and the recorder writes what the run did
+// (docs/navigation.md, "Running navigation scenarios").
+//
+//   ScenarioSpec spec = load_scenario("scenarios/e4_dynamic_dead_end.yaml");
+//   NavigationRun run(spec);
+//   run.run();
+//   write_navigation_records(run, "out/e4");
+//
+// The run ends at the goal, when no path exists, or at sim.duration_s (a timeout: success false).
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "starnav/nav/navigator.hpp"
+#include "starnav/sim/scenario.hpp"
+#include "starnav/sim/simulation.hpp"
+
+namespace starnav {
+
+struct NavigationOptions {
+  std::optional<std::string> motion_mode;  // overrides the scenario's motion_mode
+  std::optional<std::string> planner;      // overrides navigation.planner ("astar" | "dstar_lite")
+  bool compare_astar = false;              // dstar_lite: A* from scratch beside every plan
+  bool record_steps = true;                // keep the per-cycle records for steps.jsonl
+  bool step_all_hits = false;              // steps.jsonl: every return, not only the obstacle hits
+};
+
+// The navigator's configuration for a scenario: the map grid (world bounds or the paper's
+// extent), node-map parameters (defaults from the robot: max_step from robot.max_step_m,
+// barrier distance = the body's circumscribed radius), planner, follower. Errors name the
+// scenario file, line and field.
+NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescription& world,
+                                 const NavigationOptions& options = {});
+
+// One sensor cycle as recorded for steps.jsonl.
+struct NavStepRecord {
+  double t_s = 0.0;
+  Pose3 pose;
+  std::size_t returns = 0;
+  std::vector<Vec3> hits;  // the highest return in each raw blocked cell hit (every return: step_all_hits)
+  std::vector<std::pair<Cell, std::int8_t>> changed;  // occupancy changes: cell, new value
+  int path_id = 0;                                // current plan (0: none)
+  bool new_path = false;                          // planned in this cycle
+};
+
+struct NavigationMetrics {
+  bool success = false;
+  std::string outcome;          // arrived | no_path | timeout
+  std::string reason;           // no_path: why
+  double time_to_goal_s = -1.0; // -1 unless arrived
+  double duration_s = 0.0;
+  double distance_m = 0.0;
+  int plans = 0;
+  int replans = 0;              // plans after the first
+  std::uint64_t expanded_total = 0;
+  std::uint64_t replan_expanded = 0;        // over the replans (initial plan excluded)
+  std::uint64_t astar_replan_expanded = 0;  // compare_astar: A* from scratch over the same replans
+  bool costs_match = true;                  // compare_astar: every plan's cost equal to A*'s
+  std::int64_t collisions = 0;
+  double deviation_mean_m = 0.0, deviation_max_m = 0.0;  // robot to the path it was following, every step
+  double goal_distance_m = 0.0;  // at the end
+  std::string planner, motion_mode;
+};
+
+class NavigationRun {
+ public:
+  // Throws Error (file, line, field) when the scenario has no navigation section or no LiDAR.
+  explicit NavigationRun(const ScenarioSpec& spec, const NavigationOptions& options = {});
+  ~NavigationRun();
+  NavigationRun(const NavigationRun&) = delete;
+  NavigationRun& operator=(const NavigationRun&) = delete;
+
+  void run(const std::function<void(double)>& progress = {});
+
+  const ScenarioSpec& spec() const { return spec_; }
+  const NavigationOptions& options() const { return options_; }
+  Simulation& simulation() { return *sim_; }
+  const Simulation& simulation() const { return *sim_; }
+  Navigator& navigator() { return *nav_; }
+  const Navigator& navigator() const { return *nav_; }
+  const std::vector<NavStepRecord>& steps() const { return steps_; }
+  NavigationMetrics metrics() const;
+  double setup_s() const { return setup_s_; }
+  double wall_s() const { return wall_s_; }
+
+ private:
+  ScenarioSpec spec_;
+  NavigationOptions options_;
+  std::unique_ptr<Simulation> sim_;
+  std::unique_ptr<Navigator> nav_;
+  std::vector<NavStepRecord> steps_;
+  double deviation_sum_ = 0.0, deviation_max_ = 0.0;
+  std::int64_t deviation_n_ = 0;
+  double setup_s_ = 0.0, wall_s_ = 0.0;
+};
+
+// Deterministic records in `dir` (besides Simulation's trajectory.csv, events.csv and sensor CSVs):
+//   paths.csv     plan_id,t_s,x_m,y_m        the follower's points of every plan
+//   replans.csv   plan_id,t_s,cause,status,expanded,cost_m,time_ms[,astar_expanded,astar_cost_m]
+//   steps.jsonl   one object per sensor cycle (docs/navigation.md)
+//   map.yaml + map.pgm   the final occupancy (ROS map_server; unknown -1)
+//   metrics.json  NavigationMetrics plus the simulator's metrics under "sim"
+//   timing.json   wall-clock figures incl. real_time_factor (the only non-deterministic file
+//                 besides replans.csv's time_ms column)
+// Throws Error naming the file when one cannot be written.
+void write_navigation_records(const NavigationRun& run, const std::string& dir);
+std::string navigation_metrics_json(const NavigationRun& run);
+std::string paths_csv(const NavigationRun& run);
+
+}  // namespace starnav

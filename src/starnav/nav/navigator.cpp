@@ -1,0 +1,277 @@
+#include "starnav/nav/navigator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "starnav/core/error.hpp"
+#include "starnav/core/polyline.hpp"
+#include "starnav/plan/grid_graph.hpp"
+#include "starnav/plan/path_smoothing.hpp"
+
+namespace starnav {
+
+const char* nav_planner_name(NavPlanner p) { return p == NavPlanner::AStar ? "astar" : "dstar_lite"; }
+
+NavPlanner parse_nav_planner(const std::string& s, const std::string& field) {
+  if (s == "astar") return NavPlanner::AStar;
+  if (s == "dstar_lite") return NavPlanner::DStarLite;
+  throw Error("unknown planner '" + s + "' (astar, dstar_lite)", "", 0, field);
+}
+
+const char* nav_status_name(NavStatus s) {
+  switch (s) {
+    case NavStatus::Waiting: return "waiting";
+    case NavStatus::Navigating: return "navigating";
+    case NavStatus::Arrived: return "arrived";
+    case NavStatus::NoPath: return "no_path";
+  }
+  return "unknown";
+}
+
+void NavigatorConfig::validate() const {
+  if (geometry.width <= 0 || geometry.height <= 0 || !(geometry.resolution > 0.0) || geometry.y_down)
+    throw Error("the map grid must have a positive size and resolution, rows bottom-up", "", 0, "navigation.map");
+  map.validate();
+  if (!(goal_tolerance_m > 0.0) || !std::isfinite(goal_tolerance_m))
+    throw Error("must be > 0", "", 0, "navigation.goal_tolerance_m");
+  if (!(no_return_clear_m >= 0.0) || !std::isfinite(no_return_clear_m))
+    throw Error("must be >= 0", "", 0, "navigation.map.no_return_clear_m");
+  follower.validate();
+}
+
+namespace {
+
+GridPlannerOptions search_options() {
+  GridPlannerOptions o;
+  o.connectivity = 8;
+  o.unknown_is_free = true;  // plan optimistically through unobserved cells (spec section 7)
+  return o;
+}
+
+// The grid path's turning points: the first cell, every cell where the move direction changes,
+// the last cell.
+std::vector<Cell> turning_cells(const std::vector<Cell>& cells) {
+  std::vector<Cell> out;
+  if (cells.empty()) return out;
+  out.push_back(cells.front());
+  for (std::size_t i = 1; i + 1 < cells.size(); ++i) {
+    const int dx0 = cells[i].x - cells[i - 1].x, dy0 = cells[i].y - cells[i - 1].y;
+    const int dx1 = cells[i + 1].x - cells[i].x, dy1 = cells[i + 1].y - cells[i].y;
+    if (dx0 != dx1 || dy0 != dy1) out.push_back(cells[i]);
+  }
+  if (cells.size() > 1) out.push_back(cells.back());
+  return out;
+}
+
+}  // namespace
+
+Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal)
+    : config_(config),
+      robot_(robot),
+      goal_(goal),
+      map_((config.validate(), config.geometry), config.map),
+      follower_(config.follower, robot) {
+  const auto g = config_.geometry.world_to_cell(goal_);
+  if (!g) throw Error("the goal lies outside the navigation map", "", 0, "navigation.goal");
+  goal_cell_ = *g;
+}
+
+Navigator::~Navigator() = default;
+
+NavCycle Navigator::on_scan(const LidarScan& scan, const Pose2& pose, double t) {
+  return after_update(map_.integrate(scan, config_.no_return_clear_m), pose, t);
+}
+
+NavCycle Navigator::on_points(const Vec3& sensor_origin, std::span<const Vec3> points, const Pose2& pose, double t) {
+  return after_update(map_.integrate(sensor_origin, points), pose, t);
+}
+
+NavCycle Navigator::after_update(NodeMapUpdate update, const Pose2& pose, double t) {
+  NavCycle cycle;
+  cycle.t_s = t;
+  if (dstar_) {
+    // Cells that changed since the last plan; D* Lite gets their values at the next plan, so a
+    // cell that flickered and came back costs nothing (D* Lite ignores unchanged passability).
+    for (const Cell& c : update.occupancy_changed) {
+      const std::size_t i = config_.geometry.index(c.x, c.y);
+      if (!pending_mark_[i]) {
+        pending_mark_[i] = 1;
+        pending_.push_back({c, 0});
+      }
+    }
+  }
+  cycle.update = std::move(update);
+  if (status_ == NavStatus::Arrived || status_ == NavStatus::NoPath) return cycle;
+
+  std::string cause;
+  if (status_ == NavStatus::Waiting) {
+    cause = "initial";
+  } else {
+    advance_progress(pose.translation());
+    if (remaining_path_blocked()) cause = "blocked";
+    else if (replan_missed_) cause = "missed";
+  }
+  if (!cause.empty()) {
+    plan(pose, t, cause);
+    cycle.planned = true;
+    cycle.cause = cause;
+  }
+  return cycle;
+}
+
+void Navigator::advance_progress(const Vec2& p) {
+  if (plans_.empty()) return;
+  const std::vector<Cell>& cells = plans_.back().cells;
+  if (cells.empty()) return;
+  // The nearest cell centre within a window ahead; progress never goes back, so cells already
+  // passed (and perhaps now inside a band behind the robot) never trigger a replan.
+  const std::size_t window = 64;
+  const std::size_t end = std::min(cells.size(), progress_ + window);
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t best_i = progress_;
+  for (std::size_t i = progress_; i < end; ++i) {
+    const double d = (config_.geometry.cell_center(cells[i]) - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      best_i = i;
+    }
+  }
+  progress_ = best_i;
+}
+
+bool Navigator::remaining_path_blocked() const {
+  if (plans_.empty()) return false;
+  const NavPlan& plan = plans_.back();
+  for (std::size_t i = progress_; i < plan.cells.size(); ++i) {
+    const Cell& c = plan.cells[i];
+    // The escape prefix runs inside the band by design; only a raw obstacle on it matters.
+    const bool hit = i < plan.escape_cells ? map_.raw_blocked(c.x, c.y) : map_.blocked(c.x, c.y);
+    if (hit) return true;
+  }
+  return false;
+}
+
+double Navigator::distance_to_path(const Vec2& p) const {
+  if (!follower_.has_path()) return 0.0;
+  return distance_to_polyline(p, follower_.path());
+}
+
+std::vector<Vec2> Navigator::follower_points(const std::vector<Cell>& cells, const Vec2& robot) const {
+  std::vector<Cell> vertices;
+  if (follower_.mode() == MotionMode::PurePursuit) {
+    // An Ackermann robot cannot take 45 degree grid corners: line-of-sight smoothing (spec section 9).
+    const GridSearchMap search(map_.occupancy(), OccupancyThresholds{}, true);
+    vertices = remove_redundant_nodes(search, cells);
+  } else {
+    vertices = turning_cells(cells);
+  }
+  std::vector<Vec2> points;
+  points.push_back(robot);  // the robot starts on its own position, not its cell's centre
+  for (std::size_t i = 1; i + 1 < vertices.size(); ++i) points.push_back(config_.geometry.cell_center(vertices[i]));
+  points.push_back(goal_);  // the goal itself, within half a cell of its cell's centre
+  return points;
+}
+
+void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
+  NavPlan p;
+  p.id = static_cast<int>(plans_.size()) + 1;
+  p.t_s = t;
+  p.cause = cause;
+  p.from = pose;
+  replan_missed_ = false;
+
+  const auto fail = [&](const std::string& status, const std::string& reason) {
+    p.status = status;
+    plans_.push_back(std::move(p));
+    progress_ = 0;
+    status_ = NavStatus::NoPath;
+    no_path_reason_ = reason;
+    follower_.clear();
+    if (on_plan) on_plan(*this, plans_.back());
+  };
+
+  const auto robot_cell = config_.geometry.world_to_cell(pose.translation());
+  if (!robot_cell) return fail("start_outside_map", "the robot left the navigation map");
+  std::vector<Cell> escape;
+  Cell start = *robot_cell;
+  if (map_.blocked(start.x, start.y)) {
+    const auto e = map_.escape_cell(start, &escape);
+    if (!e) {
+      return fail("start_blocked", map_.raw_blocked(start.x, start.y)
+                                       ? "the robot's own cell is an obstacle cell"
+                                       : "no way out of the expansion band around the robot");
+    }
+    start = *e;
+  }
+
+  PlanResult r;
+  if (config_.planner == NavPlanner::DStarLite) {
+    if (!dstar_) {
+      dstar_ = std::make_unique<DStarLite>(map_.occupancy(), search_options());
+      pending_mark_.assign(config_.geometry.cell_count(), 0);
+      r = dstar_->plan(start, goal_cell_);
+    } else {
+      const OccupancyGrid& occ = map_.occupancy();
+      for (CellChange& c : pending_) {
+        c.occupancy = occ.at(c.cell.x, c.cell.y);
+        pending_mark_[config_.geometry.index(c.cell.x, c.cell.y)] = 0;
+      }
+      dstar_->update_cells(pending_);
+      pending_.clear();
+      dstar_->move_start(start);
+      r = dstar_->replan();
+    }
+    if (config_.compare_astar) {
+      const auto astar = make_grid_planner("astar", map_.occupancy(), search_options());
+      const PlanResult a = astar->plan(start, goal_cell_);
+      p.compared = true;
+      p.astar_expanded = a.expanded;
+      p.astar_cost_m = a.cost;
+      p.astar_status = plan_status_reason(a.status);
+    }
+  } else {
+    const auto astar = make_grid_planner("astar", map_.occupancy(), search_options());
+    r = astar->plan(start, goal_cell_);
+  }
+  p.status = plan_status_reason(r.status);
+  p.expanded = r.expanded;
+  p.cost_m = r.cost;
+  p.time_ms = r.time_ms;
+  if (!r.found()) {
+    const std::string reason = r.status == PlanStatus::GoalBlocked
+                                   ? "the goal lies in an obstacle or its expansion band"
+                                   : "the goal is cut off by obstacles on the current map (unknown cells counted as free)";
+    return fail(p.status, reason);
+  }
+
+  // Cells: the escape prefix (robot cell .. escape cell), then the path from the escape cell.
+  p.escape_cells = escape.empty() ? 0 : escape.size() - 1;
+  p.cells = escape;
+  if (!p.cells.empty()) p.cells.pop_back();  // the escape cell starts the planned path
+  p.cells.insert(p.cells.end(), r.path_cells.begin(), r.path_cells.end());
+  p.points = follower_points(p.cells, pose.translation());
+  follower_.set_path(p.points);
+  progress_ = 0;
+  status_ = NavStatus::Navigating;
+  plans_.push_back(std::move(p));
+  if (on_plan) on_plan(*this, plans_.back());
+}
+
+BodyTwist Navigator::command(const Pose2& pose, double t) {
+  if (status_ != NavStatus::Navigating) return {};
+  if ((pose.translation() - goal_).norm() <= config_.goal_tolerance_m) {
+    status_ = NavStatus::Arrived;
+    arrival_t_ = t;
+    follower_.clear();
+    return {};
+  }
+  const FollowOutput out = follower_.compute(pose);
+  if (out.status == FollowStatus::Arrived || out.status == FollowStatus::Missed) {
+    // The follower ended its path outside the goal tolerance: plan again at the next cycle.
+    replan_missed_ = true;
+    return {};
+  }
+  return out.command;
+}
+
+}  // namespace starnav

@@ -1,0 +1,141 @@
+#pragma once
+// The navigation loop of Li et al. 2019 (spec li2019 section 7; docs/navigation.md, "The
+// navigation loop"), independent of where scans and poses come from.
+//
+// Per sensor cycle (on_scan):
+//   1. the scan updates the NodeHeightMap (heights, evidence, beam clearing, walkable flags,
+//      expansion by the barrier distance);
+//   2. the first cycle plans (cause "initial"); afterwards the navigator replans exactly when a
+//      cell of the remaining path is now blocked for planning (cause "blocked"; the cells of an
+//      escape prefix only when raw blocked), or when the follower reports it cannot reach the
+//      path's end (cause "missed"); otherwise it keeps the path;
+//   3. a plan starts at the robot's cell; when that cell lies inside the expansion band the path
+//      first leaves the band by NodeHeightMap::escape_cell and is planned from there. Unknown
+//      cells are free. No path (goal blocked, start raw blocked, goal enclosed) -> status NoPath,
+//      reported once; the caller stops.
+// Per control step (command): arrived when within goal_tolerance of the goal (status Arrived,
+// zero twist); otherwise the PathFollower's twist for the current path.
+//
+// Planners: "astar" searches from scratch at every plan (the paper); "dstar_lite" keeps one
+// D* Lite search; at a replan it is given the cells whose occupancy changed since its last
+// search (their values now), moved to the robot's start and repaired. With compare_astar, every plan of a dstar_lite run also runs A* from
+// scratch on the same map and start (expansions and cost recorded; the robot follows D* Lite).
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "starnav/control/path_follower.hpp"
+#include "starnav/core/geometry.hpp"
+#include "starnav/nav/node_height_map.hpp"
+#include "starnav/plan/dstar_lite.hpp"
+#include "starnav/plan/grid_planner.hpp"
+#include "starnav/robot/robot_model.hpp"
+#include "starnav/sense/lidar.hpp"
+
+namespace starnav {
+
+enum class NavPlanner : std::uint8_t { AStar, DStarLite };
+const char* nav_planner_name(NavPlanner p);                                   // "astar", "dstar_lite"
+NavPlanner parse_nav_planner(const std::string& s, const std::string& field);  // Error naming field
+
+struct NavigatorConfig {
+  GridGeometry geometry;  // the map's grid (world-aligned, y up)
+  NodeMapParams map;
+  NavPlanner planner = NavPlanner::AStar;
+  bool compare_astar = false;     // dstar_lite: also A* from scratch at every plan
+  double goal_tolerance_m = 0.15;
+  double no_return_clear_m = 0.0; // see NodeHeightMap::integrate(const LidarScan&, double)
+  PathFollowerConfig follower;
+  void validate() const;  // Error naming the field
+};
+
+enum class NavStatus : std::uint8_t { Waiting, Navigating, Arrived, NoPath };
+const char* nav_status_name(NavStatus s);  // "waiting", "navigating", "arrived", "no_path"
+
+// One plan (P1, P2, ...).
+struct NavPlan {
+  int id = 0;                  // 1-based
+  double t_s = 0.0;
+  std::string cause;           // initial | blocked | missed
+  std::string status;          // plan_status_reason of the search ("found", "no_path", ...)
+  std::uint64_t expanded = 0;  // the planner's search (D* Lite: the repair)
+  double cost_m = 0.0;         // path cost on the grid, metres (escape prefix excluded)
+  double time_ms = 0.0;        // wall time of the search (not deterministic)
+  bool compared = false;       // A* from scratch ran too (compare_astar)
+  std::uint64_t astar_expanded = 0;
+  double astar_cost_m = 0.0;
+  std::string astar_status;
+  Pose2 from;                       // the robot's pose when it planned
+  std::size_t escape_cells = 0;     // cells of the escape prefix (0: the start was outside the band)
+  std::vector<Cell> cells;          // robot cell .. escape cell .. goal cell
+  std::vector<Vec2> points;         // what the follower got: robot position, turning points, goal
+};
+
+// What one sensor cycle did.
+struct NavCycle {
+  double t_s = 0.0;
+  NodeMapUpdate update;
+  bool planned = false;
+  std::string cause;  // when planned
+};
+
+class Navigator {
+ public:
+  // Throws Error naming the field for bad configurations, a goal outside the map, or a motion
+  // mode the robot cannot do.
+  Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal);
+  ~Navigator();
+  Navigator(const Navigator&) = delete;
+  Navigator& operator=(const Navigator&) = delete;
+
+  // Called after every plan (tests compare planners here).
+  std::function<void(const Navigator&, const NavPlan&)> on_plan;
+
+  // One sensor cycle at time t with the robot's pose (ground truth or estimate).
+  NavCycle on_scan(const LidarScan& scan, const Pose2& pose, double t);
+  // The same with a scan given as sensor origin and world points (tests, other sensors).
+  NavCycle on_points(const Vec3& sensor_origin, std::span<const Vec3> points, const Pose2& pose, double t);
+  // One control step.
+  BodyTwist command(const Pose2& pose, double t);
+
+  NavStatus status() const { return status_; }
+  const std::string& no_path_reason() const { return no_path_reason_; }
+  double arrival_time_s() const { return arrival_t_; }
+  const NodeHeightMap& map() const { return map_; }
+  const NavigatorConfig& config() const { return config_; }
+  const PathFollower& follower() const { return follower_; }
+  const Vec2& goal() const { return goal_; }
+  const std::vector<NavPlan>& plans() const { return plans_; }
+  // The index of the remaining path's first cell in plans().back().cells.
+  std::size_t progress() const { return progress_; }
+  // True when a cell of the current plan's remaining path is blocked (the replan test).
+  bool remaining_path_blocked() const;
+  // Distance from `p` to the path being followed (0 without one).
+  double distance_to_path(const Vec2& p) const;
+
+ private:
+  NavCycle after_update(NodeMapUpdate update, const Pose2& pose, double t);
+  void plan(const Pose2& pose, double t, const std::string& cause);
+  void advance_progress(const Vec2& p);
+  std::vector<Vec2> follower_points(const std::vector<Cell>& cells, const Vec2& robot) const;
+
+  NavigatorConfig config_;
+  RobotConfig robot_;
+  Vec2 goal_;
+  Cell goal_cell_{};
+  NodeHeightMap map_;
+  PathFollower follower_;
+  std::unique_ptr<DStarLite> dstar_;
+  std::vector<CellChange> pending_;        // cells changed since D* Lite's last search
+  std::vector<std::uint8_t> pending_mark_;  // 1 = in pending_
+  std::vector<NavPlan> plans_;
+  std::size_t progress_ = 0;
+  bool replan_missed_ = false;
+  NavStatus status_ = NavStatus::Waiting;
+  std::string no_path_reason_;
+  double arrival_t_ = -1.0;
+};
+
+}  // namespace starnav

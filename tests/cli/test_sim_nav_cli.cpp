@@ -1,0 +1,85 @@
+// starnav sim on navigation scenarios: a run that arrives exits 0 and writes the navigation
+// records and pictures; one that cannot reach its goal exits 1 with one line saying why; the
+// navigation flags are refused (exit 2, one line naming the flag) where they make no sense.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "support/test_support.hpp"
+
+namespace {
+
+using starnav::test::CliResult;
+using starnav::test::run_cli;
+
+const std::string kE1 = std::string(STARNAV_SOURCE_DIR) + "/scenarios/e1_terrain_platform.yaml";
+
+std::string nav_scenario(const std::string& obstacles) {
+  return "name: small_nav\n"
+         "world:\n"
+         "  terrain:\n"
+         "    generate: {kind: flat, size_m: [6.0, 4.0], resolution_m: 0.05}\n" +
+         obstacles +
+         "robot:\n"
+         "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 0.0}\n"
+         "sensors:\n"
+         "  lidar: {}\n"
+         "sim: {dt_s: 0.01, duration_s: 80.0, seed: 2}\n"
+         "navigation:\n"
+         "  goal: {x_m: 5.0, y_m: 1.0}\n";
+}
+
+void expect_one_error_line(const CliResult& r, int code, const std::vector<std::string>& names, const std::string& what) {
+  EXPECT_EQ(r.exit_code, code) << what << "\nstdout: " << r.out << "\nstderr: " << r.err;
+  EXPECT_EQ(r.err.rfind("starnav: error: ", 0), 0u) << what << ": " << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << what << ": " << r.err;
+  for (const std::string& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << what << ": no '" << n << "' in " << r.err;
+}
+
+TEST(SimNavCli, ArrivesAndWritesTheNavigationRecords) {
+  starnav::test::ScratchDir dir;
+  const std::string file = dir.file("nav.yaml");
+  starnav::test::write_text(file, nav_scenario(
+      "  obstacles:\n    - {name: wall, kind: box, position_m: [3.0, 1.0], size_m: [0.2, 2.0, 0.5]}\n"));
+  const std::string out = dir.file("out");
+  const CliResult r = run_cli({"sim", file, "--out", out, "--quiet", "--json", "--planner", "dstar_lite", "--compare-astar"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"success\": true"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"planner\": \"dstar_lite\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"costs_match_astar\": true"), std::string::npos) << r.out;
+  for (const char* f : {"trajectory.csv", "paths.csv", "replans.csv", "events.csv", "steps.jsonl", "map.yaml", "map.pgm",
+                        "metrics.json", "timing.json", "scene.svg", "overlay.svg"})
+    EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(out) / f)) << f;
+  EXPECT_EQ(starnav::test::read_text(out + "/paths.csv").rfind("plan_id,t_s,x_m,y_m\n", 0), 0u);
+  EXPECT_EQ(starnav::test::read_text(out + "/replans.csv").rfind("plan_id,t_s,cause,status,expanded,cost_m,time_ms", 0), 0u);
+}
+
+TEST(SimNavCli, EnclosedGoalExitsOneWithTheReason) {
+  starnav::test::ScratchDir dir;
+  const std::string file = dir.file("nav.yaml");
+  starnav::test::write_text(file, nav_scenario("  obstacles:\n"
+                                               "    - {name: s, kind: box, position_m: [5.0, 0.3], size_m: [1.6, 0.2, 0.5]}\n"
+                                               "    - {name: n, kind: box, position_m: [5.0, 1.7], size_m: [1.6, 0.2, 0.5]}\n"
+                                               "    - {name: w, kind: box, position_m: [4.3, 0.8], size_m: [0.2, 1.2, 0.5]}\n"
+                                               "    - {name: e, kind: box, position_m: [5.7, 0.8], size_m: [0.2, 1.2, 0.5]}\n"));
+  const CliResult r = run_cli({"sim", file, "--out", dir.file("out"), "--quiet"});
+  expect_one_error_line(r, 1, {"nav.yaml", "navigation", "no path"}, "enclosed goal");
+}
+
+TEST(SimNavCli, BadNavigationFlagsNameTheFlag) {
+  starnav::test::ScratchDir dir;
+  const std::string file = dir.file("nav.yaml");
+  starnav::test::write_text(file, nav_scenario(""));
+  expect_one_error_line(run_cli({"sim", file, "--out", dir.file("a"), "--motion-mode", "sideways"}), 2, {"--motion-mode"},
+                        "unknown mode");
+  expect_one_error_line(run_cli({"sim", file, "--out", dir.file("b"), "--planner", "dijkstra"}), 2, {"--planner"},
+                        "unknown planner");
+  // A scripted scenario has no navigation to configure.
+  expect_one_error_line(run_cli({"sim", kE1, "--out", dir.file("c"), "--motion-mode", "holonomic"}), 2,
+                        {"--motion-mode", "e1_terrain_platform.yaml"}, "scripted scenario");
+}
+
+}  // namespace

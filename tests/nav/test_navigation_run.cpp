@@ -1,0 +1,169 @@
+// Navigation scenarios end to end (simulator + navigator): the paper's E3 in both motion modes
+// and E4 reach the goal without a collision; at every plan of a D* Lite run its cost equals an A*
+// search run here on the same map; E4 leaves its dead end; an enclosed goal ends the run with
+// no_path before the timeout; same seed, same bytes; the navigation section's errors name the
+// file, line and field.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "starnav/core/error.hpp"
+#include "starnav/nav/navigation_run.hpp"
+#include "starnav/plan/grid_planner.hpp"
+#include "starnav/sim/scenario.hpp"
+
+namespace starnav {
+namespace {
+
+const std::string kScenarios = std::string(STARNAV_SOURCE_DIR) + "/scenarios/";
+
+// Checks every plan against A* run here on the navigator's map from the plan's start cell.
+void check_plans_against_astar(NavigationRun& run, int& checked) {
+  run.navigator().on_plan = [&checked](const Navigator& nav, const NavPlan& p) {
+    if (p.status != "found") return;
+    GridPlannerOptions o;
+    o.unknown_is_free = true;
+    const auto astar = make_grid_planner("astar", nav.map().occupancy(), o);
+    const PlanResult ref = astar->plan(p.cells[p.escape_cells], *nav.map().geometry().world_to_cell(nav.goal()));
+    ASSERT_TRUE(ref.found()) << "plan " << p.id;
+    EXPECT_NEAR(p.cost_m, ref.cost, 1e-9) << "plan " << p.id;
+    ++checked;
+  };
+}
+
+TEST(NavigationRun, E3BothMotionModesReachTheGoalAndDStarLiteMatchesAStarAtEveryPlan) {
+  const ScenarioSpec spec = load_scenario(kScenarios + "e3_three_obstacles.yaml");
+  for (const char* mode : {"turn_then_drive", "holonomic"}) {
+    NavigationOptions o;
+    o.motion_mode = mode;
+    o.planner = "dstar_lite";
+    o.compare_astar = true;
+    o.record_steps = false;
+    NavigationRun run(spec, o);
+    int checked = 0;
+    check_plans_against_astar(run, checked);
+    run.run();
+    const NavigationMetrics m = run.metrics();
+    EXPECT_TRUE(m.success) << mode << ": " << m.outcome;
+    EXPECT_EQ(m.collisions, 0) << mode;
+    EXPECT_EQ(m.motion_mode, mode);
+    EXPECT_TRUE(m.costs_match) << mode;
+    EXPECT_GE(m.replans, 1) << mode;
+    EXPECT_EQ(checked, m.plans) << mode;
+    EXPECT_LE(m.goal_distance_m, spec.navigation->goal_tolerance_m + 1e-9);
+    // Both modes track their paths closely on flat ground (docs/navigation.md).
+    EXPECT_LT(m.deviation_max_m, 0.1) << mode;
+  }
+}
+
+TEST(NavigationRun, E4LeavesTheDeadEndAndReachesTheGoal) {
+  const ScenarioSpec spec = load_scenario(kScenarios + "e4_dynamic_dead_end.yaml");
+  NavigationOptions o;
+  o.record_steps = false;
+  NavigationRun run(spec, o);
+  run.run();
+  const NavigationMetrics m = run.metrics();
+  EXPECT_TRUE(m.success) << m.outcome;
+  EXPECT_EQ(m.collisions, 0);
+  EXPECT_GE(m.replans, 3);
+  // In the pocket (between SO2 and SO3, x > 7.5 m), later back out west of it (x < 7 m), then at the goal.
+  bool inside = false, left = false;
+  for (const TrajectorySample& s : run.simulation().trajectory()) {
+    const double x = s.position.x(), y = s.position.y();
+    if (!inside && x > 7.5 && x < 12.0 && y > 8.4 && y < 11.6) inside = true;
+    if (inside && x < 7.0) left = true;
+  }
+  EXPECT_TRUE(inside);
+  EXPECT_TRUE(left);
+}
+
+const char* kEnclosedGoal = R"(
+name: enclosed_goal
+world:
+  terrain:
+    generate: {kind: flat, size_m: [8.0, 5.0], resolution_m: 0.05}
+  obstacles:
+    - {name: south, kind: box, position_m: [6.0, 1.4], size_m: [1.6, 0.2, 0.5]}
+    - {name: north, kind: box, position_m: [6.0, 3.4], size_m: [1.6, 0.2, 0.5]}
+    - {name: west, kind: box, position_m: [5.3, 2.4], size_m: [0.2, 1.8, 0.5]}
+    - {name: east, kind: box, position_m: [6.7, 2.4], size_m: [0.2, 1.8, 0.5]}
+robot:
+  start: {x_m: 1.0, y_m: 2.4, yaw_deg: 0.0}
+sensors:
+  lidar: {}
+sim: {dt_s: 0.01, duration_s: 300.0, seed: 3}
+navigation:
+  goal: {x_m: 6.0, y_m: 2.4}
+  map: {resolution_m: 0.1}
+)";
+
+TEST(NavigationRun, EnclosedGoalEndsWithNoPathBeforeTheTimeout) {
+  const ScenarioSpec spec = parse_scenario(kEnclosedGoal, "enclosed_goal.yaml");
+  NavigationRun run(spec);
+  run.run();
+  const NavigationMetrics m = run.metrics();
+  EXPECT_FALSE(m.success);
+  EXPECT_EQ(m.outcome, "no_path");
+  EXPECT_FALSE(m.reason.empty());
+  EXPECT_LT(m.duration_s, 300.0);  // stopped when it knew, not at the timeout
+  EXPECT_EQ(m.collisions, 0);
+  const auto& plans = run.navigator().plans();
+  ASSERT_FALSE(plans.empty());
+  EXPECT_NE(plans.back().status, "found");
+  for (std::size_t i = 0; i + 1 < plans.size(); ++i) EXPECT_EQ(plans[i].status, "found");
+}
+
+TEST(NavigationRun, SameSeedSameBytes) {
+  ScenarioSpec spec = parse_scenario(kEnclosedGoal, "enclosed_goal.yaml");
+  spec.duration_s = 20.0;
+  std::string first;
+  for (int k = 0; k < 2; ++k) {
+    NavigationRun run(spec);
+    run.run();
+    const std::string all = paths_csv(run) + trajectory_csv(run.simulation()) + navigation_metrics_json(run);
+    if (k == 0) first = all;
+    else EXPECT_EQ(all, first);
+  }
+}
+
+void expect_scenario_error(const std::string& yaml, const std::string& field, bool at_run = false) {
+  try {
+    const ScenarioSpec spec = parse_scenario(yaml, "bad.yaml");
+    if (!at_run) FAIL() << "parsed: " << field;
+    NavigationRun run(spec);
+    FAIL() << "accepted: " << field;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.file(), "bad.yaml") << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_GT(e.line(), 0) << e.what();
+  }
+}
+
+TEST(NavigationRun, NavigationSectionErrorsNameTheField) {
+  const std::string head = R"(
+world:
+  terrain:
+    generate: {kind: flat, size_m: [8.0, 5.0], resolution_m: 0.05}
+robot:
+  drive: differential
+  start: {x_m: 1.0, y_m: 2.4, yaw_deg: 0.0}
+sensors:
+  lidar: {}
+sim: {dt_s: 0.01, duration_s: 30.0}
+)";
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  planner: dijkstra\n", "navigation.planner");
+  expect_scenario_error(head + "navigation:\n  goal_tolerance_m: 0.2\n", "navigation.goal");
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0}\n", "navigation.goal.y_m");
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: {resolution_m: -1}\n",
+                        "navigation.map.resolution_m");
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  speed: 3\n", "navigation.speed");
+  expect_scenario_error(head + "commands:\n  - {duration_s: 1, vx_mps: 0.1}\nnavigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n",
+                        "commands");
+  expect_scenario_error(head + "motion_mode: sideways\nnavigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n", "motion_mode");
+  // Parsed, refused when the run is set up: the drive cannot do it, the goal is off the map.
+  expect_scenario_error(head + "motion_mode: holonomic\nnavigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n", "motion_mode", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 60.0, y_m: 2.4}\n", "navigation.goal", true);
+}
+
+}  // namespace
+}  // namespace starnav

@@ -1,0 +1,251 @@
+// The navigation loop without the simulator: synthetic scans (sensor origin + world points) fed
+// to a Navigator in 2D mode, checked against independent recomputations on the map it built.
+//   - a replan happens exactly when a cell of the remaining path is blocked, and not otherwise;
+//   - every plan is collision-free on the map it was made on (escape prefix aside) and optimal
+//     (equal to an A* search run here from the same cells);
+//   - the start inside the band leaves it by escape_cell; no path is reported once, not looped on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "starnav/core/error.hpp"
+#include "starnav/core/rng.hpp"
+#include "starnav/nav/navigator.hpp"
+#include "starnav/plan/grid_planner.hpp"
+
+namespace starnav {
+namespace {
+
+// 10 m x 6 m at 0.1 m, 2D mode (each return marks its cell), barrier 0.3 m.
+NavigatorConfig config_2d(NavPlanner planner = NavPlanner::AStar) {
+  NavigatorConfig c;
+  c.geometry.width = 100;
+  c.geometry.height = 60;
+  c.geometry.resolution = 0.1;
+  c.map.mode = NodeMapMode::Lidar2D;
+  c.map.barrier_distance_m = 0.3;
+  c.planner = planner;
+  c.compare_astar = planner == NavPlanner::DStarLite;
+  return c;
+}
+
+const Pose2 kStart(1.05, 3.05, 0.0);
+const Vec2 kGoal(9.05, 3.05);
+
+Vec3 origin_of(const Pose2& p) { return {p.x, p.y, 0.3}; }
+
+// A* on the navigator's current map from `from` to the goal's cell (unknown free, 8-connected).
+PlanResult reference_astar(const Navigator& nav, Cell from) {
+  GridPlannerOptions o;
+  o.unknown_is_free = true;
+  const auto astar = make_grid_planner("astar", nav.map().occupancy(), o);
+  return astar->plan(from, *nav.map().geometry().world_to_cell(nav.goal()));
+}
+
+// Is any cell of `plan` from `progress` on blocked on the navigator's map now (escape prefix: raw blocked)?
+bool blocked_from(const Navigator& nav, const NavPlan& plan, std::size_t progress) {
+  for (std::size_t i = progress; i < plan.cells.size(); ++i) {
+    const Cell c = plan.cells[i];
+    if (i < plan.escape_cells ? nav.map().raw_blocked(c.x, c.y) : nav.map().blocked(c.x, c.y)) return true;
+  }
+  return false;
+}
+
+TEST(Navigator, FirstCyclePlansStraightThroughUnknownSpace) {
+  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  EXPECT_EQ(nav.status(), NavStatus::Waiting);
+  const NavCycle c = nav.on_points(origin_of(kStart), {}, kStart, 0.0);
+  EXPECT_TRUE(c.planned);
+  EXPECT_EQ(c.cause, "initial");
+  ASSERT_EQ(nav.plans().size(), 1u);
+  const NavPlan& p = nav.plans()[0];
+  EXPECT_EQ(p.status, "found");
+  EXPECT_NEAR(p.cost_m, 8.0, 1e-9);  // 80 straight cells
+  ASSERT_EQ(p.points.size(), 2u);    // robot position, goal: no turning point on a straight path
+  EXPECT_TRUE(p.points.front().isApprox(kStart.translation()));
+  EXPECT_TRUE(p.points.back().isApprox(kGoal));
+  EXPECT_EQ(nav.status(), NavStatus::Navigating);
+}
+
+TEST(Navigator, ObstacleOffThePathDoesNotReplanOnThePathDoes) {
+  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  nav.on_points(origin_of(kStart), {}, kStart, 0.0);
+  // 1 m beside the path (band 0.3 m): no replan.
+  std::vector<Vec3> off{{5.05, 4.05, 0.2}, {5.15, 4.05, 0.2}};
+  NavCycle c = nav.on_points(origin_of(kStart), off, kStart, 0.1);
+  EXPECT_GT(c.update.cells_hit, 0u);
+  EXPECT_FALSE(c.planned);
+  EXPECT_EQ(nav.plans().size(), 1u);
+  // The band reaches the path from 0.25 m away: replan.
+  std::vector<Vec3> near{{5.05, 3.3, 0.2}};
+  c = nav.on_points(origin_of(kStart), near, kStart, 0.2);
+  EXPECT_TRUE(c.planned);
+  EXPECT_EQ(c.cause, "blocked");
+  ASSERT_EQ(nav.plans().size(), 2u);
+  const NavPlan& p = nav.plans()[1];
+  EXPECT_EQ(p.status, "found");
+  for (const Cell& cell : p.cells) EXPECT_FALSE(nav.map().blocked(cell.x, cell.y));
+  EXPECT_GT(p.cost_m, 8.0);
+  EXPECT_NEAR(p.cost_m, reference_astar(nav, p.cells.front()).cost, 1e-9);
+}
+
+// Random obstacles, cycle after cycle, robot moving along its path: the navigator replans
+// exactly when the remaining path (from the progress it had) is blocked after the update.
+void random_replan_property(NavPlanner planner, std::uint64_t seed, int& replans, int& kept) {
+  Navigator nav(config_2d(planner), RobotConfig{}, kGoal);
+  Rng rng(seed);
+  Pose2 pose = kStart;
+  nav.on_points(origin_of(pose), {}, pose, 0.0);
+  for (int k = 1; k <= 150 && nav.status() == NavStatus::Navigating; ++k) {
+    // Walk the robot a little along its current path (a stand-in for the follower).
+    const NavPlan before = nav.plans().back();
+    const std::size_t progress_before = nav.progress();
+    const std::size_t step_to = std::min(before.cells.size() - 1, progress_before + 1);
+    const Vec2 at = nav.map().geometry().cell_center(before.cells[step_to]);
+    pose = Pose2(at.x(), at.y(), 0.0);
+    std::vector<Vec3> points;
+    const int n = 1 + static_cast<int>(rng.uniform_int(0, 3));
+    for (int i = 0; i < n; ++i) {
+      const Vec3 p(rng.uniform(0.0, 10.0), rng.uniform(0.0, 6.0), 0.2);
+      // Keep obstacles off the robot and the goal so both stay plannable.
+      if ((p.head<2>() - pose.translation()).norm() < 0.8 || (p.head<2>() - kGoal).norm() < 0.8) continue;
+      points.push_back(p);
+    }
+    const NavCycle c = nav.on_points(origin_of(pose), points, pose, 0.1 * k);
+    // Independent: the old plan from the progress the robot reached (the nearest of its cells in
+    // a window ahead of the previous progress), recomputed here.
+    bool expected = false;
+    {
+      std::size_t best_i = progress_before;
+      double best = 1e300;
+      for (std::size_t i = progress_before; i < std::min(before.cells.size(), progress_before + 64); ++i) {
+        const double d = (nav.map().geometry().cell_center(before.cells[i]) - pose.translation()).squaredNorm();
+        if (d < best) best = d, best_i = i;
+      }
+      expected = blocked_from(nav, before, best_i);
+    }
+    ASSERT_EQ(c.planned, expected) << "cycle " << k << " seed " << seed;
+    if (c.planned) {
+      ++replans;
+      const NavPlan& p = nav.plans().back();
+      if (p.status != "found") {
+        EXPECT_EQ(nav.status(), NavStatus::NoPath);
+        break;
+      }
+      for (std::size_t i = p.escape_cells; i < p.cells.size(); ++i)
+        ASSERT_FALSE(nav.map().blocked(p.cells[i].x, p.cells[i].y)) << "plan " << p.id << " cell " << i;
+      const PlanResult ref = reference_astar(nav, p.cells[p.escape_cells]);
+      ASSERT_TRUE(ref.found());
+      ASSERT_NEAR(p.cost_m, ref.cost, 1e-9) << "plan " << p.id;
+      if (p.compared) {
+        ASSERT_NEAR(p.astar_cost_m, ref.cost, 1e-9);
+      }
+    } else {
+      ++kept;
+    }
+  }
+}
+
+TEST(Navigator, ReplansExactlyWhenTheRemainingPathIsBlockedAStar) {
+  int replans = 0, kept = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) random_replan_property(NavPlanner::AStar, seed, replans, kept);
+  EXPECT_GT(replans, 30);  // both branches exercised many times
+  EXPECT_GT(kept, 30);
+}
+
+TEST(Navigator, ReplansExactlyWhenTheRemainingPathIsBlockedDStarLiteEqualsAStar) {
+  int replans = 0, kept = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) random_replan_property(NavPlanner::DStarLite, seed, replans, kept);
+  EXPECT_GT(replans, 30);
+  EXPECT_GT(kept, 30);
+}
+
+TEST(Navigator, StartInsideTheBandEscapesInsteadOfReportingABlockedStart) {
+  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  // A wall 0.2 m below the robot: its cell lies inside the 0.3 m band.
+  std::vector<Vec3> wall;
+  for (double x = 0.55; x <= 1.6; x += 0.1) wall.emplace_back(x, 2.85, 0.2);
+  const NavCycle c = nav.on_points(origin_of(kStart), wall, kStart, 0.0);
+  ASSERT_TRUE(c.planned);
+  ASSERT_TRUE(nav.map().blocked(10, 30));
+  const NavPlan& p = nav.plans()[0];
+  EXPECT_EQ(p.status, "found");
+  EXPECT_GT(p.escape_cells, 0u);
+  EXPECT_EQ(p.cells.front(), (Cell{10, 30}));
+  // The escape prefix is exactly NodeHeightMap::escape_cell's path; the rest is free.
+  std::vector<Cell> escape;
+  const auto e = nav.map().escape_cell({10, 30}, &escape);
+  ASSERT_TRUE(e.has_value());
+  ASSERT_EQ(escape.size(), p.escape_cells + 1);
+  for (std::size_t i = 0; i < escape.size(); ++i) EXPECT_EQ(p.cells[i], escape[i]);
+  for (std::size_t i = p.escape_cells; i < p.cells.size(); ++i) EXPECT_FALSE(nav.map().blocked(p.cells[i].x, p.cells[i].y));
+  // The next cycle with the same scan keeps the plan: the band around the robot is expected.
+  EXPECT_FALSE(nav.on_points(origin_of(kStart), wall, kStart, 0.1).planned);
+}
+
+TEST(Navigator, EnclosedGoalIsReportedOnceAndNotLoopedOn) {
+  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  nav.on_points(origin_of(kStart), {}, kStart, 0.0);
+  // A closed square ring around the goal, 0.6 m out.
+  std::vector<Vec3> ring;
+  for (double a = -0.6; a <= 0.6 + 1e-9; a += 0.05) {
+    ring.emplace_back(kGoal.x() + a, kGoal.y() - 0.6, 0.2);
+    ring.emplace_back(kGoal.x() + a, kGoal.y() + 0.6, 0.2);
+    ring.emplace_back(kGoal.x() - 0.6, kGoal.y() + a, 0.2);
+    ring.emplace_back(kGoal.x() + 0.6, kGoal.y() + a, 0.2);
+  }
+  // The ring is seen from inside its own cells (sensor at the goal side) so no beam clears it.
+  NavCycle c = nav.on_points(Vec3(kGoal.x(), kGoal.y(), 0.3), ring, kStart, 0.1);
+  EXPECT_TRUE(c.planned);
+  EXPECT_EQ(nav.status(), NavStatus::NoPath);
+  EXPECT_EQ(nav.plans().back().status, "no_path");
+  EXPECT_FALSE(nav.no_path_reason().empty());
+  const std::size_t plans = nav.plans().size();
+  // Further cycles and commands neither plan again nor move the robot.
+  for (int k = 0; k < 5; ++k) {
+    c = nav.on_points(origin_of(kStart), {}, kStart, 0.2 + 0.1 * k);
+    EXPECT_FALSE(c.planned);
+    const BodyTwist t = nav.command(kStart, 0.2 + 0.1 * k);
+    EXPECT_EQ(t.vx, 0.0);
+    EXPECT_EQ(t.vy, 0.0);
+    EXPECT_EQ(t.wz, 0.0);
+  }
+  EXPECT_EQ(nav.plans().size(), plans);
+}
+
+TEST(Navigator, ArrivesWithinGoalTolerance) {
+  NavigatorConfig c = config_2d();
+  c.goal_tolerance_m = 0.2;
+  Navigator nav(c, RobotConfig{}, kGoal);
+  nav.on_points(origin_of(kStart), {}, kStart, 0.0);
+  const BodyTwist far = nav.command(kStart, 0.0);
+  EXPECT_GT(std::abs(far.vx) + std::abs(far.wz), 0.0);
+  const Pose2 near(kGoal.x() - 0.19, kGoal.y(), 0.0);
+  const BodyTwist t = nav.command(near, 5.0);
+  EXPECT_EQ(nav.status(), NavStatus::Arrived);
+  EXPECT_DOUBLE_EQ(nav.arrival_time_s(), 5.0);
+  EXPECT_EQ(t.vx, 0.0);
+}
+
+TEST(Navigator, RejectsBadConfigurations) {
+  NavigatorConfig c = config_2d();
+  EXPECT_THROW(Navigator(c, RobotConfig{}, Vec2(20.0, 3.0)), Error);  // goal outside the map
+  c.goal_tolerance_m = 0.0;
+  EXPECT_THROW(Navigator(c, RobotConfig{}, kGoal), Error);
+  c = config_2d();
+  c.follower.mode = MotionMode::Holonomic;
+  RobotConfig diff;
+  diff.drive = DriveKind::Differential;
+  try {
+    Navigator nav(c, diff, kGoal);
+    FAIL() << "holonomic on a differential robot accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "motion_mode");
+  }
+  EXPECT_EQ(parse_nav_planner("dstar_lite", "x"), NavPlanner::DStarLite);
+  EXPECT_THROW(parse_nav_planner("dijkstra", "x"), Error);
+}
+
+}  // namespace
+}  // namespace starnav
