@@ -14,11 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/point_cloud_io.hpp"
 #include "starnav/nav/navigation_pictures.hpp"
 #include "starnav/nav/navigation_run.hpp"
+#include "starnav/sim/outline.hpp"
 #include "starnav/sim/simulation.hpp"
 #include "starnav/viz/map_picture.hpp"
 #include "starnav/viz/plot_svg.hpp"
@@ -86,88 +88,24 @@ void prepare_out_dir(const std::string& dir) {
   }
 }
 
-// Live progress on stderr when it is a terminal.
-class ProgressBar {
+// cli_util's ProgressBar in percent of the simulated time, with the time itself.
+class SimProgress {
  public:
-  explicit ProgressBar(bool enabled, double duration) : tty_(enabled && ::isatty(2) == 1), duration_(duration) {}
+  SimProgress(bool quiet, double duration_s) : bar_("sim", 100, quiet), duration_s_(duration_s) {}
   void update(double fraction) {
-    if (!tty_) return;
-    const auto now = Clock::now();
-    if (fraction < 1.0 && now - last_ < std::chrono::milliseconds(100)) return;
-    last_ = now;
-    constexpr int kWidth = 30;
-    const int filled = std::clamp(static_cast<int>(fraction * kWidth), 0, kWidth);
-    std::string bar(static_cast<std::size_t>(filled), '#');
-    bar.append(static_cast<std::size_t>(kWidth - filled), '.');
-    std::fprintf(stderr, "\rsim [%s] %3d%%  t = %.1f / %.1f s", bar.c_str(), static_cast<int>(fraction * 100.0 + 0.5),
-                 fraction * duration_, duration_);
-    std::fflush(stderr);
+    char what[64];
+    std::snprintf(what, sizeof what, "%% t = %.1f / %.1f s", fraction * duration_s_, duration_s_);
+    bar_.update(static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * 100.0 + 0.5), what);
   }
-  void finish() {
-    if (tty_) std::fprintf(stderr, "\r%-79s\r", "");
-  }
+  void finish() { bar_.finish(); }
 
  private:
-  bool tty_;
-  double duration_;
-  Clock::time_point last_{};
+  ProgressBar bar_;
+  double duration_s_;
 };
 
 // ---- pictures ----------------------------------------------------------------------------------
 
-std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
-  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
-  if (p.size() < 3) return p;
-  std::vector<Vec2> h(2 * p.size());
-  std::size_t k = 0;
-  const auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
-    h[k++] = p[i - 1];
-  }
-  h.resize(k - 1);
-  return h;
-}
-
-struct Footprint {
-  std::vector<Vec2> polygon;  // closed outline, or empty for a circle
-  Vec2 centre = Vec2::Zero();
-  double radius = 0.0;
-};
-
-Footprint footprint(const Primitive& part, const Vec3& offset) {
-  Footprint f;
-  if (const auto* b = std::get_if<Box>(&part)) {
-    const Eigen::Matrix3d r = Pose3::from_rpy(Vec3::Zero(), b->roll, b->pitch, b->yaw).rotation();
-    std::vector<Vec2> pts;
-    for (int i = 0; i < 8; ++i) {
-      const Vec3 c(((i & 1) ? 0.5 : -0.5) * b->size.x(), ((i & 2) ? 0.5 : -0.5) * b->size.y(), ((i & 4) ? 0.5 : -0.5) * b->size.z());
-      pts.push_back((b->center + offset + r * c).head<2>());
-    }
-    f.polygon = convex_hull(pts);
-  } else if (const auto* p = std::get_if<Prism>(&part)) {
-    const double c = std::cos(p->yaw), s = std::sin(p->yaw);
-    std::vector<Vec2> pts;
-    for (const double lx : {-0.5 * p->base_width, 0.5 * p->base_width, p->apex_offset})
-      for (const double ly : {-0.5 * p->length, 0.5 * p->length})
-        pts.emplace_back(p->base.x() + offset.x() + c * lx - s * ly, p->base.y() + offset.y() + s * lx + c * ly);
-    f.polygon = convex_hull(pts);
-  } else if (const auto* cy = std::get_if<Cylinder>(&part)) {
-    f.centre = (cy->base + offset).head<2>();
-    f.radius = cy->radius;
-  } else if (const auto* sp = std::get_if<Sphere>(&part)) {
-    f.centre = (sp->center + offset).head<2>();
-    f.radius = sp->radius;
-  }
-  if (!f.polygon.empty()) f.polygon.push_back(f.polygon.front());
-  return f;
-}
 
 void write_scene_svg(const Simulation& sim, const std::string& path) {
   const World& world = sim.world();
@@ -200,7 +138,7 @@ void write_scene_svg(const Simulation& sim, const std::string& path) {
     if (dynamic && !labelled_dynamic) label = "dynamic obstacle (where it appears)", labelled_dynamic = true;
     if (!dynamic && !labelled_static) label = "obstacle", labelled_static = true;
     for (const Primitive& part : o.parts) {
-      const Footprint f = footprint(part, offset);
+      const PrimitiveOutline f = primitive_outline(part, offset);
       if (!f.polygon.empty()) pic->add_polyline(f.polygon, style, label);
       else pic->add_circle(f.centre, f.radius, style, std::nullopt, label);
       label.clear();
@@ -289,7 +227,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   prepare_out_dir(o.out);
   add_cloud_writer(run.simulation(), spec, o.out);
 
-  ProgressBar bar(!o.quiet, spec.duration_s);
+  SimProgress bar(o.quiet, spec.duration_s);
   run.run([&bar](double f) { bar.update(f); });
   bar.finish();
 
@@ -346,7 +284,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   prepare_out_dir(o.out);
   add_cloud_writer(sim, spec, o.out);
 
-  ProgressBar bar(!o.quiet, spec.duration_s);
+  SimProgress bar(o.quiet, spec.duration_s);
   const auto t_run = Clock::now();
   sim.run([&bar](double f) { bar.update(f); });
   const double wall_s = std::chrono::duration<double>(Clock::now() - t_run).count();

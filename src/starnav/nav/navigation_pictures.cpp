@@ -16,6 +16,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/map/occupancy_grid.hpp"
+#include "starnav/sim/outline.hpp"
 #include "starnav/sim/primitives.hpp"
 
 namespace starnav {
@@ -74,61 +75,6 @@ std::vector<Vec2> circle_points(const Vec2& c, double r, int n = 72) {
   return pts;
 }
 
-// ---- true obstacles' footprints (as apps/starnav/cmd_sim.cpp draws them) ----------------------
-
-std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
-  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
-  if (p.size() < 3) return p;
-  std::vector<Vec2> h(2 * p.size());
-  std::size_t k = 0;
-  const auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
-    h[k++] = p[i - 1];
-  }
-  h.resize(k - 1);
-  return h;
-}
-
-struct Footprint {
-  std::vector<Vec2> polygon;  // closed outline, or empty for a circle
-  Vec2 centre = Vec2::Zero();
-  double radius = 0.0;
-};
-
-Footprint footprint(const Primitive& part, const Vec3& offset) {
-  Footprint f;
-  if (const auto* b = std::get_if<Box>(&part)) {
-    const Eigen::Matrix3d r = Pose3::from_rpy(Vec3::Zero(), b->roll, b->pitch, b->yaw).rotation();
-    std::vector<Vec2> pts;
-    for (int i = 0; i < 8; ++i) {
-      const Vec3 c(((i & 1) ? 0.5 : -0.5) * b->size.x(), ((i & 2) ? 0.5 : -0.5) * b->size.y(), ((i & 4) ? 0.5 : -0.5) * b->size.z());
-      pts.push_back((b->center + offset + r * c).head<2>());
-    }
-    f.polygon = convex_hull(pts);
-  } else if (const auto* p = std::get_if<Prism>(&part)) {
-    const double c = std::cos(p->yaw), s = std::sin(p->yaw);
-    std::vector<Vec2> pts;
-    for (const double lx : {-0.5 * p->base_width, 0.5 * p->base_width, p->apex_offset})
-      for (const double ly : {-0.5 * p->length, 0.5 * p->length})
-        pts.emplace_back(p->base.x() + offset.x() + c * lx - s * ly, p->base.y() + offset.y() + s * lx + c * ly);
-    f.polygon = convex_hull(pts);
-  } else if (const auto* cy = std::get_if<Cylinder>(&part)) {
-    f.centre = (cy->base + offset).head<2>();
-    f.radius = cy->radius;
-  } else if (const auto* sp = std::get_if<Sphere>(&part)) {
-    f.centre = (sp->center + offset).head<2>();
-    f.radius = sp->radius;
-  }
-  if (!f.polygon.empty()) f.polygon.push_back(f.polygon.front());
-  return f;
-}
 
 void add_obstacles(viz::MapPicture& pic, const NavigationPictureData& d) {
   bool labelled_static = false, labelled_dynamic = false;
@@ -142,7 +88,7 @@ void add_obstacles(viz::MapPicture& pic, const NavigationPictureData& d) {
     if (dynamic && !labelled_dynamic) label = "true obstacle, dynamic (where it appeared)", labelled_dynamic = true;
     if (!dynamic && !labelled_static) label = "true obstacle", labelled_static = true;
     for (const Primitive& part : o.parts) {
-      const Footprint f = footprint(part, offset);
+      const PrimitiveOutline f = primitive_outline(part, offset);
       if (!f.polygon.empty()) pic.add_polyline(f.polygon, style, label);
       else pic.add_circle(f.centre, f.radius, style, std::nullopt, label);
       label.clear();
