@@ -168,8 +168,16 @@ NavigationPictureData navigation_picture_data(const NavigationRun& run) {
   d.end_time_s = sim.trajectory().empty() ? sim.time() : sim.trajectory().back().t_s;
   d.map = &nav.map();
   d.plans = nav.plans();
-  d.trajectory.reserve(sim.trajectory().size());
-  for (const TrajectorySample& s : sim.trajectory()) d.trajectory.push_back(s.position.head<2>());
+  // A point every 5 mm of travel (and the last): the drawn line is the same at any print size,
+  // the file a tenth of the size (the robot spends much of its time turning in place).
+  for (const TrajectorySample& s : sim.trajectory()) {
+    const Vec2 p = s.position.head<2>();
+    if (d.trajectory.empty() || (p - d.trajectory.back()).norm() >= 0.005) d.trajectory.push_back(p);
+  }
+  if (!sim.trajectory().empty()) {
+    const Vec2 last = sim.trajectory().back().position.head<2>();
+    if (d.trajectory.back() != last) d.trajectory.push_back(last);
+  }
   d.start = run.spec().start;
   d.goal = nav.goal();
   d.goal_tolerance_m = nav.config().goal_tolerance_m;
