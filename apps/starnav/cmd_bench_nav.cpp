@@ -45,6 +45,7 @@
 #include "commands.hpp"
 #include "starnav/control/path_follower.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/nav/navigation_run.hpp"
 #include "starnav/sim/scenario.hpp"
 
@@ -294,13 +295,6 @@ json run_json(const RunRecord& r) {
 }
 
 // ---- CSV ----------------------------------------------------------------------------------------
-
-std::string csv_field(const std::string& v) {
-  if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
-  std::string q = "\"";
-  for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
 
 std::string csv_number(double v) {
   if (!std::isfinite(v)) return {};

@@ -235,7 +235,10 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   write_navigation_records(run, o.out);
   write_navigation_scene(run, (dir / "scene.svg").string());
   write_navigation_overlay(run, (dir / "overlay.svg").string());
-  if (o.png) write_navigation_scene(run, (dir / "scene.png").string());
+  if (o.png) {
+    write_navigation_scene(run, (dir / "scene.png").string());
+    write_navigation_overlay(run, (dir / "overlay.png").string());
+  }
   const NavigationMetrics m = run.metrics();
   if (o.json) {
     std::cout << navigation_metrics_json(run);
@@ -249,7 +252,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
                 m.collisions == 1 ? "" : "s", m.deviation_mean_m, m.deviation_max_m);
     std::printf("wrote %s/{trajectory.csv, paths.csv, replans.csv, events.csv, steps.jsonl, map.yaml, map.pgm, "
                 "metrics.json, timing.json, scene.svg, overlay.svg%s}\n",
-                o.out.c_str(), o.png ? ", scene.png" : "");
+                o.out.c_str(), o.png ? ", scene.png, overlay.png" : "");
   }
   if (m.success) {
     ctx.exit_code = 0;
@@ -334,7 +337,7 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
   sim->add_option("--planner", o->planner, "navigation: astar | dstar_lite (overrides navigation.planner)");
   sim->add_flag("--compare-astar", o->compare_astar, "navigation with dstar_lite: also run A* from scratch at every plan");
   sim->add_flag("--all-hits", o->step_all_hits, "navigation: steps.jsonl holds every LiDAR return, not only obstacle hits");
-  sim->add_flag("--png", o->png, "navigation: also write scene.png");
+  sim->add_flag("--png", o->png, "navigation: also write scene.png and overlay.png");
   sim->add_flag("--force", o->force, "write into a non-empty output folder");
   sim->add_flag("--json", o->json, "print metrics.json to stdout");
   sim->add_flag("--quiet", o->quiet, "no progress bar");

@@ -201,10 +201,12 @@ TEST(NavigationPictures, WritersChooseTheFormatByExtensionAndNameTheFile) {
     }
     return "(no error)";
   };
-  const std::string jpg = dir.file("scene.jpg"), png = dir.file("overlay.png");
+  write_navigation_overlay(f.data, dir.file("overlay.png"));
+  EXPECT_EQ(test::read_text(dir.file("overlay.png")).substr(0, 4), "\x89PNG");
+  const std::string jpg = dir.file("scene.jpg"), pdf = dir.file("overlay.pdf");
   const std::string missing = (dir.path() / "no" / "such" / "scene.svg").string();
   EXPECT_EQ(file_of([&] { write_navigation_scene(f.data, jpg); }), jpg);
-  EXPECT_EQ(file_of([&] { write_navigation_overlay(f.data, png); }), png);
+  EXPECT_EQ(file_of([&] { write_navigation_overlay(f.data, pdf); }), pdf);
   EXPECT_EQ(file_of([&] { write_navigation_scene(f.data, missing); }), missing);
 
   NavigationPictureData no_map = f.data;

@@ -77,6 +77,40 @@ TEST(NavigationRun, E4LeavesTheDeadEndAndReachesTheGoal) {
   EXPECT_TRUE(left);
 }
 
+// Every drive on the same small scene: Ackermann follows the line-of-sight-smoothed path with
+// pure pursuit (it can neither turn in place nor take grid corners), differential turns then drives.
+TEST(NavigationRun, AckermannAndDifferentialRobotsReachTheGoal) {
+  for (const char* drive : {"ackermann", "differential"}) {
+    const std::string yaml = std::string(R"(
+name: drives
+world:
+  terrain:
+    generate: {kind: flat, size_m: [12.0, 8.0], resolution_m: 0.05}
+  obstacles:
+    - {name: box, kind: box, position_m: [6.0, 4.3], size_m: [1.0, 1.5, 0.5]}
+robot:
+  drive: )") + drive + R"(
+  start: {x_m: 1.0, y_m: 4.0, yaw_deg: 0.0}
+sensors:
+  lidar: {}
+sim: {dt_s: 0.01, duration_s: 120.0, seed: 1}
+navigation:
+  goal: {x_m: 11.0, y_m: 4.0}
+)";
+    NavigationRun run(parse_scenario(yaml, "drives.yaml"));
+    run.run();
+    const NavigationMetrics m = run.metrics();
+    EXPECT_TRUE(m.success) << drive << ": " << m.outcome;
+    EXPECT_EQ(m.collisions, 0) << drive;
+    EXPECT_EQ(m.motion_mode, std::string(drive) == "ackermann" ? "pure_pursuit" : "turn_then_drive");
+    ASSERT_GE(m.plans, 2) << drive;  // the box is seen and planned round
+    if (std::string(drive) == "ackermann") {
+      // Line-of-sight smoothed: a few vertices per plan round one box, not the grid's corners.
+      for (const NavPlan& p : run.navigator().plans()) EXPECT_LE(p.points.size(), 4u) << "plan " << p.id;
+    }
+  }
+}
+
 const char* kEnclosedGoal = R"(
 name: enclosed_goal
 world:

@@ -295,9 +295,32 @@ void write_navigation_scene(const NavigationRun& run, const std::string& path) {
   write_navigation_scene(navigation_picture_data(run), path);
 }
 
+viz::MapPicture navigation_overlay_raster(const NavigationPictureData& d) {
+  if (!d.map) throw Error("no map to draw", "", 0, "map");
+  // The plot's layers on a blank picture of the map's extent: the raster writer draws PNG.
+  viz::PictureOptions opts;
+  opts.title = d.name + ": planned vs executed" + title_suffix(d);
+  opts.plot_background = {255, 255, 255, 255};
+  viz::MapPicture pic(d.map->geometry(), opts);
+  for (std::size_t k = 0; k < d.plans.size(); ++k) {
+    const NavPlan& p = d.plans[k];
+    if (p.points.size() < 2) continue;
+    pic.add_polyline(p.points, {plan_colour(k), 1.4, 1.0, false}, plan_legend(d, k, false));
+  }
+  if (!d.trajectory.empty()) pic.add_polyline(d.trajectory, {kBlack, 2.8, 1.0, false}, "executed");
+  if (d.goal_tolerance_m > 0.0) pic.add_circle(d.goal, d.goal_tolerance_m, {{90, 90, 90, 255}, 1.0, 1.0, true}, std::nullopt, "goal tolerance");
+  pic.add_points({d.start.translation()}, {kStart, 5.0, kBlack, 1.0, 1.0}, "start");
+  pic.add_points({d.goal}, {kGoal, 5.0, kBlack, 1.0, 1.0}, "goal");
+  return pic;
+}
+
 void write_navigation_overlay(const NavigationPictureData& data, const std::string& path) {
-  if (lower_extension(path) != ".svg") throw Error("the overlay plot must be .svg", path);
-  naming_file(path, [&] { navigation_overlay_plot(data).write_svg(path); });
+  const std::string ext = lower_extension(path);
+  if (ext != ".svg" && ext != ".png") throw Error("the overlay picture must be .svg or .png", path);
+  naming_file(path, [&] {
+    if (ext == ".png") navigation_overlay_raster(data).write_png(path);
+    else navigation_overlay_plot(data).write_svg(path);
+  });
 }
 
 void write_navigation_overlay(const NavigationRun& run, const std::string& path) {

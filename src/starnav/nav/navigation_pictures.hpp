@@ -44,6 +44,8 @@ NavigationPictureData navigation_picture_data(const NavigationRun& run);
 // The pictures themselves (throw Error for a missing map or non-finite coordinates).
 viz::MapPicture navigation_scene_picture(const NavigationPictureData& data);
 viz::LinePlot navigation_overlay_plot(const NavigationPictureData& data);
+// The same layers over the map's extent as a raster-capable picture (overlay.png).
+viz::MapPicture navigation_overlay_raster(const NavigationPictureData& data);
 
 // scene: .svg or .png by the file's extension; overlay: .svg only. Throw Error naming the file
 // for another extension or when it cannot be written.
