@@ -7,12 +7,16 @@
 // escapes, and so does InvariantViolation when a parser accepts an input but returns something
 // inconsistent (cell count != width * height, a documented round trip that does not hold, ...).
 //
+// fuzz_scenario stops at parse_scenario: build_world (which loads terrain files and generates
+// terrains and gravel) is never called, so an input cannot ask for gigabytes of terrain.
+//
 // Targets that read files (fuzz_elevation_yaml, fuzz_unity_raw; fuzz_ros_yaml with an image and
 // fuzz_asc with a .prj)
 // take two files in one input: the YAML text, then the line kFileSeparator, then the bytes of the
 // second file, which is written to a per-process scratch folder under the name the seeds use.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +24,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -33,6 +38,7 @@
 #include "starnav/io/ros_map.hpp"
 #include "starnav/map/elevation_map.hpp"
 #include "starnav/map/occupancy_grid.hpp"
+#include "starnav/sim/scenario.hpp"
 
 namespace starnav::fuzz {
 
@@ -286,6 +292,147 @@ inline void fuzz_unity_raw(std::string_view data) {
   }
 }
 
+// --- fuzz_scenario: what scenario.hpp promises about an accepted ScenarioSpec -----------------
+
+inline bool finite2(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
+inline bool finite3(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+// Runs a library validation that must pass on what the parser accepted (it already ran them).
+template <class F>
+void must_validate(F&& f, const std::string& what) {
+  try {
+    f();
+  } catch (const Error& e) {
+    throw InvariantViolation("fuzz invariant violated: " + what + " accepted but fails its validation: " + e.what());
+  }
+}
+
+inline void check_scenario_terrain(const ScenarioTerrain& t) {
+  using K = ScenarioTerrain::Kind;
+  require((t.kind == K::File) == !t.file.empty() && (t.kind == K::File) == !t.resolved_file.empty(),
+          "scenario: terrain file given exactly for a file terrain");
+  for (const TerrainFeature& f : t.features)
+    require(finite2(f.centre) && std::isfinite(f.radius_m) && f.radius_m > 0 && std::isfinite(f.depth_m) &&
+                f.depth_m > 0,
+            "scenario: terrain feature with a bad centre, radius or depth");
+  if (t.kind == K::Flat || t.kind == K::Hills || t.kind == K::Road) {
+    // Geometry only (no cells allocated): at most 2^31 - 1 cells.
+    must_validate([&] { (void)terrain_geometry(t.hills.width_m, t.hills.height_m, t.hills.resolution, t.hills.origin); },
+                  "scenario: generated terrain size");
+    require(std::isfinite(t.flat_z_m), "scenario: non-finite flat terrain height");
+  }
+  if (t.kind == K::Hills) must_validate([&] { t.hills.validate(); }, "scenario: hills options");
+  if (t.kind == K::Road) must_validate([&] { t.road.validate(); }, "scenario: road options");
+}
+
+inline void check_scenario_obstacles(const std::vector<ScenarioObstacle>& obstacles) {
+  static constexpr const char* kKinds[] = {"box",       "cylinder",          "prism",        "sphere",
+                                           "slope_step", "undulating_ground", "round_convex", "gravel"};
+  std::vector<std::string> names;
+  for (const ScenarioObstacle& o : obstacles) {
+    require(!o.name.empty(), "scenario: obstacle without a name");
+    require(std::find(names.begin(), names.end(), o.name) == names.end(), "scenario: duplicate obstacle name");
+    names.push_back(o.name);
+    // The variant holds the shape of the kind as written (kKinds is in ScenarioObstacle::Shape's order).
+    require(o.shape.index() < std::size(kKinds) && o.kind == kKinds[o.shape.index()],
+            "scenario: obstacle kind '" + o.kind + "' does not match its shape");
+    require(finite2(o.position) && (!o.z || std::isfinite(*o.z)), "scenario: non-finite obstacle position");
+    require(std::isfinite(o.appear_s) && !std::isnan(o.disappear_s) && o.disappear_s > o.appear_s,
+            "scenario: obstacle disappears before it appears");
+    require(finite3(o.velocity), "scenario: non-finite obstacle velocity");
+    require(o.waypoints.empty() || o.velocity == Vec3::Zero(), "scenario: obstacle with a velocity and waypoints");
+    for (std::size_t i = 0; i < o.waypoints.size(); ++i) {
+      const auto& w = o.waypoints[i];
+      require(std::isfinite(w.t_s) && finite2(w.xy) && (!w.z || std::isfinite(*w.z)), "scenario: non-finite waypoint");
+      require(i == 0 || w.t_s > o.waypoints[i - 1].t_s, "scenario: waypoint times do not increase strictly");
+    }
+  }
+}
+
+inline void check_scenario_navigation(const ScenarioNavigation& n) {
+  const auto pos = [](const std::optional<double>& v) { return !v || (std::isfinite(*v) && *v > 0); };
+  const auto nonneg = [](const std::optional<double>& v) { return !v || (std::isfinite(*v) && *v >= 0); };
+  require(finite2(n.goal), "scenario: non-finite navigation goal");
+  require(std::isfinite(n.goal_tolerance_m) && n.goal_tolerance_m > 0, "scenario: bad goal tolerance");
+  require(n.planner == "astar" || n.planner == "dstar_lite", "scenario: unknown planner '" + n.planner + "'");
+  require(n.extent == "world" || n.extent == "paper", "scenario: unknown map extent '" + n.extent + "'");
+  require(n.map_mode.empty() || n.map_mode == "nodes_3d" || n.map_mode == "lidar_2d",
+          "scenario: unknown map mode '" + n.map_mode + "'");
+  require(std::isfinite(n.resolution_m) && n.resolution_m > 0 && std::isfinite(n.paper_min_size_m) &&
+              n.paper_min_size_m > 0 && std::isfinite(n.no_return_clear_m) && n.no_return_clear_m >= 0,
+          "scenario: bad navigation map resolution, paper_min_size_m or no_return_clear_m");
+  require(nonneg(n.barrier_distance_m) && pos(n.max_step_m) && nonneg(n.clear_margin_m),
+          "scenario: bad navigation map distance");
+  require(!n.max_slope_rad || (*n.max_slope_rad > 0 && *n.max_slope_rad < 0.5 * kPi), "scenario: bad max_slope");
+  require((!n.hit_gain || (*n.hit_gain >= 1 && *n.hit_gain <= 255)) &&
+              (!n.miss_loss || (*n.miss_loss >= 0 && *n.miss_loss <= 255)) &&
+              (!n.evidence_max || (*n.evidence_max >= 1 && *n.evidence_max <= 255)),
+          "scenario: evidence counts outside their ranges");
+  require(pos(n.cruise_speed_mps) && pos(n.look_ahead_m) && pos(n.pursuit_look_ahead_m) && pos(n.heading_gain) &&
+              pos(n.max_yaw_rate_radps) && pos(n.turn_tolerance_rad) && pos(n.slow_down_distance_m),
+          "scenario: non-positive follower value");
+}
+
+inline void check_scenario(const ScenarioSpec& s) {
+  require(s.file == "fuzz.yaml" && !s.name.empty(), "scenario: file or name lost");
+  require(std::isfinite(s.dt_s) && s.dt_s > 0 && s.dt_s <= 1.0, "scenario: dt_s outside (0, 1]");
+  require(std::isfinite(s.duration_s) && s.duration_s > 0, "scenario: duration_s not a finite number > 0");
+  // Commands: consecutive from 0, each ending after it starts, found again by segment_at.
+  double t = 0.0;
+  for (std::size_t i = 0; i < s.commands.size(); ++i) {
+    const CommandSegment& c = s.commands[i];
+    require(c.start_s == t, "scenario: command " + std::to_string(i) + " does not start where the previous ends");
+    require(std::isfinite(c.end_s) && c.end_s > c.start_s, "scenario: command " + std::to_string(i) +
+                                                               " does not end (finitely) after it starts");
+    require(std::isfinite(c.twist.vx) && std::isfinite(c.twist.vy) && std::isfinite(c.twist.wz),
+            "scenario: non-finite command twist");
+    require(s.segment_at(c.start_s) == static_cast<int>(i), "scenario: segment_at(start_s) is not the segment");
+    t = c.end_s;
+  }
+  if (!s.commands.empty()) require(s.segment_at(t) == -1, "scenario: segment_at(end of script) is not -1");
+  require(s.motion_mode.empty() || s.motion_mode == "auto" || s.motion_mode == "turn_then_drive" ||
+              s.motion_mode == "holonomic" || s.motion_mode == "pure_pursuit",
+          "scenario: unknown motion_mode '" + s.motion_mode + "'");
+  if (s.navigation) {
+    require(s.commands.empty(), "scenario: navigation scenario with a command script");
+    check_scenario_navigation(*s.navigation);
+  }
+  check_scenario_terrain(s.terrain);
+  check_scenario_obstacles(s.obstacles);
+  must_validate([&] { s.vehicle.validate(); }, "scenario: robot/vehicle");
+  require(std::isfinite(s.start.x) && std::isfinite(s.start.y) && std::isfinite(s.start.yaw) &&
+              std::abs(s.start.yaw) <= kPi + 1e-12,
+          "scenario: robot.start not finite or yaw not wrapped");
+  if (s.lidar) {
+    must_validate([&] { s.lidar->config.validate(); }, "scenario: lidar");
+    // sensors.lidar.beams allows 1..1000000; a preset's horizontal resolution must not give more.
+    require(s.lidar->config.beams >= 1 && s.lidar->config.beams <= 1000000, "scenario: lidar beams outside 1..1000000");
+  }
+  if (s.imu) must_validate([&] { s.imu->config.validate(); }, "scenario: imu");
+  if (s.encoders) {
+    must_validate([&] { s.encoders->config.validate(); }, "scenario: encoders");
+    require(std::isfinite(s.encoders->rate_hz) && s.encoders->rate_hz > 0, "scenario: encoder rate");
+  }
+  require(s.reference_line.empty() || s.reference_line.size() >= 2, "scenario: reference line of one point");
+  for (const Vec2& p : s.reference_line) require(finite2(p), "scenario: non-finite reference line point");
+  require(s.outputs.trajectory_every_n_steps >= 1 && s.outputs.clouds_every_n_scans >= 1,
+          "scenario: outputs every_n below 1");
+  require(s.outputs.point_clouds == ScenarioOutputs::CloudFormat::None || s.lidar.has_value(),
+          "scenario: point clouds without a lidar");
+  (void)s.command_at(0.5 * s.duration_s);
+}
+
+// parse_scenario on the YAML text; never build_world (see the top of this file).
+inline void fuzz_scenario(std::string_view data) {
+  ScenarioSpec spec;
+  try {
+    spec = parse_scenario(data, "fuzz.yaml");
+  } catch (const Error&) {
+    return;
+  }
+  check_scenario(spec);
+}
+
 struct Target {
   const char* name;
   void (*run)(std::string_view);
@@ -301,6 +448,7 @@ inline constexpr Target kTargets[] = {
     {"fuzz_elevation_csv", fuzz_elevation_csv},
     {"fuzz_elevation_yaml", fuzz_elevation_yaml},
     {"fuzz_unity_raw", fuzz_unity_raw},
+    {"fuzz_scenario", fuzz_scenario},
 };
 
 inline const Target* find_target(std::string_view name) {

@@ -38,9 +38,10 @@ declare -A MAX_LEN=(
   [fuzz_elevation_csv]=16384
   [fuzz_elevation_yaml]=16384
   [fuzz_unity_raw]=16384
+  [fuzz_scenario]=8192
 )
 ALL_TARGETS=(fuzz_movingai_map fuzz_movingai_scen fuzz_pgm fuzz_png fuzz_ros_yaml fuzz_asc
-             fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw)
+             fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw fuzz_scenario)
 COMMON_FLAGS=(-rss_limit_mb=2048 -timeout=5)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:symbolize=1}

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the hand-made seed inputs of every fuzz target into fuzz/corpus/<target>/.
 
-All of these are written here from scratch (nothing is copied from ../shared/). They are small
+All of these are written here from scratch (nothing is copied from ../shared/), except that
+fuzz_scenario also gets the repository's own scenarios/*.yaml without their comments. They are small
 valid files of each format plus a few interesting invalid ones. scripts/fuzz.sh runs this only when
 a target's corpus folder is empty; the committed corpus is what `-merge=1` kept afterwards.
 Usage: fuzz/seeds/make_seeds.py [CORPUS_DIR]   (default: fuzz/corpus beside this script)
@@ -263,6 +264,131 @@ def unity_raws():
     }
 
 
+def scenario_files():
+    """The repository's own scenarios/*.yaml with comments and blank lines removed (to stay small)."""
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scenarios")
+    out = {}
+    if not os.path.isdir(root):
+        return out
+    for name in sorted(os.listdir(root)):
+        if not name.endswith(".yaml"):
+            continue
+        lines = []
+        with open(os.path.join(root, name), encoding="utf-8") as f:
+            for line in f:
+                line = line.rstrip("\n")
+                if line.lstrip().startswith("#"):
+                    continue
+                at = line.find(" #")
+                if at >= 0:
+                    line = line[:at]
+                line = line.rstrip()
+                if line:
+                    lines.append(line)
+        out["repo_" + name] = ("\n".join(lines) + "\n").encode()
+    return out
+
+
+def scenarios():
+    world = b"world:\n  terrain:\n    generate: {kind: flat, size_m: [4, 3], resolution_m: 0.1}\n"
+    sim = b"sim: {dt_s: 0.01, duration_s: 2.0, seed: 3}\n"
+    cmds = b"commands:\n  - {duration_s: 1.0, vx_mps: 0.2}\n  - {until_s: 2.5, vy_mps: -0.1, wz_radps: 0.3}\n"
+    robot = (b"robot:\n  drive: mecanum\n  half_track_m: 0.225\n  half_wheelbase_m: 0.2\n  wheel_radius_m: 0.076\n"
+             b"  roller_angle_deg: 45\n  body_length_m: 0.55\n  body_width_m: 0.5\n  body_height_m: 0.25\n"
+             b"  ground_clearance_m: 0.06\n  max_wheel_speed_radps: 10\n  max_wheel_accel_radps2: 20\n"
+             b"  actuator_lag_s: 0.1\n  max_step_m: 0.05\n  start: {x_m: 0.5, y_m: 1.5, yaw_deg: 190}\n"
+             b"vehicle: {friction: 0.6, rough_slip_sigma: 0.05}\n")
+    obstacles = (b"world:\n  obstacles:\n"
+                 b"    - {kind: box, name: b, position_m: [1, 1], size_m: [0.5, 0.4, 0.3], yaw_deg: 10, roll_deg: 1, pitch_deg: 2}\n"
+                 b"    - {kind: cylinder, position_m: [2, 1, 0.1], radius_m: 0.2, height_m: 0.5, velocity_mps: [0.1, 0]}\n"
+                 b"    - {kind: prism, position_m: [3, 1], yaw_deg: 90, base_width_m: 0.6, height_m: 0.1, length_m: 1, apex_offset_m: 0.1}\n"
+                 b"    - {kind: sphere, position_m: [4, 1], radius_m: 0.3, appear_s: 1, disappear_s: 5}\n"
+                 b"    - {kind: slope_step, position_m: [5, 1], width_m: 1.5, ramp_length_m: 0.5, ramp_height_m: 0.08,"
+                 b" platform_length_m: 0.6, step_height_m: 0.04, step_length_m: 0.6, depth_m: 0.02}\n"
+                 b"    - {kind: undulating_ground, position_m: [6, 1], count: 5, base_width_m: 0.5, height_m: 0.05, width_m: 1.5}\n"
+                 b"    - {kind: round_convex, position_m: [7, 1], box_size_m: [1.2, 1.2, 0.04], radius_m: 0.4,"
+                 b" cylinder_height_m: 0.04, depth_m: 0.02}\n"
+                 b"    - {kind: gravel, position_m: [8, 1], length_m: 2, width_m: 1.5, count: 20, size_min_m: 0.01,"
+                 b" size_max_m: 0.04, sphere_fraction: 0.5, embed: 0.3, seed: 7, follow_terrain: true}\n"
+                 b"    - kind: box\n      name: mover\n      position_m: [9, 1]\n      size_m: [0.3, 0.3, 0.3]\n"
+                 b"      waypoints:\n        - {t_s: 0, position_m: [9, 1]}\n        - {t_s: 2, position_m: [9, 2, 0.5]}\n")
+    sensors = (b"sensors:\n  lidar:\n    preset: vlp16\n    horizontal_resolution_deg: 1.0\n    range_min_m: 0.5\n"
+               b"    range_max_m: 30\n    rate_hz: 10\n    mount: {x_m: 0, y_m: 0, z_m: 0.41, roll_deg: 0, pitch_deg: 1, yaw_deg: 2}\n"
+               b"    noise_sigma_m: 0.02\n    dropout: 0.01\n    self_filter: true\n    self_filter_margin_m: 0.05\n"
+               b"  imu: {rate_hz: 100, yaw_rate_noise_sigma_radps: 0.002, yaw_rate_bias_radps: 0.0005, yaw_noise_sigma_rad: 0.001}\n"
+               b"  encoders: {rate_hz: 50, ticks_per_rev: 1024, slip_sigma: 0.01}\n  bumper: false\n")
+    custom_lidar = (b"sensors:\n  lidar:\n    beams: 180\n    scan_angle_deg: 270\n    elevations_deg: [10, 0, -10]\n"
+                    b"    range_max_m: 8\n    self_filter: false\n")
+    nav = (b"motion_mode: turn_then_drive\nnavigation:\n  goal: {x_m: 3.5, y_m: 2.5}\n  goal_tolerance_m: 0.15\n"
+           b"  planner: dstar_lite\n  map:\n    resolution_m: 0.1\n    extent: paper\n    paper_min_size_m: 4\n"
+           b"    mode: lidar_2d\n    barrier_distance_m: 0.45\n    max_step_m: 0.05\n    max_slope_deg: 15\n"
+           b"    clear_margin_m: 0.05\n    hit_gain: 2\n    miss_loss: 1\n    evidence_max: 4\n    no_return_clear_m: 2.0\n"
+           b"  follower:\n    cruise_speed_mps: 0.2\n    look_ahead_m: 0.3\n    pursuit_look_ahead_m: 0.6\n"
+           b"    heading_gain: 2\n    max_yaw_rate_degps: 57.3\n    turn_tolerance_deg: 2.9\n    slow_down_distance_m: 0.3\n")
+    outputs = (b"metrics:\n  reference_line_m: [[0, 1.5], [4, 1.5]]\n"
+               b"outputs:\n  trajectory_every_n_steps: 5\n  point_clouds: {format: ply, every_n_scans: 2}\n")
+    hills = (b"world:\n  terrain:\n    generate:\n      kind: hills\n      size_m: [10, 8]\n      resolution_m: 0.1\n"
+             b"      origin_m: [-5, -4]\n      origin_yaw_deg: 30\n      seed: 5\n      amplitude: 1.0\n"
+             b"      hills_per_100m2: 2\n      hill_height_m: [0.1, 0.5]\n      hill_sigma_m: [0.5, 2]\n"
+             b"      roughness_m: 0.01\n      roughness_correlation_m: 0.2\n"
+             b"      features:\n        - {kind: pit, centre_m: [1, 1], radius_m: 0.5, depth_m: 0.2}\n")
+    road = (b"world:\n  terrain:\n    generate:\n      kind: road\n      size_m: [20, 20]\n      resolution_m: 0.05\n"
+            b"      class: D\n      gd_n0_m3: 0.0\n      method: paper\n      n0_per_m: 0.1\n      band_per_m: [0.011, 2.83]\n"
+            b"      waviness: 2.0\n      intervals: 64\n      directions: 16\n      blur_sigma_cells: 2.0\n"
+            b"      features:\n        - {kind: mound, centre_m: [9.0, 10.6], radius_m: 1.5, depth_m: 0.6}\n")
+    file_terrain = b"world:\n  terrain:\n    file: maps/ground.asc\n    features: [{kind: mound, centre_m: [0, 0], radius_m: 1, depth_m: 0.1}]\n"
+    head = b"name: seed\ndescription: a hand-written seed\n"
+    out = {
+        "minimal.yaml": world + sim,
+        "commands.yaml": head + world + cmds,
+        "robot.yaml": world + robot + sim + cmds,
+        "differential.yaml": world + b"robot: {drive: differential}\n" + sim,
+        "ackermann.yaml": world + b"robot: {drive: ackermann, max_steer_deg: 30, max_steer_rate_degps: 60}\n" + cmds,
+        "obstacles.yaml": obstacles + sim,
+        "sensors.yaml": world + sensors + sim,
+        "custom_lidar.yaml": world + custom_lidar + sim,
+        "planar_preset.yaml": world + b"sensors:\n  lidar: {preset: hokuyo_utm30lx}\n" + sim,
+        "navigation.yaml": world + robot + sensors + sim + nav,
+        "nav_minimal.yaml": world + sim + b"motion_mode: auto\nnavigation: {goal: {x_m: 1, y_m: 1}}\n",
+        "motion_modes.yaml": world + sim + b"motion_mode: holonomic\n",
+        "pure_pursuit.yaml": world + sim + b"motion_mode: pure_pursuit\nnavigation: {goal: {x_m: 1, y_m: 1}, map: {mode: nodes_3d}}\n",
+        "outputs.yaml": world + sensors + sim + outputs,
+        "pcd.yaml": world + sensors + sim + b"outputs: {point_clouds: {format: pcd}}\n",
+        "hills.yaml": hills + sim,
+        "road.yaml": road + sim,
+        "file_terrain.yaml": file_terrain + sim,
+        "no_world.yaml": sim,
+        "empty_sections.yaml": world + b"sensors:\n  imu:\n  encoders:\n" + sim,
+        # Invalid on purpose.
+        "unknown_key.yaml": world + sim + b"colour: red\n",
+        "duplicate_key.yaml": world + sim + b"sim: {duration_s: 1}\n",
+        "nav_with_commands.yaml": world + cmds + b"navigation: {goal: {x_m: 1, y_m: 1}}\n",
+        "bad_motion_mode.yaml": world + sim + b"motion_mode: sideways\n",
+        "no_duration.yaml": world,
+        "nan_goal.yaml": world + sim + b"navigation: {goal: {x_m: .nan, y_m: 1}}\n",
+        "command_order.yaml": world + b"commands:\n  - {until_s: 2}\n  - {until_s: 1}\n",
+        "both_duration_until.yaml": world + b"commands: [{duration_s: 1, until_s: 2}]\n",
+        "huge_terrain.yaml": b"world:\n  terrain:\n    generate: {kind: flat, size_m: [100000, 100000], resolution_m: 0.001}\n" + sim,
+        "big_terrain.yaml": b"world:\n  terrain:\n    generate: {kind: hills, size_m: [2000, 2000], resolution_m: 0.05}\n" + sim,
+        "big_gravel.yaml": b"world:\n  obstacles:\n    - {kind: gravel, position_m: [0, 0], count: 100000}\n" + sim,
+        "fine_lidar.yaml": world + b"sensors:\n  lidar: {preset: hdl64e, horizontal_resolution_deg: 0.0001}\n" + sim,
+        "both_terrains.yaml": b"world:\n  terrain: {file: a.asc, generate: {kind: flat, size_m: [1, 1]}}\n" + sim,
+        "velocity_and_waypoints.yaml": b"world:\n  obstacles:\n    - {kind: sphere, position_m: [0, 0], radius_m: 1,"
+                                       b" velocity_mps: [1, 0], waypoints: [{t_s: 0, position_m: [0, 0]}]}\n" + sim,
+        "duplicate_names.yaml": b"world:\n  obstacles:\n    - {kind: sphere, name: a, position_m: [0, 0], radius_m: 1}\n"
+                                b"    - {kind: sphere, name: a, position_m: [1, 0], radius_m: 1}\n" + sim,
+        "anchors.yaml": b"world:\n  obstacles:\n    - &o {kind: sphere, position_m: [0, 0], radius_m: 1}\n    - *o\n" + sim,
+        "flow.yaml": b"{world: {}, sim: {duration_s: 1}, commands: [{duration_s: 1}]}\n",
+        "list.yaml": b"- world\n- sim\n",
+        "scalar.yaml": b"scenario\n",
+        "empty.yaml": b"",
+        "tabs.yaml": b"world:\t{}\n",
+        "deep_nesting.yaml": b"world: " + b"[" * 3000 + b"\n",
+    }
+    out.update(scenario_files())
+    return out
+
+
 TARGETS = {
     "fuzz_movingai_map": maps,
     "fuzz_movingai_scen": scens,
@@ -273,6 +399,7 @@ TARGETS = {
     "fuzz_elevation_csv": csvs,
     "fuzz_elevation_yaml": elevation_yamls,
     "fuzz_unity_raw": unity_raws,
+    "fuzz_scenario": scenarios,
 }
 
 

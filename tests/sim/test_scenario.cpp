@@ -338,3 +338,55 @@ TEST(Scenario, TruncatedAndGarbageInputGivesErrorNotCrash) {
 
 }  // namespace
 }  // namespace starnav
+
+// Found by fuzz_scenario (fuzz/crashers/fuzz_scenario/): each is a clear error now, or cheap.
+namespace starnav {
+namespace {
+
+const char* kSmall = R"(world:
+  terrain:
+    generate: {kind: flat, size_m: [4.0, 4.0], resolution_m: 0.1}
+sim: {dt_s: 0.01, duration_s: 5.0}
+)";
+
+TEST(ScenarioLimits, CommandTimesThatOverflowOrVanishAreRefused) {
+  const std::string base = kSmall;
+  expect_error(base + "commands:\n  - {duration_s: 1e308}\n  - {duration_s: 1e308}\n", "commands[1].duration_s", 7, "overflows");
+  expect_error(base + "commands:\n  - {duration_s: 1e20}\n  - {duration_s: 1}\n", "commands[1].duration_s", 7, "too short");
+}
+
+TEST(ScenarioLimits, LidarResolutionFinerThanTheBeamLimitIsRefused) {
+  const std::string base = kSmall;
+  expect_error(base + "sensors:\n  lidar: {preset: vlp16, horizontal_resolution_deg: 0.0001}\n",
+               "sensors.lidar.horizontal_resolution_deg", 6, "0.00036");
+  const ScenarioSpec ok = parse_scenario(base + "sensors:\n  lidar: {preset: vlp16, horizontal_resolution_deg: 0.36}\n", "ok.yaml");
+  ASSERT_TRUE(ok.lidar);
+  EXPECT_EQ(ok.lidar->config.beams, 1000);
+}
+
+TEST(ScenarioLimits, TerrainWithTooManyCellsIsRefusedBeforeAnythingIsAllocated) {
+  expect_error(replace_line(kSmall, 3, "    generate: {kind: flat, size_m: [2000.0, 2000.0], resolution_m: 0.05}"),
+               "world.terrain.generate.size_m", 3, "at most 16000000");
+  // 4000 x 4000 cells is the limit itself.
+  EXPECT_NO_THROW(parse_scenario(replace_line(kSmall, 3, "    generate: {kind: flat, size_m: [400.0, 400.0], resolution_m: 0.1}"), "ok.yaml"));
+}
+
+TEST(ScenarioLimits, GravelKeepsItsCountThoughTheParserChecksOnePiece) {
+  // The parser validates a gravel field with one piece (a 100,000-piece field repeated by YAML
+  // aliases made parsing take minutes); the spec keeps the count and build_world makes them all.
+  const std::string yaml = replace_line(kSmall, 4,
+                                        "  obstacles:\n"
+                                        "    - {name: g0, kind: gravel, position_m: [1.5, 2.0], count: 2000}\n"
+                                        "    - {name: g1, kind: gravel, position_m: [2.5, 2.0], count: 3000}\n"
+                                        "sim: {dt_s: 0.01, duration_s: 5.0}");
+  const ScenarioSpec s = parse_scenario(yaml, "gravel.yaml");
+  ASSERT_EQ(s.obstacles.size(), 2u);
+  EXPECT_EQ(std::get<Gravel>(s.obstacles[0].shape).count, 2000);
+  const WorldDescription w = build_world(s);
+  ASSERT_EQ(w.obstacles.size(), 2u);
+  EXPECT_EQ(w.obstacles[0].parts.size(), 2000u);
+  EXPECT_EQ(w.obstacles[1].parts.size(), 3000u);
+}
+
+}  // namespace
+}  // namespace starnav
