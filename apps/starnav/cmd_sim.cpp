@@ -88,13 +88,13 @@ void prepare_out_dir(const std::string& dir) {
   }
 }
 
-// cli_util's ProgressBar in percent of the simulated time, with the time itself.
+// cli_util's ProgressBar in hundredths of the simulated time, with the time itself.
 class SimProgress {
  public:
   SimProgress(bool quiet, double duration_s) : bar_("sim", 100, quiet), duration_s_(duration_s) {}
   void update(double fraction) {
     char what[64];
-    std::snprintf(what, sizeof what, "%% t = %.1f / %.1f s", fraction * duration_s_, duration_s_);
+    std::snprintf(what, sizeof what, "(t = %.1f / %.1f s)", fraction * duration_s_, duration_s_);
     bar_.update(static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * 100.0 + 0.5), what);
   }
   void finish() { bar_.finish(); }
