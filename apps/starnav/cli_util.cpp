@@ -28,6 +28,15 @@ bool parse_double(const std::string& s, double& out) {
 }
 }  // namespace
 
+std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const std::string& what) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    throw Error("expected " + what + ", got '" + text + "'", {}, 0, flag);
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE) throw Error("out of range (at most 2^64 - 1), got '" + text + "'", {}, 0, flag);
+  return static_cast<std::uint64_t>(v);
+}
+
 Vec2 parse_xy(const std::string& text, const std::string& flag) {
   const auto comma = text.find(',');
   double x = 0, y = 0;

@@ -3,6 +3,7 @@
 // output-file rules (conventions.md: never overwrite without --force).
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "starnav/core/geometry.hpp"
@@ -12,6 +13,10 @@ namespace starnav::cli {
 
 // Parses "X,Y" (two finite numbers); throws Error naming `flag` otherwise.
 Vec2 parse_xy(const std::string& text, const std::string& flag);
+
+// Parses a non-negative integer written in decimal digits only (no sign); throws Error naming
+// `flag`: "expected <what>, got '...'" or out of range above 2^64 - 1.
+std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const std::string& what);
 
 // Throws Error when `path` exists and `force` is false, or its folder does not exist.
 void check_output_path(const std::string& path, bool force, const std::string& flag);

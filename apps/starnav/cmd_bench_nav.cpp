@@ -84,14 +84,9 @@ struct RunRecord {
 
 // ---- flags --------------------------------------------------------------------------------------
 
-std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const char* what) {
-  const std::string digits = text.size() > 1 && text[0] == '+' ? text.substr(1) : text;
-  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
-    throw Error(std::string("expected ") + what + ", got '" + text + "'", {}, 0, flag);
-  errno = 0;
-  const unsigned long long v = std::strtoull(digits.c_str(), nullptr, 10);
-  if (errno == ERANGE) throw Error("out of range (at most 2^64 - 1), got '" + text + "'", {}, 0, flag);
-  return static_cast<std::uint64_t>(v);
+// cli_util's parse_unsigned, also taking a leading '+'.
+std::uint64_t parse_count(const std::string& text, const std::string& flag, const char* what) {
+  return parse_unsigned(text.size() > 1 && text[0] == '+' ? text.substr(1) : text, flag, what);
 }
 
 // ---- statistics ---------------------------------------------------------------------------------
@@ -437,10 +432,10 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
   if (o.scenario.empty()) throw Error("missing: give --scenario FILE (a navigation scenario)", {}, 0, "--scenario");
   if (o.seeds.empty()) throw Error("missing: give --seeds N (the number of seeds, at least 1)", {}, 0, "--seeds");
   const bool negative = !o.seeds.empty() && o.seeds[0] == '-';
-  const std::uint64_t n = negative ? 0 : parse_unsigned(o.seeds, "--seeds", "a positive integer");
+  const std::uint64_t n = negative ? 0 : parse_count(o.seeds, "--seeds", "a positive integer");
   if (negative || n < 1 || n > kMaxSeeds)
     throw Error("must be 1.." + std::to_string(kMaxSeeds) + ", got '" + o.seeds + "'", {}, 0, "--seeds");
-  const std::uint64_t base = o.seed_base.empty() ? 0 : parse_unsigned(o.seed_base, "--seed-base", "a non-negative integer");
+  const std::uint64_t base = o.seed_base.empty() ? 0 : parse_count(o.seed_base, "--seed-base", "a non-negative integer");
   if (base > std::numeric_limits<std::uint64_t>::max() - (n - 1))
     throw Error("the last seed B + N - 1 exceeds 2^64 - 1", {}, 0, "--seed-base");
   std::optional<MotionMode> mode;

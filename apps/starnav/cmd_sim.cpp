@@ -48,16 +48,6 @@ struct SimOptions {
   bool quiet = false;
 };
 
-std::uint64_t parse_seed(const std::string& text) {
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
-    throw Error("expected a non-negative integer, got '" + text + "'", {}, 0, "--seed");
-  errno = 0;
-  char* end = nullptr;
-  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-  if (errno == ERANGE) throw Error("out of range (at most 2^64 - 1), got '" + text + "'", {}, 0, "--seed");
-  return static_cast<std::uint64_t>(v);
-}
-
 double parse_duration(const std::string& text) {
   char* end = nullptr;
   errno = 0;
@@ -266,7 +256,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 
 void run_sim(const SimOptions& o, Context& ctx) {
   ScenarioSpec spec = load_scenario(o.scenario);
-  if (!o.seed.empty()) spec.seed = parse_seed(o.seed);
+  if (!o.seed.empty()) spec.seed = parse_unsigned(o.seed, "--seed", "a non-negative integer");
   if (!o.duration.empty()) spec.duration_s = parse_duration(o.duration);
   if (!o.point_clouds.empty()) {
     spec.outputs.point_clouds = parse_cloud_format(o.point_clouds, "--point-clouds");
