@@ -48,6 +48,11 @@ GridPlannerOptions search_options() {
   return o;
 }
 
+// A* from scratch on the current map (the paper's planner, and the comparison beside D* Lite).
+PlanResult astar_from_scratch(const OccupancyGrid& map, Cell start, Cell goal) {
+  return make_grid_planner("astar", map, search_options())->plan(start, goal);
+}
+
 // The grid path's turning points: the first cell, every cell where the move direction changes,
 // the last cell.
 std::vector<Cell> turning_cells(const std::vector<Cell>& cells) {
@@ -67,7 +72,6 @@ std::vector<Cell> turning_cells(const std::vector<Cell>& cells) {
 
 Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal)
     : config_(config),
-      robot_(robot),
       goal_(goal),
       map_((config.validate(), config.geometry), config.map),
       follower_(config.follower, robot) {
@@ -222,16 +226,14 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
       r = dstar_->replan();
     }
     if (config_.compare_astar) {
-      const auto astar = make_grid_planner("astar", map_.occupancy(), search_options());
-      const PlanResult a = astar->plan(start, goal_cell_);
+      const PlanResult a = astar_from_scratch(map_.occupancy(), start, goal_cell_);
       p.compared = true;
       p.astar_expanded = a.expanded;
       p.astar_cost_m = a.cost;
       p.astar_status = plan_status_reason(a.status);
     }
   } else {
-    const auto astar = make_grid_planner("astar", map_.occupancy(), search_options());
-    r = astar->plan(start, goal_cell_);
+    r = astar_from_scratch(map_.occupancy(), start, goal_cell_);
   }
   p.status = plan_status_reason(r.status);
   p.expanded = r.expanded;

@@ -122,7 +122,6 @@ class Navigator {
   std::vector<Vec2> follower_points(const std::vector<Cell>& cells, const Vec2& robot) const;
 
   NavigatorConfig config_;
-  RobotConfig robot_;
   Vec2 goal_;
   Cell goal_cell_{};
   NodeHeightMap map_;
