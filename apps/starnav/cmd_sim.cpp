@@ -20,7 +20,6 @@
 #include "starnav/io/point_cloud_io.hpp"
 #include "starnav/nav/navigation_pictures.hpp"
 #include "starnav/nav/navigation_run.hpp"
-#include "starnav/sim/outline.hpp"
 #include "starnav/sim/simulation.hpp"
 #include "starnav/viz/map_picture.hpp"
 #include "starnav/viz/plot_svg.hpp"
@@ -118,28 +117,9 @@ void write_scene_svg(const Simulation& sim, const std::string& path) {
   }
   const viz::Rgba obstacle_colour{60, 60, 60, 255};
   const viz::Rgba dynamic_colour{204, 121, 167, 255};
-  bool labelled_static = false, labelled_dynamic = false;
-  for (const Obstacle& o : world.obstacles()) {
-    const bool dynamic = o.moving() || o.appear > 0.0 || std::isfinite(o.disappear);
-    const double t = std::isfinite(o.appear) ? o.appear : 0.0;
-    const Vec3 offset = o.offset_at(t);
-    viz::LineStyle style{dynamic ? dynamic_colour : obstacle_colour, 1.2, 1.0, false};
-    std::string label;
-    if (dynamic && !labelled_dynamic) label = "dynamic obstacle (where it appears)", labelled_dynamic = true;
-    if (!dynamic && !labelled_static) label = "obstacle", labelled_static = true;
-    for (const Primitive& part : o.parts) {
-      const PrimitiveOutline f = primitive_outline(part, offset);
-      if (!f.polygon.empty()) pic->add_polyline(f.polygon, style, label);
-      else pic->add_circle(f.centre, f.radius, style, std::nullopt, label);
-      label.clear();
-    }
-    if (o.moving()) {
-      std::vector<Vec2> path;
-      const double t_end = std::min(o.disappear, sim.spec().duration_s);
-      for (int i = 0; i <= 50; ++i) path.push_back(o.anchor_at(t + (t_end - t) * i / 50.0).head<2>());
-      pic->add_polyline(path, {dynamic_colour, 1.0, 1.0, true});
-    }
-  }
+  add_obstacle_outlines(*pic, world.obstacles(), sim.spec().duration_s,
+                        {{obstacle_colour, 1.2, 1.0, false}, {dynamic_colour, 1.2, 1.0, false}, {dynamic_colour, 1.0, 1.0, true},
+                         "obstacle", "dynamic obstacle (where it appears)"});
   if (sim.spec().reference_line.size() >= 2)
     pic->add_polyline(sim.spec().reference_line, {{0, 0, 0, 255}, 1.0, 0.8, true}, "reference line");
   std::vector<Vec2> track;

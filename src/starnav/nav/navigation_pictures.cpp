@@ -76,32 +76,6 @@ std::vector<Vec2> circle_points(const Vec2& c, double r, int n = 72) {
 }
 
 
-void add_obstacles(viz::MapPicture& pic, const NavigationPictureData& d) {
-  bool labelled_static = false, labelled_dynamic = false;
-  for (const Obstacle& o : d.obstacles) {
-    if (o.appear > d.end_time_s) continue;  // never there during the run
-    const bool dynamic = o.moving() || o.appear > 0.0 || std::isfinite(o.disappear);
-    const double t = std::isfinite(o.appear) ? std::max(o.appear, 0.0) : 0.0;
-    const Vec3 offset = o.offset_at(t);
-    const viz::LineStyle style{kStaticObstacle, 1.0, 1.0, dynamic};
-    std::string label;
-    if (dynamic && !labelled_dynamic) label = "true obstacle, dynamic (where it appeared)", labelled_dynamic = true;
-    if (!dynamic && !labelled_static) label = "true obstacle", labelled_static = true;
-    for (const Primitive& part : o.parts) {
-      const PrimitiveOutline f = primitive_outline(part, offset);
-      if (!f.polygon.empty()) pic.add_polyline(f.polygon, style, label);
-      else pic.add_circle(f.centre, f.radius, style, std::nullopt, label);
-      label.clear();
-    }
-    if (o.moving()) {
-      std::vector<Vec2> path;
-      const double t_end = std::max(t, std::min(o.disappear, d.end_time_s));
-      for (int i = 0; i <= 50; ++i) path.push_back(o.anchor_at(t + (t_end - t) * i / 50.0).head<2>());
-      pic.add_polyline(path, {kStaticObstacle, 0.8, 1.0, true});
-    }
-  }
-}
-
 // The base picture: observed cells grey, darker the higher their mid height (the paper's scenes
 // are light, and coloured paths stay readable on grey; a height ramp would compete with them), or
 // one grey in 2D mode where heights are all 0; unobserved cells near white. The two ends of the
@@ -159,6 +133,33 @@ void naming_file(const std::string& path, F&& f) {
 
 }  // namespace
 
+void add_obstacle_outlines(viz::MapPicture& pic, std::span<const Obstacle> obstacles, double end_time_s,
+                           const ObstacleOutlineStyle& style) {
+  bool labelled_fixed = false, labelled_appearing = false;
+  for (const Obstacle& o : obstacles) {
+    if (o.appear > end_time_s) continue;  // never there during the run
+    const bool dynamic = o.moving() || o.appear > 0.0 || std::isfinite(o.disappear);
+    const double t = std::max(o.appear, 0.0);
+    const Vec3 offset = o.offset_at(t);
+    std::string label;
+    if (dynamic && !labelled_appearing) label = style.appearing_label, labelled_appearing = true;
+    if (!dynamic && !labelled_fixed) label = style.fixed_label, labelled_fixed = true;
+    const viz::LineStyle& line = dynamic ? style.appearing : style.fixed;
+    for (const Primitive& part : o.parts) {
+      const PrimitiveOutline f = primitive_outline(part, offset);
+      if (!f.polygon.empty()) pic.add_polyline(f.polygon, line, label);
+      else pic.add_circle(f.centre, f.radius, line, std::nullopt, label);
+      label.clear();
+    }
+    if (o.moving()) {
+      std::vector<Vec2> path;
+      const double t_end = std::max(t, std::min(o.disappear, end_time_s));
+      for (int i = 0; i <= 50; ++i) path.push_back(o.anchor_at(t + (t_end - t) * i / 50.0).head<2>());
+      pic.add_polyline(path, style.motion);
+    }
+  }
+}
+
 NavigationPictureData navigation_picture_data(const NavigationRun& run) {
   const Simulation& sim = run.simulation();
   const Navigator& nav = run.navigator();
@@ -202,7 +203,10 @@ viz::MapPicture navigation_scene_picture(const NavigationPictureData& d) {
   pic.add_cells(band, kBand, 0.7, "expansion band");
   pic.add_cells(raw, kRawBlocked, 0.9, "detected obstacle (raw blocked)");
 
-  add_obstacles(pic, d);
+  const viz::LineStyle fixed{kStaticObstacle, 1.0, 1.0, false}, appearing{kStaticObstacle, 1.0, 1.0, true};
+  add_obstacle_outlines(pic, d.obstacles, d.end_time_s,
+                        {fixed, appearing, {kStaticObstacle, 0.8, 1.0, true}, "true obstacle",
+                         "true obstacle, dynamic (where it appeared)"});
 
   // Sizes in world units that scale with the map, so labels and arrows read the same at any extent.
   const double span = std::max(g.width, g.height) * g.resolution;

@@ -38,6 +38,18 @@ struct NavigationPictureData {
   std::span<const Obstacle> obstacles;  // true obstacles (empty: none drawn)
 };
 
+// The true obstacles' outlines from above (sim/outline), as both scene pictures draw them (this
+// one and starnav sim's scripted scene.svg): an obstacle that appears after `end_time_s` is left
+// out; one with a lifetime or a motion is drawn where it appears (or at t = 0) in `appearing`,
+// the others in `fixed`; a moving one also gets its path up to min(disappear, end_time_s) in
+// `motion`. The first outline of each kind carries its label.
+struct ObstacleOutlineStyle {
+  viz::LineStyle fixed, appearing, motion;
+  std::string fixed_label, appearing_label;
+};
+void add_obstacle_outlines(viz::MapPicture& pic, std::span<const Obstacle> obstacles, double end_time_s,
+                           const ObstacleOutlineStyle& style);
+
 // From a run (after run(): the final map, every plan, the recorded trajectory).
 NavigationPictureData navigation_picture_data(const NavigationRun& run);
 
@@ -47,8 +59,8 @@ viz::LinePlot navigation_overlay_plot(const NavigationPictureData& data);
 // The same layers over the map's extent as a raster-capable picture (overlay.png).
 viz::MapPicture navigation_overlay_raster(const NavigationPictureData& data);
 
-// scene: .svg or .png by the file's extension; overlay: .svg only. Throw Error naming the file
-// for another extension or when it cannot be written.
+// .svg or .png by the file's extension. Throw Error naming the file for another extension or
+// when it cannot be written.
 void write_navigation_scene(const NavigationRun& run, const std::string& path);
 void write_navigation_scene(const NavigationPictureData& data, const std::string& path);
 void write_navigation_overlay(const NavigationRun& run, const std::string& path);
