@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "plan/allocation_counter.hpp"
 #include "plan/plan_test_maps.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/inflation.hpp"
@@ -159,6 +160,10 @@ double polyline_cells(const std::vector<Cell>& p) {
 TEST(Ou2022Properties, InflationEqualsBruteForce) {
   Rng rng(4001);
   const double resolutions[] = {1.0, 0.5, 0.25, 0.1, 0.05, 0.03};
+  // One inflator and one result reused over maps of every size and option: the same as a fresh
+  // inflate_obstacles each time.
+  ObstacleInflator inflator;
+  InflatedMap reused;
   for (int iter = 0; iter < scaled(3000); ++iter) {
     SCOPED_TRACE(iter);
     const int w = 3 + static_cast<int>(rng.uniform_int(0, 17)), h = 3 + static_cast<int>(rng.uniform_int(0, 17));
@@ -185,6 +190,15 @@ TEST(Ou2022Properties, InflationEqualsBruteForce) {
       o.cost_weight = rng.uniform(0.5, 10.0);
     }
     const InflatedMap inf = inflate_obstacles(grid, {}, unknown_is_free, o);
+    inflator.inflate(grid, {}, unknown_is_free, o, reused);
+    ASSERT_EQ(reused.width, inf.width);
+    ASSERT_EQ(reused.height, inf.height);
+    ASSERT_EQ(reused.resolution, inf.resolution);
+    ASSERT_EQ(reused.blocked, inf.blocked);
+    ASSERT_EQ(reused.clearance_m, inf.clearance_m);
+    ASSERT_EQ(reused.multiplier, inf.multiplier);
+    ASSERT_EQ(reused.obstacle_cells, inf.obstacle_cells);
+    ASSERT_EQ(reused.inflated_cells, inf.inflated_cells);
     const std::vector<double> d2 = brute_squared_distance(obstacles);
     std::size_t inflated = 0;
     for (int y = 0; y < h; ++y)
@@ -205,6 +219,25 @@ TEST(Ou2022Properties, InflationEqualsBruteForce) {
       }
     EXPECT_EQ(inf.inflated_cells, inflated);
   }
+}
+
+TEST(Ou2022Properties, RepeatedInflationOfASameSizedMapDoesNotAllocate) {
+  Rng rng(4010);
+  OccupancyGrid a = plantest::random_obstacles(rng, 150, 120, 0.1).grid(0.05);
+  const OccupancyGrid b = plantest::random_obstacles(rng, 150, 120, 0.2).grid(0.05);
+  InflationOptions o;
+  o.radius_m = 0.2;
+  o.cost_radius_m = 0.5;
+  o.cost_scale = 5.0;
+  o.cost_weight = 2.0;
+  ObstacleInflator inflator;
+  InflatedMap out;
+  inflator.inflate(a, {}, false, o, out);  // warm-up: buffers sized for 150 x 120
+  const long long before = test::allocation_count();
+  inflator.inflate(b, {}, false, o, out);
+  inflator.inflate(a, {}, false, o, out);
+  EXPECT_EQ(test::allocation_count(), before);
+  EXPECT_EQ(out.blocked, inflate_obstacles(a, {}, false, o).blocked);
 }
 
 // ---- Line-of-sight smoothing ---------------------------------------------------------------------

@@ -53,12 +53,18 @@ OccupancyCounts OccupancyGrid::counts(const OccupancyThresholds& t) const {
 }
 
 std::vector<std::uint8_t> OccupancyGrid::blocked_mask(const OccupancyThresholds& t, bool unknown_is_free) const {
-  std::vector<std::uint8_t> mask(data_.size());
+  std::vector<std::uint8_t> mask;
+  blocked_mask(mask, t, unknown_is_free);
+  return mask;
+}
+
+void OccupancyGrid::blocked_mask(std::vector<std::uint8_t>& mask, const OccupancyThresholds& t,
+                                 bool unknown_is_free) const {
+  mask.resize(data_.size());
   for (std::size_t i = 0; i < data_.size(); ++i) {
     const CellState s = t.classify(data_[i]);
     mask[i] = (s == CellState::Occupied || (s == CellState::Unknown && !unknown_is_free)) ? 1 : 0;
   }
-  return mask;
 }
 
 }  // namespace starnav

@@ -71,6 +71,9 @@ class OccupancyGrid {
 
   // 1 where a planner may not enter: occupied cells, and unknown cells unless unknown_is_free.
   std::vector<std::uint8_t> blocked_mask(const OccupancyThresholds& t = {}, bool unknown_is_free = false) const;
+  // The same into `mask` (resized; its memory is reused when it already holds enough).
+  void blocked_mask(std::vector<std::uint8_t>& mask, const OccupancyThresholds& t = {},
+                    bool unknown_is_free = false) const;
 
   friend bool operator==(const OccupancyGrid& a, const OccupancyGrid& b) {
     return a.geometry_.width == b.geometry_.width && a.geometry_.height == b.geometry_.height &&

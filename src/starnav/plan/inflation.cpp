@@ -28,18 +28,25 @@ double inflation_cost_multiplier(double d_m, const InflationOptions& o) {
 
 InflatedMap inflate_obstacles(const OccupancyGrid& grid, const OccupancyThresholds& thresholds, bool unknown_is_free,
                               const InflationOptions& options) {
-  validate_inflation(options);
   InflatedMap out;
+  ObstacleInflator().inflate(grid, thresholds, unknown_is_free, options, out);
+  return out;
+}
+
+void ObstacleInflator::inflate(const OccupancyGrid& grid, const OccupancyThresholds& thresholds, bool unknown_is_free,
+                               const InflationOptions& options, InflatedMap& out) {
+  validate_inflation(options);
   out.width = grid.width();
   out.height = grid.height();
   out.resolution = grid.resolution();
-  out.blocked = grid.blocked_mask(thresholds, unknown_is_free);
+  grid.blocked_mask(out.blocked, thresholds, unknown_is_free);
   const std::size_t n = out.blocked.size();
+  out.obstacle_cells = 0;
+  out.inflated_cells = 0;
   for (const std::uint8_t b : out.blocked) out.obstacle_cells += b != 0;
 
-  DistanceTransform dt;
-  dt.compute(out.blocked, out.width, out.height);
-  const std::vector<double>& d2 = dt.squared_cells();
+  transform_.compute(out.blocked, out.width, out.height);
+  const std::vector<double>& d2 = transform_.squared_cells();
   // One pass over the cells: clearance, the hard radius, the band (squared distances compared
   // first, so exp runs only inside the band).
   out.clearance_m.resize(n);
@@ -48,6 +55,7 @@ InflatedMap inflate_obstacles(const OccupancyGrid& grid, const OccupancyThreshol
   const double band_cells = options.cost_radius_m / out.resolution;
   const double band_squared = band_cells * band_cells;
   if (graded) out.multiplier.assign(n, 1.0);
+  else out.multiplier.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const double d_m = std::sqrt(d2[i]) * out.resolution;
     out.clearance_m[i] = d_m;
@@ -59,7 +67,6 @@ InflatedMap inflate_obstacles(const OccupancyGrid& grid, const OccupancyThreshol
       out.multiplier[i] = inflation_cost_multiplier(d_m, options);
     }
   }
-  return out;
 }
 
 OccupancyGrid inflated_grid(const OccupancyGrid& grid, const InflatedMap& inflated) {

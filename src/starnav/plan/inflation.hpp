@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "starnav/map/distance_transform.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/plan/ou2022_options.hpp"
 
@@ -46,6 +47,21 @@ struct InflatedMap {
 // unless unknown_is_free). Throws Error for bad options (validate_inflation).
 InflatedMap inflate_obstacles(const OccupancyGrid& grid, const OccupancyThresholds& thresholds, bool unknown_is_free,
                               const InflationOptions& options);
+
+// inflate_obstacles for callers that inflate again and again (a costmap refreshed in a loop): the
+// result's buffers and the distance transform's scratch stay allocated between calls, so a
+// repeated inflation of a same-sized map allocates nothing. Without this, every call on a map of
+// 2000 x 2000 cells or more gets fresh pages from the system and pays a page fault per 4 KB on
+// first touch (docs/papers/ou2022.md).
+class ObstacleInflator {
+ public:
+  // The result of inflate_obstacles, written into `out` (whatever it held before is replaced).
+  void inflate(const OccupancyGrid& grid, const OccupancyThresholds& thresholds, bool unknown_is_free,
+               const InflationOptions& options, InflatedMap& out);
+
+ private:
+  DistanceTransform transform_;
+};
 
 // The grid with every cell blocked by inflation marked occupied (100); other cells unchanged.
 // For planners that take an OccupancyGrid (JPS, JPS+, ...).
