@@ -131,23 +131,23 @@ json stat_json(const Stat& s) {
 struct MetricField {
   const char* key;
   double (*get)(const NavigationMetrics&);
-  bool count;  // an integer count (table: no decimals for min and max)
   int precision;
+  bool count;  // an integer count (table: no decimals for min and max)
   bool arrived_only;
 };
 
 const MetricField kMetrics[] = {
-    {"time_to_goal_s", [](const NavigationMetrics& m) { return m.time_to_goal_s; }, false, 2, true},
-    {"duration_s", [](const NavigationMetrics& m) { return m.duration_s; }, false, 2, false},
-    {"distance_m", [](const NavigationMetrics& m) { return m.distance_m; }, false, 2, false},
-    {"plans", [](const NavigationMetrics& m) { return static_cast<double>(m.plans); }, true, 1, false},
-    {"replans", [](const NavigationMetrics& m) { return static_cast<double>(m.replans); }, true, 1, false},
-    {"expanded_total", [](const NavigationMetrics& m) { return static_cast<double>(m.expanded_total); }, true, 1, false},
-    {"replan_expanded", [](const NavigationMetrics& m) { return static_cast<double>(m.replan_expanded); }, true, 1, false},
-    {"collisions", [](const NavigationMetrics& m) { return static_cast<double>(m.collisions); }, true, 1, false},
-    {"deviation_mean_m", [](const NavigationMetrics& m) { return m.deviation_mean_m; }, false, 4, false},
-    {"deviation_max_m", [](const NavigationMetrics& m) { return m.deviation_max_m; }, false, 4, false},
-    {"goal_distance_m", [](const NavigationMetrics& m) { return m.goal_distance_m; }, false, 3, false},
+    {"time_to_goal_s", [](const NavigationMetrics& m) { return m.time_to_goal_s; }, 2, false, true},
+    {"duration_s", [](const NavigationMetrics& m) { return m.duration_s; }, 2, false, false},
+    {"distance_m", [](const NavigationMetrics& m) { return m.distance_m; }, 2, false, false},
+    {"plans", [](const NavigationMetrics& m) { return static_cast<double>(m.plans); }, 1, true, false},
+    {"replans", [](const NavigationMetrics& m) { return static_cast<double>(m.replans); }, 1, true, false},
+    {"expanded_total", [](const NavigationMetrics& m) { return static_cast<double>(m.expanded_total); }, 1, true, false},
+    {"replan_expanded", [](const NavigationMetrics& m) { return static_cast<double>(m.replan_expanded); }, 1, true, false},
+    {"collisions", [](const NavigationMetrics& m) { return static_cast<double>(m.collisions); }, 1, true, false},
+    {"deviation_mean_m", [](const NavigationMetrics& m) { return m.deviation_mean_m; }, 4, false, false},
+    {"deviation_max_m", [](const NavigationMetrics& m) { return m.deviation_max_m; }, 4, false, false},
+    {"goal_distance_m", [](const NavigationMetrics& m) { return m.goal_distance_m; }, 3, false, false},
 };
 
 // What one planner did over all seeds.
@@ -160,7 +160,9 @@ struct Summary {
   std::int64_t replans_total = 0;
   // dstar_lite: A* from scratch on the same replans.
   std::uint64_t replan_expanded_total = 0, astar_replan_expanded_total = 0;
+  std::uint64_t astar_backward_replan_expanded_total = 0;  // A* from the goal to the robot
   double expansion_ratio = std::numeric_limits<double>::quiet_NaN();  // sum A* / sum D* Lite
+  double backward_expansion_ratio = std::numeric_limits<double>::quiet_NaN();  // sum backward A* / sum D* Lite
   Stat per_run_ratio;                                                 // runs with replan expansions
   bool costs_match_all = true;
   std::vector<std::uint64_t> costs_differ_seeds;
@@ -194,6 +196,7 @@ Summary summarise(const std::vector<RunRecord>& records, const std::string& plan
     s.replans_total += m.replans;
     s.replan_expanded_total += m.replan_expanded;
     s.astar_replan_expanded_total += m.astar_replan_expanded;
+    s.astar_backward_replan_expanded_total += m.astar_backward_replan_expanded;
     if (m.replan_expanded > 0)
       ratios.push_back(static_cast<double>(m.astar_replan_expanded) / static_cast<double>(m.replan_expanded));
     if (!m.costs_match) {
@@ -205,9 +208,11 @@ Summary summarise(const std::vector<RunRecord>& records, const std::string& plan
     rtfs.push_back(r.real_time_factor);
   }
   for (auto& v : values) s.metrics.push_back(stat_of(std::move(v)));
-  if (s.replan_expanded_total > 0)
-    s.expansion_ratio =
-        static_cast<double>(s.astar_replan_expanded_total) / static_cast<double>(s.replan_expanded_total);
+  if (s.replan_expanded_total > 0) {
+    const auto total = static_cast<double>(s.replan_expanded_total);
+    s.expansion_ratio = static_cast<double>(s.astar_replan_expanded_total) / total;
+    s.backward_expansion_ratio = static_cast<double>(s.astar_backward_replan_expanded_total) / total;
+  }
   s.per_run_ratio = stat_of(std::move(ratios));
   s.wall_s = stat_of(std::move(walls));
   s.real_time_factor = stat_of(std::move(rtfs));
@@ -238,6 +243,10 @@ json summary_json(const Summary& s, bool compared) {
     c["astar_replan_expanded_total"] = s.astar_replan_expanded_total;
     c["expansion_ratio"] = number_or_null(s.expansion_ratio);
     c["expansion_ratio_means"] = "sum of A*-from-scratch expansions / sum of D* Lite expansions over the replans";
+    c["astar_backward_replan_expanded_total"] = s.astar_backward_replan_expanded_total;
+    c["backward_expansion_ratio"] = number_or_null(s.backward_expansion_ratio);
+    c["backward_expansion_ratio_means"] =
+        "the same with A* from scratch searching from the goal to the robot, D* Lite's direction";
     c["per_run_ratio"] = stat_json(s.per_run_ratio);
     c["costs_match_all"] = s.costs_match_all;
     c["costs_differ_seeds"] = s.costs_differ_seeds;
@@ -275,6 +284,7 @@ json run_json(const RunRecord& r) {
   j["replan_expanded"] = m.replan_expanded;
   if (r.planner == kPlanners[0]) {
     j["astar_replan_expanded"] = m.astar_replan_expanded;
+    j["astar_backward_replan_expanded"] = m.astar_backward_replan_expanded;
     j["expansion_ratio"] = m.replan_expanded > 0 ? json(static_cast<double>(m.astar_replan_expanded) /
                                                          static_cast<double>(m.replan_expanded))
                                                    : json(nullptr);
@@ -301,12 +311,12 @@ std::string csv_number(double v) {
 std::string runs_csv(const std::vector<RunRecord>& records) {
   std::ostringstream o;
   o << "seed,planner,success,outcome,reason,motion_mode,time_to_goal_s,duration_s,distance_m,plans,replans,"
-       "expanded_total,replan_expanded,astar_replan_expanded,expansion_ratio,costs_match,collisions,"
+       "expanded_total,replan_expanded,astar_replan_expanded,astar_backward_replan_expanded,expansion_ratio,costs_match,collisions,"
        "deviation_mean_m,deviation_max_m,goal_distance_m,wall_s,real_time_factor\n";
   for (const RunRecord& r : records) {
     o << r.seed << ',' << r.planner << ',';
     if (!r.completed) {
-      o << "0,error," << csv_field(r.error) << std::string(17, ',') << '\n';
+      o << "0,error," << csv_field(r.error) << std::string(18, ',') << '\n';
       continue;
     }
     const NavigationMetrics& m = r.m;
@@ -316,12 +326,12 @@ std::string runs_csv(const std::vector<RunRecord>& records) {
       << csv_number(m.duration_s) << ',' << csv_number(m.distance_m) << ',' << m.plans << ',' << m.replans << ','
       << m.expanded_total << ',' << m.replan_expanded << ',';
     if (compared) {
-      o << m.astar_replan_expanded << ',';
+      o << m.astar_replan_expanded << ',' << m.astar_backward_replan_expanded << ',';
       if (m.replan_expanded > 0)
         o << csv_number(static_cast<double>(m.astar_replan_expanded) / static_cast<double>(m.replan_expanded));
       o << ',' << (m.costs_match ? 1 : 0) << ',';
     } else {
-      o << ",,,";
+      o << ",,,,";
     }
     o << m.collisions << ',' << csv_number(m.deviation_mean_m) << ',' << csv_number(m.deviation_max_m) << ','
       << csv_number(m.goal_distance_m) << ',' << csv_number(r.wall_s) << ',' << csv_number(r.real_time_factor)
@@ -400,6 +410,8 @@ void print_table(std::ostream& out, const ScenarioSpec& spec, const NavBenchOpti
         << format_fixed(d.per_run_ratio.median, 2) << "x [" << format_fixed(d.per_run_ratio.min, 2) << " .. "
         << format_fixed(d.per_run_ratio.max, 2) << "] over " << d.per_run_ratio.n
         << (d.per_run_ratio.n == 1 ? " run" : " runs") << " with replans\n";
+    out << "A* from scratch from the goal to the robot (D* Lite's direction): " << d.astar_backward_replan_expanded_total
+        << " = " << format_fixed(d.backward_expansion_ratio, 2) << "x D* Lite's\n";
   }
   out << "plan costs: ";
   if (d.costs_match_all) {

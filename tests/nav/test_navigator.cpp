@@ -140,6 +140,10 @@ void random_replan_property(NavPlanner planner, std::uint64_t seed, int& replans
       ASSERT_NEAR(p.cost_m, ref.cost, 1e-9) << "plan " << p.id;
       if (p.compared) {
         ASSERT_NEAR(p.astar_cost_m, ref.cost, 1e-9);
+        // The grid's moves are symmetric, so the search from the goal to the robot costs the same.
+        ASSERT_EQ(p.astar_backward_status, "found");
+        ASSERT_NEAR(p.astar_backward_cost_m, ref.cost, 1e-9);
+        ASSERT_GT(p.astar_backward_expanded, 0u);
       }
     } else {
       ++kept;

@@ -218,9 +218,13 @@ NavigationMetrics NavigationRun::metrics() const {
     if (i > 0) {
       m.replan_expanded += p.expanded;
       m.astar_replan_expanded += p.astar_expanded;
+      m.astar_backward_replan_expanded += p.astar_backward_expanded;
     }
+    const auto differs = [&](const std::string& status, double cost) {
+      return status != "found" || std::abs(cost - p.cost_m) > 1e-9 * std::max(1.0, p.cost_m);
+    };
     if (p.compared && p.status == "found" &&
-        (p.astar_status != "found" || std::abs(p.astar_cost_m - p.cost_m) > 1e-9 * std::max(1.0, p.cost_m)))
+        (differs(p.astar_status, p.astar_cost_m) || differs(p.astar_backward_status, p.astar_backward_cost_m)))
       m.costs_match = false;
   }
   m.collisions = s.collisions;
@@ -254,6 +258,7 @@ std::string navigation_metrics_json(const NavigationRun& run) {
   j["replan_expanded"] = m.replan_expanded;
   if (run.navigator().config().compare_astar) {
     j["astar_replan_expanded"] = m.astar_replan_expanded;
+    j["astar_backward_replan_expanded"] = m.astar_backward_replan_expanded;
     j["costs_match_astar"] = m.costs_match;
   }
   j["collisions"] = m.collisions;
@@ -282,7 +287,7 @@ namespace {
 std::string replans_csv(const NavigationRun& run) {
   const bool compare = run.navigator().config().compare_astar;
   std::string out = "plan_id,t_s,cause,status,expanded,cost_m,time_ms";
-  if (compare) out += ",astar_status,astar_expanded,astar_cost_m";
+  if (compare) out += ",astar_status,astar_expanded,astar_cost_m,astar_backward_expanded,astar_backward_cost_m";
   out += '\n';
   for (const NavPlan& p : run.navigator().plans()) {
     char ms[32];
@@ -290,7 +295,8 @@ std::string replans_csv(const NavigationRun& run) {
     out += std::to_string(p.id) + ',' + format_fixed6(p.t_s) + ',' + p.cause + ',' + p.status + ',' +
            std::to_string(p.expanded) + ',' + format_fixed6(p.cost_m) + ',' + ms;
     if (compare)
-      out += ',' + p.astar_status + ',' + std::to_string(p.astar_expanded) + ',' + format_fixed6(p.astar_cost_m);
+      out += ',' + p.astar_status + ',' + std::to_string(p.astar_expanded) + ',' + format_fixed6(p.astar_cost_m) + ',' +
+             std::to_string(p.astar_backward_expanded) + ',' + format_fixed6(p.astar_backward_cost_m);
     out += '\n';
   }
   return out;

@@ -60,7 +60,8 @@ struct NavigationMetrics {
   std::uint64_t expanded_total = 0;
   std::uint64_t replan_expanded = 0;        // over the replans (initial plan excluded)
   std::uint64_t astar_replan_expanded = 0;  // compare_astar: A* from scratch over the same replans
-  bool costs_match = true;                  // compare_astar: every plan's cost equal to A*'s
+  std::uint64_t astar_backward_replan_expanded = 0;  // the same, searching from the goal to the robot
+  bool costs_match = true;  // compare_astar: every plan's cost equal to A*'s in both directions
   std::int64_t collisions = 0;
   double deviation_mean_m = 0.0, deviation_max_m = 0.0;  // robot to the path it was following, every step
   double goal_distance_m = 0.0;  // at the end
@@ -101,7 +102,8 @@ class NavigationRun {
 
 // Deterministic records in `dir` (besides Simulation's trajectory.csv, events.csv and sensor CSVs):
 //   paths.csv     plan_id,t_s,x_m,y_m        the follower's points of every plan
-//   replans.csv   plan_id,t_s,cause,status,expanded,cost_m,time_ms[,astar_expanded,astar_cost_m]
+//   replans.csv   plan_id,t_s,cause,status,expanded,cost_m,time_ms[,astar_status,astar_expanded,astar_cost_m,
+//                 astar_backward_expanded,astar_backward_cost_m]
 //   steps.jsonl   one object per sensor cycle (docs/navigation.md)
 //   map.yaml + map.pgm   the final occupancy (ROS map_server; unknown -1)
 //   metrics.json  NavigationMetrics plus the simulator's metrics under "sim"

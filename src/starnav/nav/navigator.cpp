@@ -231,6 +231,10 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
       p.astar_expanded = a.expanded;
       p.astar_cost_m = a.cost;
       p.astar_status = plan_status_reason(a.status);
+      const PlanResult b = astar_from_scratch(map_.occupancy(), goal_cell_, start);
+      p.astar_backward_expanded = b.expanded;
+      p.astar_backward_cost_m = b.cost;
+      p.astar_backward_status = plan_status_reason(b.status);
     }
   } else {
     r = astar_from_scratch(map_.occupancy(), start, goal_cell_);

@@ -18,8 +18,9 @@
 //
 // Planners: "astar" searches from scratch at every plan (the paper); "dstar_lite" keeps one
 // D* Lite search; at a replan it is given the cells whose occupancy changed since its last
-// search (their values now), moved to the robot's start and repaired. With compare_astar, every plan of a dstar_lite run also runs A* from
-// scratch on the same map and start (expansions and cost recorded; the robot follows D* Lite).
+// search (their values now), moved to the robot's start and repaired. With compare_astar, every
+// plan of a dstar_lite run also runs A* from scratch on the same map, from the robot to the goal
+// and from the goal to the robot (expansions and costs recorded; the robot follows D* Lite).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -67,6 +68,11 @@ struct NavPlan {
   std::uint64_t astar_expanded = 0;
   double astar_cost_m = 0.0;
   std::string astar_status;
+  // compare_astar: A* from scratch from the goal to the robot, the direction D* Lite searches in;
+  // separates what D* Lite's repair saves from what its search direction costs.
+  std::uint64_t astar_backward_expanded = 0;
+  double astar_backward_cost_m = 0.0;
+  std::string astar_backward_status;
   Pose2 from;                       // the robot's pose when it planned
   std::size_t escape_cells = 0;     // cells of the escape prefix (0: the start was outside the band)
   std::vector<Cell> cells;          // robot cell .. escape cell .. goal cell
