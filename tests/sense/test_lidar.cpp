@@ -320,6 +320,13 @@ TEST(Lidar, ValidationNamesTheField) {
   LidarConfig bad = c;
   bad.beams = 1;
   EXPECT_EQ(field_of(bad), "beams");
+  // Rays per scan: the largest allowed passes, one line more does not.
+  bad = c;
+  bad.beams = static_cast<int>(kMaxLidarRaysPerScan / 64);
+  bad.set_lines(64, 0.3, 0.01);
+  EXPECT_EQ(field_of(bad), "(none)");
+  bad.set_lines(65, 0.3, 0.01);
+  EXPECT_EQ(field_of(bad), "beams");
   bad = c;
   bad.scan_angle = deg_to_rad(400);
   EXPECT_EQ(field_of(bad), "scan_angle");

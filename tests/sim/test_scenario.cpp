@@ -364,6 +364,16 @@ TEST(ScenarioLimits, LidarResolutionFinerThanTheBeamLimitIsRefused) {
   EXPECT_EQ(ok.lidar->config.beams, 1000);
 }
 
+TEST(ScenarioLimits, LidarWithTooManyRaysPerScanIsRefused) {
+  const std::string base = kSmall;
+  // 360,000 beams x 16 lines = 5.76 M rays, above kMaxLidarRaysPerScan (4,194,304).
+  expect_error(base + "sensors:\n  lidar: {preset: vlp16, horizontal_resolution_deg: 0.001}\n", "sensors.lidar.beams",
+               6, "rays per scan");
+  expect_error(base + "sensors:\n  lidar: {beams: 1000000, elevations_deg: [2, 1, 0, -1, -2]}\n",
+               "sensors.lidar.beams", 6, "rays per scan");
+  EXPECT_NO_THROW(parse_scenario(base + "sensors:\n  lidar: {beams: 1000000, elevations_deg: [1, 0, -1, -2]}\n", "ok.yaml"));
+}
+
 TEST(ScenarioLimits, TerrainWithTooManyCellsIsRefusedBeforeAnythingIsAllocated) {
   expect_error(replace_line(kSmall, 3, "    generate: {kind: flat, size_m: [2000.0, 2000.0], resolution_m: 0.05}"),
                "world.terrain.generate.size_m", 3, "at most 16000000");

@@ -85,6 +85,9 @@ void LidarConfig::validate() const {
   require(beams >= 1, "beams", "must be at least 1");
   require(full_circle() || beams >= 2, "beams", "a scan narrower than 360 deg needs at least 2 beams");
   require(!elevations.empty(), "lines", "needs at least one line");
+  require(ray_count() <= kMaxLidarRaysPerScan, "beams",
+          "beams x lines = " + std::to_string(ray_count()) + " rays per scan, more than the " +
+              std::to_string(kMaxLidarRaysPerScan) + " allowed (fewer beams, a coarser resolution or fewer lines)");
   for (double e : elevations)
     require(std::isfinite(e) && std::abs(e) <= 0.5 * kPi, "elevations", "must be within [-90, 90] deg");
   require(std::isfinite(range_min) && range_min >= 0.0, "range_min", "must be >= 0");

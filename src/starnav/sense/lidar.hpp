@@ -41,6 +41,10 @@ struct SelfFilterBox {
   static SelfFilterBox around_body(const Vec3& body_min, const Vec3& body_max, const Pose3& mount, double margin);
 };
 
+// The most rays (beams x lines) one scan may have: 16 times the densest production sensors
+// (128 lines x 2048 beams); a scan keeps about 60 bytes per ray, and ray indices are 32-bit.
+inline constexpr std::size_t kMaxLidarRaysPerScan = std::size_t{1} << 22;
+
 struct LidarConfig {
   std::string model = "custom";
   int beams = 360;                           // horizontal beams per line
@@ -64,7 +68,8 @@ struct LidarConfig {
   void set_lines(int lines, double max_line, double delta_line);
   // Throws Error naming the field: beams < 1 (< 2 for a partial scan), scan_angle outside
   // (0, 2 pi], no lines, elevations outside [-pi/2, pi/2], ranges not 0 <= min < max, rate <= 0,
-  // sigma < 0, dropout outside [0, 1], an empty or inverted self-filter box.
+  // sigma < 0, dropout outside [0, 1], an empty or inverted self-filter box; "beams" when beams x
+  // lines exceeds kMaxLidarRaysPerScan.
   void validate() const;
 };
 
