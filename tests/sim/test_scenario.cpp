@@ -381,6 +381,20 @@ TEST(ScenarioLimits, TerrainWithTooManyCellsIsRefusedBeforeAnythingIsAllocated) 
   EXPECT_NO_THROW(parse_scenario(replace_line(kSmall, 3, "    generate: {kind: flat, size_m: [400.0, 400.0], resolution_m: 0.1}"), "ok.yaml"));
 }
 
+TEST(ScenarioLimits, GravelPiecesOverAllFieldsAreLimited) {
+  // Ten fields of 100,000 pieces are allowed (each is one line of YAML); an eleventh is not.
+  auto field = [](int k, int count) {
+    return "    - {name: g" + std::to_string(k) + ", kind: gravel, position_m: [1.5, 2.0], count: " + std::to_string(count) +
+           "}\n";
+  };
+  std::string obstacles = "  obstacles:\n";
+  for (int k = 0; k < 10; ++k) obstacles += field(k, 100000);
+  const std::string tail = "sim: {dt_s: 0.01, duration_s: 5.0}";
+  EXPECT_NO_THROW(parse_scenario(replace_line(kSmall, 4, obstacles + tail), "ok.yaml"));
+  expect_error(replace_line(kSmall, 4, obstacles + field(10, 1) + tail), "world.obstacles[10].count", 15,
+               "at most 1000000");
+}
+
 TEST(ScenarioLimits, GravelKeepsItsCountThoughTheParserChecksOnePiece) {
   // The parser validates a gravel field with one piece (a 100,000-piece field repeated by YAML
   // aliases made parsing take minutes); the spec keeps the count and build_world makes them all.
