@@ -4,12 +4,14 @@
 //                [--connectivity 4|8] [--unknown free|blocked] [--cells] [--json]
 //                [--out path.csv] [--svg picture.svg] [--expanded] [--force]
 //                [--heuristic H] [--inflate R] [--inflate-cost-radius R2] [--inflate-cost SCALE]
-//                [--turn-cost K] [--turn-exact] [--adaptive-weight] [--smooth none|los]
-//                [--start-heading-deg A]
+//                [--turn-cost K] [--turn-exact] [--adaptive-weight] [--smooth none|los|gradient]
+//                [--smooth-clearance M] [--start-heading-deg A]
 //
 // The second group are the features of Ou et al. 2022 (issue 4, plan/ou2022_options.hpp): all of
 // them with --planner astar and ou2022 (whose defaults are the paper's), hard inflation and
 // smoothing with the others; --json adds the path metrics (plan/path_metrics.hpp) under `metrics`.
+// --smooth gradient goes beyond the paper: line of sight, then the gradient smoother of
+// plan/gradient_smoothing.hpp on the inflated map (--smooth-clearance: the clearance to keep).
 //
 // Coordinates are cells on MovingAI maps (x column, y row from the top, as in .scen files) and
 // metres in the map frame on metric maps (--cells: cell indices there too). Exit 0 when a path is
@@ -19,11 +21,13 @@
 // --hy-m ... --unobserved); the occupancy planners and their flags (--weight ... --start-heading-deg)
 // are refused there, and the Liu flags on occupancy maps.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -32,6 +36,7 @@
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/map_file.hpp"
+#include "starnav/plan/gradient_smoothing.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/inflation.hpp"
 #include "starnav/plan/path_metrics.hpp"
@@ -68,10 +73,12 @@ struct PlanOptions {
   bool turn_exact = false;
   bool adaptive_weight = false;
   std::string smooth;
+  double smooth_clearance = 0.0;
   double start_heading_deg = 0.0;
   CLI::Option* turn_cost_opt = nullptr;
   CLI::Option* adaptive_weight_opt = nullptr;
   CLI::Option* smooth_opt = nullptr;
+  CLI::Option* smooth_clearance_opt = nullptr;
   CLI::Option* start_heading_opt = nullptr;
   // Elevation maps (issue 5).
   TerrainPlanFlags terrain;
@@ -178,10 +185,21 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   if (o.turn_cost_opt->count()) options.ou2022.turn_cost = o.turn_cost;
   options.ou2022.turn_exact = o.turn_exact;
   if (o.adaptive_weight_opt->count()) options.ou2022.adaptive_weight = o.adaptive_weight;
+  const bool gradient = o.smooth_opt->count() && o.smooth == "gradient";
   if (o.smooth_opt->count()) {
     if (o.smooth == "none") options.ou2022.smoothing = PathSmoothing::None;
-    else if (o.smooth == "los") options.ou2022.smoothing = PathSmoothing::LineOfSight;
-    else throw Error("expected none or los, got '" + o.smooth + "'", {}, 0, "--smooth");
+    else if (o.smooth == "los" || gradient) options.ou2022.smoothing = PathSmoothing::LineOfSight;
+    else throw Error("expected none, los or gradient, got '" + o.smooth + "'", {}, 0, "--smooth");
+  }
+  GradientSmoothingOptions gradient_options;
+  if (o.smooth_clearance_opt->count()) {
+    if (!gradient) throw Error("only with --smooth gradient", {}, 0, "--smooth-clearance");
+    gradient_options.min_clearance_m = o.smooth_clearance;
+    try {
+      validate_gradient_smoothing(gradient_options);
+    } catch (const Error& e) {
+      throw Error(e.message(), {}, 0, "--smooth-clearance");
+    }
   }
   if (o.start_heading_opt->count()) {
     if (!std::isfinite(o.start_heading_deg)) throw Error("expected a finite angle in degrees", {}, 0, "--start-heading-deg");
@@ -212,9 +230,23 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   limits.max_expansions = static_cast<std::uint64_t>(o.max_expansions);
   limits.time_budget_s = o.time_budget_s;
   const PlanResult r = planner->plan(start, goal, limits);
+  // --smooth gradient: the line-of-sight path smoothed on the inflated map; the path reported
+  // (JSON path, --out, the picture, the metrics) is then the smoothed one.
+  std::optional<GradientSmoothingResult> smoothed;
+  double smoothing_ms = 0.0;  // the smoother alone (the inflation for it excluded)
+  if (gradient && r.found()) {
+    const InflatedMap inflated =
+        inflate_obstacles(grid, options.thresholds, options.unknown_is_free, options.ou2022.inflation);
+    const GridSearchMap blocked(grid.width(), grid.height(), inflated.blocked);
+    const ClearanceField field(geometry, inflated.clearance_m);
+    const auto t0 = std::chrono::steady_clock::now();
+    smoothed = smooth_path_gradient(r.path_world, blocked, geometry, &field, gradient_options);
+    smoothing_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const std::vector<Vec2>& final_points = smoothed ? smoothed->points : r.path_world;
   // Path metrics (clearance from the original map's obstacles, as the planner sees them).
   const ClearanceField clearance = ClearanceField::of_grid(grid, options.thresholds, !options.unknown_is_free);
-  const PathMetrics metrics = compute_path_metrics(r.path_world, &clearance);
+  const PathMetrics metrics = compute_path_metrics(final_points, &clearance);
   const std::vector<Cell>& unsmoothed = planner->unsmoothed_path();
   const PathMetrics unsmoothed_metrics =
       compute_path_metrics(cell_centres(unsmoothed, geometry), &clearance);
@@ -227,12 +259,20 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     if (index_grid) path.push_back({r.path_cells[i].x, r.path_cells[i].y});
     else path.push_back({r.path_world[i].x(), r.path_world[i].y()});
   }
+  // Smoothed points in the map's units; on index grids in cells, a cell's centre at its indices.
+  auto map_units = [&](const Vec2& w) { return index_grid ? Vec2(w - Vec2(0.5, 0.5)) : w; };
+  nlohmann::ordered_json smoothed_path = nlohmann::ordered_json::array();
+  if (smoothed)
+    for (const Vec2& w : smoothed->points) smoothed_path.push_back({map_units(w).x(), map_units(w).y()});
 
   if (!o.out.empty() && r.found()) {
     std::ofstream out(o.out, std::ios::binary);
     if (!out) throw Error("cannot write", o.out, 0, "--out");
     out << std::setprecision(10);
-    if (index_grid) {
+    if (smoothed) {
+      out << (index_grid ? "x_cell,y_cell\n" : "x_m,y_m\n");
+      for (const Vec2& w : smoothed->points) out << map_units(w).x() << "," << map_units(w).y() << "\n";
+    } else if (index_grid) {
       out << "x_cell,y_cell\n";
       for (const Cell& c : r.path_cells) out << c.x << "," << c.y << "\n";
     } else {
@@ -277,8 +317,13 @@ void run_plan(const PlanOptions& o, Context& ctx) {
         points.push_back(index_grid ? point_of(r.path_cells[i]) : r.path_world[i]);
       viz::LineStyle line;
       line.colour = viz::categorical_colour(0);
-      line.width_px = 2.5;
-      picture.add_polyline(points, line, "path");
+      line.width_px = smoothed ? 1.2 : 2.5;
+      picture.add_polyline(points, line, smoothed ? "line of sight" : "path");
+      if (smoothed) {
+        line.colour = viz::categorical_colour(3);
+        line.width_px = 2.5;
+        picture.add_polyline(smoothed->points, line, "path (gradient smoothing)");
+      }
     }
     viz::MarkerStyle marker;
     marker.radius_px = 4.5;
@@ -302,6 +347,14 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     j["generated"] = r.generated;
     j["path"] = path;
     j["path_cells"] = path_cells;
+    if (smoothed) {
+      j["smoothed_path"] = smoothed_path;
+      j["smoothing"] = {{"method", "gradient"},
+                        {"iterations", smoothed->iterations},
+                        {"energy_input", smoothed->energy_input},
+                        {"energy_output", smoothed->energy_output},
+                        {"time_ms", smoothing_ms}};
+    }
     if (r.found()) {
       j["metrics"] = metrics_json(metrics);
       if (!unsmoothed.empty()) j["metrics_before_smoothing"] = metrics_json(unsmoothed_metrics);
@@ -320,6 +373,10 @@ void run_plan(const PlanOptions& o, Context& ctx) {
       std::cout << "found:      yes, " << r.path_cells.size() << " points\n";
       std::cout << "cost:       " << number(r.cost) << "\n";
       std::cout << "length:     " << number(r.length) << " " << unit << "\n";
+      if (smoothed)
+        std::cout << "gradient:   " << smoothed->points.size() << " points, " << number(metrics.length) << " " << unit
+                  << " long, energy " << number(smoothed->energy_input) << " -> " << number(smoothed->energy_output)
+                  << " in " << smoothed->iterations << " sweeps\n";
       if (!unsmoothed.empty())
         std::cout << "smoothing:  " << unsmoothed_metrics.vertices << " -> " << metrics.vertices << " vertices, "
                   << unsmoothed_metrics.turning_points << " -> " << metrics.turning_points << " turning points\n";
@@ -361,11 +418,13 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   plan->add_flag("--json", o->json,
                  "one JSON object: planner, admissible, found, reason, cost, length, units, expanded, generated, "
                  "path, path_cells, metrics {length, vertices, turning_points, turn_total_rad, turn_max_rad, "
-                 "clearance_min, clearance_mean, smoothness} (and metrics_before_smoothing when smoothed), time_ms; on "
+                 "clearance_min, clearance_mean, smoothness} (and metrics_before_smoothing when smoothed; with --smooth "
+                 "gradient the metrics are the smoothed path's, given as smoothed_path with smoothing {method, "
+                 "iterations, energy_input, energy_output, time_ms}), time_ms; on "
                  "elevation maps instead of metrics: heuristic, reopened, lv_m, av_rad, hv_m, sv_m2, roll_mean_deg, "
                  "roll_max_deg, pitch_mean_deg, pitch_max_deg, tilt_mean_deg, tilt_max_deg, roll_mean_abs_deg, "
                  "pitch_mean_abs_deg, moves_measured, cells_measured, attitude_nodes, options");
-  plan->add_option("--out", o->out, "write the path as CSV (only when found)");
+  plan->add_option("--out", o->out, "write the path as CSV (only when found; the smoothed points with --smooth gradient)");
   plan->add_option("--svg", o->svg, "draw the map, the path and (with --expanded) the expanded cells");
   plan->add_flag("--expanded", o->expanded, "also report the expanded cells (JSON key expanded_cells; --svg draws them)");
   plan->add_option("--max-expansions", o->max_expansions, "stop after this many expansions (0: no limit)");
@@ -391,7 +450,11 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   o->adaptive_weight_opt = plan->add_flag("--adaptive-weight,!--no-adaptive-weight", o->adaptive_weight,
                                           "f = g + (1 + d/D)*h (inadmissible; ou2022 default on)");
   o->smooth_opt = plan->add_option("--smooth", o->smooth,
-                                   "none|los: remove redundant nodes by line of sight (ou2022 default los)");
+                                   "none|los|gradient: remove redundant nodes by line of sight (ou2022 default los); "
+                                   "gradient: then smooth the curvature on the inflated map (beyond the paper)");
+  o->smooth_clearance_opt = plan->add_option("--smooth-clearance", o->smooth_clearance,
+                                             "with --smooth gradient: keep at least this clearance (m; cells on "
+                                             "MovingAI maps) where the path had it (default 0)");
   o->start_heading_opt = plan->add_option("--start-heading-deg", o->start_heading_deg,
                                           "the robot's initial yaw, so the first move's turn is charged (map frame; "
                                           "cell axes on MovingAI maps)");
@@ -401,7 +464,7 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   o->planner_opt = plan->get_option("--planner");
   for (const char* name : {"--weight", "--connectivity", "--unknown", "--heuristic", "--inflate", "--inflate-cost-radius",
                            "--inflate-cost", "--inflate-cost-weight", "--turn-cost", "--turn-exact", "--adaptive-weight",
-                           "--smooth", "--start-heading-deg"})
+                           "--smooth", "--smooth-clearance", "--start-heading-deg"})
     o->occupancy_only.push_back(plan->get_option(name));
   plan->callback([o, &ctx] { run_plan(*o, ctx); });
 }

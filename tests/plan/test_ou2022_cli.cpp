@@ -8,6 +8,8 @@
 #endif
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -171,6 +173,52 @@ TEST(Ou2022Cli, BadCombinationsAreErrors) {
   expect_error({"--inflate", "2", "--inflate-cost-radius", "1"}, "--inflate-cost-radius");
   expect_error({"--smooth", "spline"}, "--smooth");
   expect_error({"--heuristic", "chebyshev"}, "--heuristic");
+  expect_error({"--smooth-clearance", "1"}, "--smooth-clearance");  // only with --smooth gradient
+  expect_error({"--smooth", "gradient", "--smooth-clearance", "-1"}, "--smooth-clearance");
+}
+
+// --smooth gradient (beyond the paper): the line-of-sight path round the wall's end, smoothed.
+TEST(Ou2022Cli, GradientSmoothingRoundsTheTurnsAndStaysClear) {
+  test::ScratchDir dir;
+  const std::string map = dir.file("m.map");
+  test::write_text(map, kWallMap);
+  const std::vector<std::string> base = {"plan", "--map", map, "--start", "3,4", "--goal", "12,4", "--inflate", "1",
+                                         "--json"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return parse_json(r.out);
+  };
+  const auto los = with({"--smooth", "los"});
+  const auto g = with({"--smooth", "gradient", "--out", dir.file("p.csv"), "--svg", dir.file("p.svg")});
+  ASSERT_TRUE(g.contains("smoothed_path"));
+  const auto& pts = g["smoothed_path"];
+  ASSERT_GT(pts.size(), los["path"].size());
+  // Same ends as the line-of-sight path (cells, centre at the indices), a gentler largest turn,
+  // and the clearance of the inflated planner kept (every cell at distance > 1).
+  EXPECT_EQ(pts.front(), los["path"].front());
+  EXPECT_EQ(pts.back(), los["path"].back());
+  EXPECT_EQ(g["path"], los["path"]);
+  EXPECT_LT(g["metrics"]["turn_max_rad"].get<double>(), 0.8 * los["metrics"]["turn_max_rad"].get<double>());
+  EXPECT_GT(g["metrics"]["clearance_min"].get<double>(), 1.0);
+  EXPECT_LE(g["smoothing"]["energy_output"].get<double>(), g["smoothing"]["energy_input"].get<double>());
+  // No point in the closed square of a blocked cell of the inflated map: the wall (column 7, rows
+  // 1-6) and its one-cell band (column 7 rows 0-7, columns 6 and 8 rows 1-6).
+  auto in_square = [](double x, double y, int cx, int cy) { return x >= cx && x <= cx + 1 && y >= cy && y <= cy + 1; };
+  for (const auto& p : pts) {
+    const double x = p[0].get<double>() + 0.5, y = p[1].get<double>() + 0.5;  // continuous cell coordinates
+    for (int row = 0; row <= 7; ++row) EXPECT_FALSE(in_square(x, y, 7, row)) << x << "," << y;
+    for (int row = 1; row <= 6; ++row) EXPECT_FALSE(in_square(x, y, 6, row) || in_square(x, y, 8, row)) << x << "," << y;
+  }
+  const std::string csv = test::read_text(dir.file("p.csv"));
+  EXPECT_EQ(csv.rfind("x_cell,y_cell\n", 0), 0u);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), pts.size() + 1);
+  EXPECT_NE(test::read_text(dir.file("p.svg")).find("gradient smoothing"), std::string::npos);
+  // A clearance floor of 2 cells: no sample ends nearer the wall than 2 cells where it was not.
+  const auto far = with({"--smooth", "gradient", "--smooth-clearance", "2"});
+  EXPECT_GT(far["metrics"]["clearance_min"].get<double>(), 1.0);
 }
 
 TEST(Ou2022Cli, BenchAblationWritesTheReport) {
