@@ -54,16 +54,6 @@ struct BenchPair {
 // The exactness rule of issue 3: published lengths carry up to 0.005 of rounding.
 double exact_tolerance(double optimal) { return std::max(0.01, 1e-5 * optimal); }
 
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-  const double hi = v[mid];
-  if (v.size() % 2) return hi;
-  const double lo = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid));
-  return 0.5 * (lo + hi);
-}
-
 // Everything a summary needs, for one planner on one map or on all of them.
 struct Tally {
   std::string planner;
@@ -117,7 +107,7 @@ struct Tally {
     j["max_abs_error"] = max_abs_error;
     j["max_suboptimality"] = max_suboptimality;
     j["mean_suboptimality"] = suboptimality_count ? sum_suboptimality / static_cast<double>(suboptimality_count) : 0.0;
-    j["median_time_us"] = median_of(instance_time_us);
+    j["median_time_us"] = sample_stats(instance_time_us).median;
     j["mean_time_us"] = instance_time_us.empty() ? 0.0 : total_us / static_cast<double>(instance_time_us.size());
     j["total_time_ms"] = total_us / 1000.0;
     j["total_expanded"] = expanded;
@@ -347,7 +337,7 @@ int run_bench_movingai(const MovingAiBenchOptions& o) {
         const ScenarioEntry& e = scen.entries[chosen[i]];
         const PlanResult& res = first[i];
         const bool unsolvable = e.unsolvable();
-        const double time_us = median_of(times[i]);
+        const double time_us = sample_stats(times[i]).median;
         bool exact = false;
         double abs_error = 0.0, subopt = 0.0;
         ++t.instances;

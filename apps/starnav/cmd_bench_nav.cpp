@@ -91,25 +91,7 @@ std::uint64_t parse_count(const std::string& text, const std::string& flag, cons
 
 // ---- statistics ---------------------------------------------------------------------------------
 
-struct Stat {
-  std::size_t n = 0;
-  double median = 0.0, min = 0.0, max = 0.0, mean = 0.0;
-};
-
-Stat stat_of(std::vector<double> v) {
-  Stat s;
-  s.n = v.size();
-  if (v.empty()) return s;
-  std::sort(v.begin(), v.end());
-  const std::size_t k = v.size() / 2;
-  s.median = v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
-  s.min = v.front();
-  s.max = v.back();
-  double sum = 0.0;
-  for (double x : v) sum += x;
-  s.mean = sum / static_cast<double>(v.size());
-  return s;
-}
+using Stat = SampleStats;
 
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -207,15 +189,15 @@ Summary summarise(const std::vector<RunRecord>& records, const std::string& plan
     walls.push_back(r.wall_s);
     rtfs.push_back(r.real_time_factor);
   }
-  for (auto& v : values) s.metrics.push_back(stat_of(std::move(v)));
+  for (auto& v : values) s.metrics.push_back(sample_stats(std::move(v)));
   if (s.replan_expanded_total > 0) {
     const auto total = static_cast<double>(s.replan_expanded_total);
     s.expansion_ratio = static_cast<double>(s.astar_replan_expanded_total) / total;
     s.backward_expansion_ratio = static_cast<double>(s.astar_backward_replan_expanded_total) / total;
   }
-  s.per_run_ratio = stat_of(std::move(ratios));
-  s.wall_s = stat_of(std::move(walls));
-  s.real_time_factor = stat_of(std::move(rtfs));
+  s.per_run_ratio = sample_stats(std::move(ratios));
+  s.wall_s = sample_stats(std::move(walls));
+  s.real_time_factor = sample_stats(std::move(rtfs));
   return s;
 }
 

@@ -117,26 +117,7 @@ struct TerrainResult {
   Run runs[3];
 };
 
-// Mean, standard deviation (n - 1; 0 for one value), min and max.
-struct Stat {
-  std::size_t n = 0;
-  double mean = 0.0, sd = 0.0, min = 0.0, max = 0.0;
-};
-
-Stat stat_of(const std::vector<double>& v) {
-  Stat s;
-  s.n = v.size();
-  if (v.empty()) return s;
-  double sum = 0.0;
-  for (double x : v) sum += x;
-  s.mean = sum / static_cast<double>(v.size());
-  double ss = 0.0;
-  for (double x : v) ss += (x - s.mean) * (x - s.mean);
-  s.sd = v.size() > 1 ? std::sqrt(ss / static_cast<double>(v.size() - 1)) : 0.0;
-  s.min = *std::min_element(v.begin(), v.end());
-  s.max = *std::max_element(v.begin(), v.end());
-  return s;
-}
+using Stat = SampleStats;  // the tables use mean, sd, min and max
 
 json stat_json(const Stat& s) {
   json j;
@@ -282,16 +263,16 @@ Comparison compare(const std::vector<TerrainResult>& results, int other) {
     sum_tm_o += ma.tilt_mean_deg, sum_tm_i += mb.tilt_mean_deg;
     sum_tx_o += ma.tilt_max_deg, sum_tx_i += mb.tilt_max_deg;
   }
-  c.lv_change_pct = stat_of(lv);
-  c.av_change_pct = stat_of(av);
-  c.hv_change_pct = stat_of(hv);
-  c.sv_change_pct = stat_of(sv);
-  c.roll_mean_change_pct = stat_of(rm);
-  c.roll_max_change_pct = stat_of(rx);
-  c.pitch_mean_change_pct = stat_of(pm_);
-  c.pitch_max_change_pct = stat_of(px);
-  c.tilt_mean_change_pct = stat_of(tm);
-  c.tilt_max_change_pct = stat_of(tx);
+  c.lv_change_pct = sample_stats(lv);
+  c.av_change_pct = sample_stats(av);
+  c.hv_change_pct = sample_stats(hv);
+  c.sv_change_pct = sample_stats(sv);
+  c.roll_mean_change_pct = sample_stats(rm);
+  c.roll_max_change_pct = sample_stats(rx);
+  c.pitch_mean_change_pct = sample_stats(pm_);
+  c.pitch_max_change_pct = sample_stats(px);
+  c.tilt_mean_change_pct = sample_stats(tm);
+  c.tilt_max_change_pct = sample_stats(tx);
   c.lv_change_of_means_pct = change_pct(sum_lv_o, sum_lv_i);
   c.tilt_mean_change_of_means_pct = change_pct(sum_tm_o, sum_tm_i);
   c.tilt_max_change_of_means_pct = change_pct(sum_tx_o, sum_tx_i);
@@ -330,7 +311,7 @@ Stat metric_stat(const std::vector<TerrainResult>& results, int p, double Terrai
   std::vector<double> v;
   for (const TerrainResult& r : results)
     if (use(r)) v.push_back(r.runs[p].metrics.*member);
-  return stat_of(v);
+  return sample_stats(v);
 }
 
 bool all_found(const TerrainResult& r) { return r.runs[0].found && r.runs[1].found && r.runs[2].found; }
