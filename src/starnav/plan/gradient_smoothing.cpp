@@ -23,33 +23,43 @@ double energy(const std::vector<Vec2>& p, const std::vector<Vec2>& o, double w_d
   return e;
 }
 
-// The segment between two points in continuous cell coordinates touches only passable cells.
-bool cells_clear(const GridSearchMap& map, const Vec2& a, const Vec2& b) {
+// Visits every cell whose closed square meets the segment a-b (continuous cell coordinates; a
+// point when a == b: its cell, both cells on an edge, all four at a corner), the segment grown by
+// kTouchSlackCells. Returns false as soon as `visit` does, and when a coordinate is not finite or
+// any part lies off a width x height map; true otherwise.
+template <class Visit>
+bool visit_touched_cells(int width, int height, const Vec2& a, const Vec2& b, Visit&& visit) {
   if (!a.allFinite() || !b.allFinite()) return false;
-  const double xmin = std::min(a.x(), b.x()) - kTouchSlackCells, xmax = std::max(a.x(), b.x()) + kTouchSlackCells;
+  const double left = std::min(a.x(), b.x()), right = std::max(a.x(), b.x());
+  const double xmin = left - kTouchSlackCells, xmax = right + kTouchSlackCells;
   const double ymin = std::min(a.y(), b.y()) - kTouchSlackCells, ymax = std::max(a.y(), b.y()) + kTouchSlackCells;
-  // Anything off the map is blocked; this also bounds the loops below by the map's size.
-  if (xmin < 0.0 || ymin < 0.0 || xmax > map.width() || ymax > map.height()) return false;
+  // This also bounds the loops below by the map's size.
+  if (xmin < 0.0 || ymin < 0.0 || xmax > width || ymax > height) return false;
   const double dx = b.x() - a.x(), dy = b.y() - a.y();
-  // Columns whose closed square [i, i+1] meets [xmin, xmax].
+  // Columns whose closed square [i, i+1] meets [xmin, xmax]; in each, the rows the segment's y
+  // spans over the part of the column it crosses.
   const int i0 = std::max(0, static_cast<int>(std::ceil(xmin)) - 1);
-  const int i1 = std::min(map.width() - 1, static_cast<int>(std::floor(xmax)));
+  const int i1 = std::min(width - 1, static_cast<int>(std::floor(xmax)));
   for (int i = i0; i <= i1; ++i) {
     double lo = ymin, hi = ymax;
-    if (std::abs(dx) > 0.0) {
-      // The segment's y over the part of column i it crosses.
-      const double x0 = std::clamp(static_cast<double>(i), a.x() < b.x() ? a.x() : b.x(), a.x() < b.x() ? b.x() : a.x());
-      const double x1 = std::clamp(static_cast<double>(i + 1), a.x() < b.x() ? a.x() : b.x(), a.x() < b.x() ? b.x() : a.x());
-      const double y0 = a.y() + (x0 - a.x()) / dx * dy, y1 = a.y() + (x1 - a.x()) / dx * dy;
+    if (dx != 0.0) {
+      const double y0 = a.y() + (std::clamp(static_cast<double>(i), left, right) - a.x()) / dx * dy;
+      const double y1 = a.y() + (std::clamp(static_cast<double>(i + 1), left, right) - a.x()) / dx * dy;
       lo = std::min(y0, y1) - kTouchSlackCells;
       hi = std::max(y0, y1) + kTouchSlackCells;
     }
     const int j0 = std::max(0, static_cast<int>(std::ceil(lo)) - 1);
-    const int j1 = std::min(map.height() - 1, static_cast<int>(std::floor(hi)));
+    const int j1 = std::min(height - 1, static_cast<int>(std::floor(hi)));
     for (int j = j0; j <= j1; ++j)
-      if (!map.passable(map.state(i, j))) return false;
+      if (!visit(i, j)) return false;
   }
   return true;
+}
+
+// The segment between two points in continuous cell coordinates touches only passable cells.
+bool cells_clear(const GridSearchMap& map, const Vec2& a, const Vec2& b) {
+  return visit_touched_cells(map.width(), map.height(), a, b,
+                             [&](int x, int y) { return map.passable(map.state(x, y)); });
 }
 
 }  // namespace
@@ -112,20 +122,16 @@ GradientSmoothingResult smooth_path_gradient(std::span<const Vec2> path, const G
   const double wd = options.weight_data, ws = options.weight_smooth;
   const double tolerance = options.tolerance_m / res;
 
-  // A point's clearance: the least over the cells whose closed square holds it (one cell inside
-  // a cell, two on an edge, four at a corner), so that rounding cannot pick the kinder cell; -inf
-  // off the map.
+  // A point's clearance: the least over the cells whose closed square holds it (the same cells
+  // the segment test counts), so that rounding cannot pick the kinder cell; -inf off the map.
   auto clearance_at = [&](const Vec2& c) {
     if (!clearance) return std::numeric_limits<double>::infinity();
-    const int x0 = static_cast<int>(std::floor(c.x() - kTouchSlackCells)), x1 = static_cast<int>(std::floor(c.x() + kTouchSlackCells));
-    const int y0 = static_cast<int>(std::floor(c.y() - kTouchSlackCells)), y1 = static_cast<int>(std::floor(c.y() + kTouchSlackCells));
     double least = std::numeric_limits<double>::infinity();
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) {
-        if (!geometry.contains(x, y)) return -std::numeric_limits<double>::infinity();
-        least = std::min(least, clearance->at(Cell{x, y}));
-      }
-    return least;
+    const bool on_map = visit_touched_cells(geometry.width, geometry.height, c, c, [&](int x, int y) {
+      least = std::min(least, clearance->at(Cell{x, y}));
+      return true;
+    });
+    return on_map ? least : -std::numeric_limits<double>::infinity();
   };
   // What each sample's clearance may not fall below: min(min_clearance, its input's).
   std::vector<double> floor_m(o.size(), 0.0);
