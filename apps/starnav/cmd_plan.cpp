@@ -230,22 +230,24 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   limits.max_expansions = static_cast<std::uint64_t>(o.max_expansions);
   limits.time_budget_s = o.time_budget_s;
   const PlanResult r = planner->plan(start, goal, limits);
+  // The inflated map, once, when the smoother or the picture needs it. Its clearance is the
+  // distance transform the metrics use (the original map's obstacles, as the planner sees them).
+  std::optional<InflatedMap> inflated;
+  if ((gradient && r.found()) || (!o.svg.empty() && options.ou2022.inflation.hard()))
+    inflated = inflate_obstacles(grid, options.thresholds, options.unknown_is_free, options.ou2022.inflation);
+  const ClearanceField clearance = inflated ? ClearanceField(geometry, inflated->clearance_m)
+                                            : ClearanceField::of_grid(grid, options.thresholds, !options.unknown_is_free);
   // --smooth gradient: the line-of-sight path smoothed on the inflated map; the path reported
   // (JSON path, --out, the picture, the metrics) is then the smoothed one.
   std::optional<GradientSmoothingResult> smoothed;
   double smoothing_ms = 0.0;  // the smoother alone (the inflation for it excluded)
   if (gradient && r.found()) {
-    const InflatedMap inflated =
-        inflate_obstacles(grid, options.thresholds, options.unknown_is_free, options.ou2022.inflation);
-    const GridSearchMap blocked(grid.width(), grid.height(), inflated.blocked);
-    const ClearanceField field(geometry, inflated.clearance_m);
+    const GridSearchMap blocked(grid.width(), grid.height(), inflated->blocked);
     const auto t0 = std::chrono::steady_clock::now();
-    smoothed = smooth_path_gradient(r.path_world, blocked, geometry, &field, gradient_options);
+    smoothed = smooth_path_gradient(r.path_world, blocked, geometry, &clearance, gradient_options);
     smoothing_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
   const std::vector<Vec2>& final_points = smoothed ? smoothed->points : r.path_world;
-  // Path metrics (clearance from the original map's obstacles, as the planner sees them).
-  const ClearanceField clearance = ClearanceField::of_grid(grid, options.thresholds, !options.unknown_is_free);
   const PathMetrics metrics = compute_path_metrics(final_points, &clearance);
   const std::vector<Cell>& unsmoothed = planner->unsmoothed_path();
   const PathMetrics unsmoothed_metrics =
@@ -293,11 +295,9 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     viz::MapPicture picture(grid, picture_options);
     if (options.ou2022.inflation.hard()) {
       // The cells blocked by hard inflation alone.
-      const InflatedMap inflated =
-          inflate_obstacles(grid, options.thresholds, options.unknown_is_free, options.ou2022.inflation);
       std::vector<Cell> cells;
-      for (std::size_t i = 0; i < inflated.blocked.size(); ++i)
-        if (inflated.blocked[i] && inflated.clearance_m[i] > 0.0) cells.push_back(geometry.cell_of_index(i));
+      for (std::size_t i = 0; i < inflated->blocked.size(); ++i)
+        if (inflated->blocked[i] && inflated->clearance_m[i] > 0.0) cells.push_back(geometry.cell_of_index(i));
       picture.add_cells(cells, viz::parse_colour("orange"), 0.35, "inflation");
     }
     if (o.expanded) picture.add_cells(planner->trace(), viz::parse_colour("sky"), 0.45, "expanded");
