@@ -5,8 +5,14 @@ GDAL ?= ON
 CMAKE_FLAGS ?=
 CMAKE_COMMON = -DSTARNAV_WITH_GDAL=$(GDAL) $(CMAKE_FLAGS)
 SHARED ?= $(abspath ../shared)
+# One clang build serves the sanitizer tests and the fuzz-corpus replay (docs/ci.md).
+SAN_BUILD ?= build-san
+NOGDAL_BUILD ?= build-nogdal
+CMAKE_BUILD = JOBS=$(JOBS) scripts/cmake-build.sh
+CTEST = ctest --output-on-failure --progress -j $(JOBS)
 
-.PHONY: all deps build demo test bench bench-full asan fuzz fuzz-replay format install-check clean
+.PHONY: all deps build demo test bench bench-full asan san-build fuzz fuzz-replay nogdal-check format \
+  install-check clean
 
 all: build
 
@@ -14,14 +20,13 @@ deps:
 	@STARNAV_WITH_GDAL=$(GDAL) scripts/install-deps.sh core
 
 build: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_COMMON) >/dev/null
-	@cmake --build $(BUILD) -j $(JOBS)
+	@$(CMAKE_BUILD) $(BUILD) "-DCMAKE_BUILD_TYPE=Release $(CMAKE_COMMON)"
 
 demo: build
 	@scripts/demo.sh $(BUILD)/bin/starnav
 
 test: build
-	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 900
+	@cd $(BUILD) && $(CTEST) --timeout 900
 
 bench: build
 	@scripts/bench.sh $(BUILD)
@@ -29,23 +34,37 @@ bench: build
 bench-full: build
 	@STARNAV_BENCH_FULL=1 scripts/bench.sh $(BUILD)
 
-# The tests under AddressSanitizer + UndefinedBehaviorSanitizer (Debug with -O1 to keep it quick).
-asan: deps
-	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTARNAV_SANITIZE=ON -DSTARNAV_BUILD_BENCH=OFF $(CMAKE_COMMON) >/dev/null
-	@cmake --build build-asan -j $(JOBS)
-	@cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --output-on-failure -j $(JOBS) --timeout 1800
+# The sanitizer build: clang-16, AddressSanitizer + UndefinedBehaviorSanitizer on everything, -O2
+# with line tables, assertions on (scripts/san-build.sh); the tests and the fuzz-corpus replay.
+san-build:
+	@scripts/install-deps.sh fuzz
+	@JOBS=$(JOBS) scripts/san-build.sh $(SAN_BUILD) "$(CMAKE_COMMON)"
 
-# libFuzzer targets, built with Debian's clang-16. FUZZ_SECONDS per target (default 300).
+# The tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+asan: san-build
+	@cd $(SAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  $(CTEST) --timeout 1800
+
+# Fuzzing every parser, FUZZ_SECONDS per target (default 300), in build-fuzz/ (the sanitizer
+# build's configuration plus libFuzzer's coverage instrumentation of the library).
 FUZZ_SECONDS ?= 300
 fuzz:
 	@scripts/install-deps.sh fuzz
 	@scripts/fuzz.sh run $(FUZZ_SECONDS)
 
 # Replays the kept corpora and every saved crasher (CI runs this).
-fuzz-replay:
-	@scripts/install-deps.sh fuzz
-	@scripts/fuzz.sh replay
+fuzz-replay: san-build
+	@FUZZ_BUILD_DIR=$(SAN_BUILD) scripts/fuzz.sh replay
+
+# Without GDAL (docs/ci.md, "The no-GDAL stage"): configured with -DSTARNAV_WITH_GDAL=OFF (no
+# plugin, GeoTIFF refused with one error line), the library, the CLI and the two test executables
+# that read map files (test_io: every reader and load_map; test_cli: the CLI on every map format,
+# GeoTIFF included) built at -O1 and run. Nothing else in starnav touches GDAL.
+nogdal-check:
+	@STARNAV_WITH_GDAL=OFF scripts/install-deps.sh core
+	@$(CMAKE_BUILD) $(NOGDAL_BUILD) "-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 -DSTARNAV_WITH_GDAL=OFF \
+	  -DSTARNAV_BUILD_BENCH=OFF $(CMAKE_FLAGS)" starnav_cli test_io test_cli
+	@cd $(NOGDAL_BUILD) && $(CTEST) --timeout 900 -L '^(io|cli)$$'
 
 # Installs into a scratch prefix and builds examples/consumer against the installed package.
 install-check: build
@@ -56,4 +75,4 @@ format:
 	@find src apps tests bench fuzz examples -name '*.cpp' -o -name '*.hpp' | xargs clang-format -i
 
 clean:
-	rm -rf build build-asan build-fuzz build-nogdal
+	rm -rf $(BUILD) $(SAN_BUILD) $(NOGDAL_BUILD) build-asan build-fuzz

@@ -8,7 +8,7 @@
 #include "starnav/core/rng.hpp"
 #include "starnav/map/distance_transform.hpp"
 
-namespace {
+namespace bench_distance_transform {
 
 std::vector<std::uint8_t> random_mask(int n, double density, std::uint64_t seed) {
   starnav::Rng rng(seed);
@@ -67,9 +67,9 @@ void BM_DistanceTransformThreaded(benchmark::State& state) {
   set_counters(state, n);
 }
 
-}  // namespace
-
 BENCHMARK(BM_DistanceTransform)->Arg(500)->Arg(1000)->Arg(2000)->Arg(4000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DistanceTransformWithNearest)->Arg(500)->Arg(1000)->Arg(2000)->Arg(4000)->Unit(benchmark::kMillisecond);
 // Wall time, since the work is spread over threads.
 BENCHMARK(BM_DistanceTransformThreaded)->Arg(1000)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace bench_distance_transform

@@ -14,11 +14,15 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "starnav/io/movingai.hpp"
 #include "starnav/plan/bit_grid.hpp"
 #include "starnav/plan/jps.hpp"
 
-namespace {
+namespace bench_jps {
+
+using starnav::bench::median;
+using starnav::bench::thread_cpu_s;
 
 using namespace starnav;
 
@@ -53,12 +57,6 @@ const JpsBenchMap& load(const std::string& relative) {
   }
   cache.push_back(std::move(m));
   return *cache.back();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 void BM_JpsQueries(benchmark::State& state, const std::string& map, bool plus) {
@@ -133,4 +131,4 @@ const int kRegistered = [] {
   return 0;
 }();
 
-}  // namespace
+}  // namespace bench_jps

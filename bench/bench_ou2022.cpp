@@ -24,13 +24,17 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/io/movingai.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/inflation.hpp"
 #include "starnav/plan/ou2022.hpp"
 
-namespace {
+namespace bench_ou2022 {
+
+using starnav::bench::median;
+using starnav::bench::thread_cpu_s;
 
 using namespace starnav;
 
@@ -75,12 +79,6 @@ const BenchMap& bench_map(const MapSpec& spec) {
   }
   cache.push_back(std::move(m));
   return *cache.back();
-}
-
-double thread_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 struct VariantSpec {
@@ -180,4 +178,4 @@ void register_all() {
 
 const bool kRegistered = (register_all(), true);
 
-}  // namespace
+}  // namespace bench_ou2022

@@ -16,7 +16,7 @@
 #include "starnav/sense/lidar.hpp"
 #include "starnav/sim/world.hpp"
 
-namespace {
+namespace bench_raycast {
 
 using namespace starnav;
 
@@ -137,4 +137,4 @@ BENCHMARK(BM_RaycastVlp16MovingObstacles)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RaycastHdl64TerrainObstacles)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RaycastUtm30TerrainObstacles)->Unit(benchmark::kMillisecond);
 
-}  // namespace
+}  // namespace bench_raycast

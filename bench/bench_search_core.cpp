@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/io/movingai.hpp"
 #include "starnav/plan/dstar_lite.hpp"
@@ -26,7 +27,10 @@
 #include "starnav/plan/grid_graph.hpp"
 #include "starnav/plan/search_core.hpp"
 
-namespace {
+namespace bench_search_core {
+
+using starnav::bench::median;
+using starnav::bench::thread_cpu_s;
 
 using namespace starnav;
 
@@ -61,18 +65,6 @@ const BenchMap& bench_map(const std::string& relative) {
   }
   cache.push_back(std::move(m));
   return *cache.back();
-}
-
-double thread_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 template <class Cost, class OpenList, class CostModel, class Heuristic>
@@ -155,7 +147,7 @@ void register_all() {
 
 const int kRegistered = (register_all(), 0);
 
-}  // namespace
+}  // namespace bench_search_core
 
 // ---- D* Lite against A* from scratch ---------------------------------------------------------------
 // A robot walks a long route of a MovingAI map; at each of 100 steps one random free cell within
@@ -163,7 +155,7 @@ const int kRegistered = (register_all(), 0);
 // the goal off is undone). D* Lite repairs its search; A* plans from scratch from the robot's
 // cell. Counters: mean expansions and mean CPU microseconds per replan of each (the initial D*
 // Lite search separately).
-namespace {
+namespace bench_search_core {
 
 void BM_DStarLiteVsAStar(benchmark::State& state, const std::string& map_name) {
   const std::filesystem::path root = std::filesystem::path(STARNAV_SHARED_DIR) / "benchmarks/movingai";
@@ -244,4 +236,4 @@ const int kRegisteredDStar = [] {
   return 0;
 }();
 
-}  // namespace
+}  // namespace bench_search_core

@@ -15,7 +15,7 @@
 #include "starnav/terrain/terrain_analysis.hpp"
 #include "starnav/terrain/terrain_generator.hpp"
 
-namespace {
+namespace bench_terrain {
 
 using namespace starnav;
 
@@ -175,4 +175,4 @@ void BM_HillsGenerate(benchmark::State& state) {
 }
 BENCHMARK(BM_HillsGenerate)->Unit(benchmark::kMillisecond);
 
-}  // namespace
+}  // namespace bench_terrain

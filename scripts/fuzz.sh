@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# libFuzzer targets of starnav's parsers (fuzz/), built with Debian's clang-16 in build-fuzz/.
+# libFuzzer targets of starnav's parsers (fuzz/), built with Debian's clang-16 by scripts/san-build.sh:
+# `replay` in the sanitizer build that also runs the tests (build-san/), `run` and `minimize` in
+# build-fuzz/, the same configuration plus libFuzzer's coverage instrumentation of the library.
 #
 #   scripts/fuzz.sh run SECONDS [TARGET...]   fuzz each target for SECONDS (all targets by default);
 #                                             new coverage is merged into fuzz/corpus/<target>/,
@@ -10,7 +12,7 @@
 #                                             with the same coverage (-merge=1 into an empty dir)
 #   scripts/fuzz.sh list                      the target names
 #
-# Environment: FUZZ_BUILD_DIR (default build-fuzz), FUZZ_JOBS (build jobs, default nproc),
+# Environment: FUZZ_BUILD_DIR (default build-san for replay, build-fuzz otherwise), FUZZ_JOBS (build jobs, default nproc),
 # STARNAV_SHARED (default ../shared: before fuzzing, `run` feeds the real files of each format found
 # there to the target once, as a check; they are never copied into the repository, and fuzzing
 # starts from the committed corpus only, so nothing derived from them is merged into it),
@@ -20,11 +22,16 @@ set -euo pipefail
 
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT"
-BUILD_DIR=${FUZZ_BUILD_DIR:-build-fuzz}
+if [ "${1:-}" = replay ]; then
+  BUILD_DIR=${FUZZ_BUILD_DIR:-build-san}
+  COVERAGE=OFF
+else
+  BUILD_DIR=${FUZZ_BUILD_DIR:-build-fuzz}
+  COVERAGE=ON
+fi
 case "$BUILD_DIR" in /*) ;; *) BUILD_DIR="$ROOT/$BUILD_DIR" ;; esac
 JOBS=${FUZZ_JOBS:-$(nproc)}
 SHARED=${STARNAV_SHARED:-$ROOT/../shared}
-CXX_FUZZ=${FUZZ_CXX:-clang++-16}
 
 # Target name -> -max_len (bytes): big enough for a small but complete file of the format, small
 # enough to keep executions fast.
@@ -70,24 +77,19 @@ pick_targets() {  # validates the names given (default: all targets) into TARGET
   done
 }
 
-build() {  # build [TARGET...]: configures build-fuzz and builds those fuzz targets (default all)
+build() {  # build [TARGET...]: configures the sanitizer build and builds those fuzz targets (default all)
   local what=("$@")
   [ ${#what[@]} -gt 0 ] || what=(starnav_fuzzers)
-  command -v "$CXX_FUZZ" >/dev/null || die "$CXX_FUZZ not found: run scripts/install-deps.sh fuzz"
   mkdir -p "$BUILD_DIR"
   (
     flock 9
-    say "configuring $BUILD_DIR with $CXX_FUZZ"
-    cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_CXX_COMPILER="$CXX_FUZZ" -DSTARNAV_BUILD_FUZZ=ON \
-      -DSTARNAV_BUILD_TESTS=OFF -DSTARNAV_BUILD_BENCH=OFF -DSTARNAV_WITH_GDAL=OFF \
-      -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" >"$BUILD_DIR/configure.log" 2>&1 \
-      || { cat "$BUILD_DIR/configure.log" >&2; die "cmake configure failed"; }
-    say "building ${what[*]} (-j $JOBS)"
-    cmake --build "$BUILD_DIR" --target "${what[@]}" -j "$JOBS" >"$BUILD_DIR/build.log" 2>&1 \
-      || { tail -n 60 "$BUILD_DIR/build.log" >&2; die "build failed (full log: $BUILD_DIR/build.log)"; }
-    if grep -q 'warning:' "$BUILD_DIR/build.log"; then
-      say "the build printed warnings (see $BUILD_DIR/build.log):"
-      grep 'warning:' "$BUILD_DIR/build.log" | sort -u | head -n 20 >&2
+    say "building ${what[*]} in $BUILD_DIR (scripts/san-build.sh, -j $JOBS)"
+    JOBS=$JOBS "$ROOT/scripts/san-build.sh" "$BUILD_DIR" "-DSTARNAV_FUZZ_COVERAGE=$COVERAGE" "${what[@]}" \
+      >"$BUILD_DIR/fuzz-build.log" 2>&1 \
+      || { tail -n 60 "$BUILD_DIR/fuzz-build.log" >&2; die "build failed (full log: $BUILD_DIR/fuzz-build.log)"; }
+    if grep -q 'warning:' "$BUILD_DIR/fuzz-build.log"; then
+      say "the build printed warnings (see $BUILD_DIR/fuzz-build.log):"
+      grep 'warning:' "$BUILD_DIR/fuzz-build.log" | sort -u | head -n 20 >&2
     fi
   ) 9>"$BUILD_DIR/.fuzz-build.lock"
 }

@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
 # Installs the Debian packages starnav needs, only those missing (dpkg -s), so a second run is
-# quick. Usage: scripts/install-deps.sh [core|fuzz|all]   (default core)
+# quick. Usage: scripts/install-deps.sh [core|fuzz|ci|all]   (default core)
+#   core  what make build / test / demo need; fuzz  plus clang-16 for the sanitizer build;
+#   ci    everything .ci/run uses; all  plus the developer tools (clang-format)
 set -euo pipefail
 what=${1:-core}
-core=(build-essential cmake pkg-config libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
+core=(build-essential cmake ninja-build pkg-config libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
       libgtest-dev libgmock-dev libbenchmark-dev libpng-dev)
 if [ "${STARNAV_WITH_GDAL:-ON}" != "OFF" ]; then core+=(libgdal-dev); fi
 fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
 case "$what" in
   core) pkgs=("${core[@]}") ;;
-  fuzz) pkgs=("${core[@]}" "${fuzz[@]}") ;;
+  fuzz|ci) pkgs=("${core[@]}" "${fuzz[@]}") ;;
   all)  pkgs=("${core[@]}" "${fuzz[@]}" clang-format) ;;
-  *) echo "usage: $0 [core|fuzz|all]" >&2; exit 2 ;;
+  *) echo "usage: $0 [core|fuzz|ci|all]" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${pkgs[@]}"; do

@@ -58,7 +58,7 @@ using json = nlohmann::ordered_json;
 
 constexpr std::uint64_t kMaxSeeds = 1000000;
 // The two navigation runs of every seed, in this order.
-constexpr const char* kPlanners[2] = {"dstar_lite", "astar"};
+constexpr const char* kNavPlanners[2] = {"dstar_lite", "astar"};
 
 struct NavBenchOptions {
   std::string scenario;
@@ -93,24 +93,24 @@ std::uint64_t parse_count(const std::string& text, const std::string& flag, cons
 
 using Stat = SampleStats;
 
-json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json nav_number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-json stat_json(const Stat& s) {
+json nav_stat_json(const Stat& s) {
   json j;
   j["n"] = s.n;
   if (s.n == 0) {
     j["median"] = j["min"] = j["max"] = j["mean"] = nullptr;
     return j;
   }
-  j["median"] = number_or_null(s.median);
-  j["min"] = number_or_null(s.min);
-  j["max"] = number_or_null(s.max);
-  j["mean"] = number_or_null(s.mean);
+  j["median"] = nav_number_or_null(s.median);
+  j["min"] = nav_number_or_null(s.min);
+  j["max"] = nav_number_or_null(s.max);
+  j["mean"] = nav_number_or_null(s.mean);
   return j;
 }
 
 // The metrics summarised over the seeds. arrived_only: only runs that reached the goal.
-struct MetricField {
+struct NavMetricField {
   const char* key;
   double (*get)(const NavigationMetrics&);
   int precision;
@@ -118,7 +118,7 @@ struct MetricField {
   bool arrived_only;
 };
 
-const MetricField kMetrics[] = {
+const NavMetricField kMetrics[] = {
     {"time_to_goal_s", [](const NavigationMetrics& m) { return m.time_to_goal_s; }, 2, false, true},
     {"duration_s", [](const NavigationMetrics& m) { return m.duration_s; }, 2, false, false},
     {"distance_m", [](const NavigationMetrics& m) { return m.distance_m; }, 2, false, false},
@@ -133,7 +133,7 @@ const MetricField kMetrics[] = {
 };
 
 // What one planner did over all seeds.
-struct Summary {
+struct NavSummary {
   std::string planner;
   std::size_t runs = 0, completed = 0, successes = 0;
   std::size_t arrived = 0, no_path = 0, timeout = 0, errors = 0, other = 0;
@@ -153,8 +153,8 @@ struct Summary {
   Stat wall_s, real_time_factor;
 };
 
-Summary summarise(const std::vector<RunRecord>& records, const std::string& planner) {
-  Summary s;
+NavSummary summarise(const std::vector<RunRecord>& records, const std::string& planner) {
+  NavSummary s;
   s.planner = planner;
   std::vector<std::vector<double>> values(std::size(kMetrics));
   std::vector<double> ratios, walls, rtfs;
@@ -201,7 +201,7 @@ Summary summarise(const std::vector<RunRecord>& records, const std::string& plan
   return s;
 }
 
-json summary_json(const Summary& s, bool compared) {
+json summary_json(const NavSummary& s, bool compared) {
   json j;
   j["planner"] = s.planner;
   j["role"] = compared ? "followed by the robot; A* from scratch ran beside every plan (compare_astar)"
@@ -213,7 +213,7 @@ json summary_json(const Summary& s, bool compared) {
   j["outcomes"] = {{"arrived", s.arrived}, {"no_path", s.no_path}, {"timeout", s.timeout}, {"error", s.errors}};
   if (s.other) j["outcomes"]["other"] = s.other;
   json metrics;
-  for (std::size_t k = 0; k < std::size(kMetrics); ++k) metrics[kMetrics[k].key] = stat_json(s.metrics[k]);
+  for (std::size_t k = 0; k < std::size(kMetrics); ++k) metrics[kMetrics[k].key] = nav_stat_json(s.metrics[k]);
   j["metrics"] = metrics;
   j["metrics_over"] = "completed runs; time_to_goal_s over the runs that arrived";
   j["collisions_total"] = s.collisions_total;
@@ -223,21 +223,21 @@ json summary_json(const Summary& s, bool compared) {
     c["replans"] = s.replans_total;
     c["replan_expanded_total"] = s.replan_expanded_total;
     c["astar_replan_expanded_total"] = s.astar_replan_expanded_total;
-    c["expansion_ratio"] = number_or_null(s.expansion_ratio);
+    c["expansion_ratio"] = nav_number_or_null(s.expansion_ratio);
     c["expansion_ratio_means"] = "sum of A*-from-scratch expansions / sum of D* Lite expansions over the replans";
     c["astar_backward_replan_expanded_total"] = s.astar_backward_replan_expanded_total;
-    c["backward_expansion_ratio"] = number_or_null(s.backward_expansion_ratio);
+    c["backward_expansion_ratio"] = nav_number_or_null(s.backward_expansion_ratio);
     c["backward_expansion_ratio_means"] =
         "the same with A* from scratch searching from the goal to the robot, D* Lite's direction";
-    c["per_run_ratio"] = stat_json(s.per_run_ratio);
+    c["per_run_ratio"] = nav_stat_json(s.per_run_ratio);
     c["costs_match_all"] = s.costs_match_all;
     c["costs_differ_seeds"] = s.costs_differ_seeds;
     j["astar_comparison"] = c;
   }
   json w;
   w["wall_s_total"] = s.wall_s_total;
-  w["wall_s"] = stat_json(s.wall_s);
-  w["real_time_factor"] = stat_json(s.real_time_factor);
+  w["wall_s"] = nav_stat_json(s.wall_s);
+  w["real_time_factor"] = nav_stat_json(s.real_time_factor);
   j["wall_clock"] = w;
   return j;
 }
@@ -264,7 +264,7 @@ json run_json(const RunRecord& r) {
   j["replans"] = m.replans;
   j["expanded_total"] = m.expanded_total;
   j["replan_expanded"] = m.replan_expanded;
-  if (r.planner == kPlanners[0]) {
+  if (r.planner == kNavPlanners[0]) {
     j["astar_replan_expanded"] = m.astar_replan_expanded;
     j["astar_backward_replan_expanded"] = m.astar_backward_replan_expanded;
     j["expansion_ratio"] = m.replan_expanded > 0 ? json(static_cast<double>(m.astar_replan_expanded) /
@@ -302,7 +302,7 @@ std::string runs_csv(const std::vector<RunRecord>& records) {
       continue;
     }
     const NavigationMetrics& m = r.m;
-    const bool compared = r.planner == kPlanners[0];
+    const bool compared = r.planner == kNavPlanners[0];
     o << (m.success ? 1 : 0) << ',' << csv_field(m.outcome) << ',' << csv_field(m.reason) << ','
       << csv_field(m.motion_mode) << ',' << (m.success ? csv_number(m.time_to_goal_s) : std::string()) << ','
       << csv_number(m.duration_s) << ',' << csv_number(m.distance_m) << ',' << m.plans << ',' << m.replans << ','
@@ -329,7 +329,7 @@ std::string count_or_fixed(double v, bool count, int precision) {
   return format_fixed(v, precision);
 }
 
-std::string stat_cell(const Stat& s, const MetricField& f) {
+std::string stat_cell(const Stat& s, const NavMetricField& f) {
   if (s.n == 0) return "-";
   return count_or_fixed(s.median, f.count, f.precision) + " [" + count_or_fixed(s.min, f.count, f.precision) + " .. " +
          count_or_fixed(s.max, f.count, f.precision) + "] " + count_or_fixed(s.mean, f.count, f.precision);
@@ -340,7 +340,7 @@ std::string percent(std::size_t k, std::size_t n) {
 }
 
 void print_table(std::ostream& out, const ScenarioSpec& spec, const NavBenchOptions& o, std::uint64_t base,
-                 std::uint64_t n, const std::vector<Summary>& sums) {
+                 std::uint64_t n, const std::vector<NavSummary>& sums) {
   out << "bench nav: " << spec.name << " (" << o.scenario << "), " << n << (n == 1 ? " seed" : " seeds") << " ("
       << base << ".." << base + n - 1 << "), motion mode "
       << (o.motion_mode.empty() ? std::string("from the scenario") : o.motion_mode) << "\n";
@@ -358,14 +358,14 @@ void print_table(std::ostream& out, const ScenarioSpec& spec, const NavBenchOpti
   };
   auto row = [&](const std::string& label, auto cell) {
     std::vector<std::string> cells;
-    for (const Summary& s : sums) cells.push_back(cell(s));
+    for (const NavSummary& s : sums) cells.push_back(cell(s));
     line(label, cells);
   };
-  row("", [](const Summary& s) { return s.planner; });
-  row("success", [](const Summary& s) {
+  row("", [](const NavSummary& s) { return s.planner; });
+  row("success", [](const NavSummary& s) {
     return std::to_string(s.successes) + "/" + std::to_string(s.runs) + " (" + percent(s.successes, s.runs) + ")";
   });
-  row("outcomes", [](const Summary& s) {
+  row("outcomes", [](const NavSummary& s) {
     std::string t = "arrived " + std::to_string(s.arrived) + ", no_path " + std::to_string(s.no_path) + ", timeout " +
                     std::to_string(s.timeout);
     if (s.errors) t += ", error " + std::to_string(s.errors);
@@ -374,15 +374,15 @@ void print_table(std::ostream& out, const ScenarioSpec& spec, const NavBenchOpti
   });
   out << "\nmedian [min .. max] mean over the completed runs (time_to_goal_s: the runs that arrived)\n";
   for (std::size_t k = 0; k < std::size(kMetrics); ++k)
-    row(kMetrics[k].key, [k](const Summary& s) { return stat_cell(s.metrics[k], kMetrics[k]); });
-  row("collisions (total)", [](const Summary& s) { return std::to_string(s.collisions_total); });
-  row("real-time factor (wall)", [](const Summary& s) {
+    row(kMetrics[k].key, [k](const NavSummary& s) { return stat_cell(s.metrics[k], kMetrics[k]); });
+  row("collisions (total)", [](const NavSummary& s) { return std::to_string(s.collisions_total); });
+  row("real-time factor (wall)", [](const NavSummary& s) {
     if (s.real_time_factor.n == 0) return std::string("-");
     return "median " + format_fixed(s.real_time_factor.median, 1) + "x, wall " + format_fixed(s.wall_s_total, 1) +
            " s total";
   });
 
-  const Summary& d = sums[0];
+  const NavSummary& d = sums[0];
   out << "\nD* Lite vs A* from scratch on the same replans (dstar_lite runs): ";
   if (d.replan_expanded_total == 0) {
     out << "no replan expanded a node (" << d.replans_total << " replans)\n";
@@ -454,13 +454,13 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
   try {
     for (std::uint64_t i = 0; i < n; ++i) {
       const std::uint64_t seed = base + i;
-      for (const char* planner : kPlanners) {
+      for (const char* planner : kNavPlanners) {
         ScenarioSpec spec = loaded;
         spec.seed = seed;
         NavigationOptions options;
         if (!o.motion_mode.empty()) options.motion_mode = o.motion_mode;
         options.planner = planner;
-        options.compare_astar = planner == kPlanners[0];
+        options.compare_astar = planner == kNavPlanners[0];
         options.record_steps = false;
         RunRecord r;
         r.seed = seed;
@@ -491,8 +491,8 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
   progress.update(done, "done");
   progress.finish();
 
-  std::vector<Summary> sums;
-  for (const char* planner : kPlanners) sums.push_back(summarise(records, planner));
+  std::vector<NavSummary> sums;
+  for (const char* planner : kNavPlanners) sums.push_back(summarise(records, planner));
 
   json doc;
   doc["benchmark"] = "nav";

@@ -61,7 +61,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
-constexpr RoughTerrainPlannerKind kPlanners[3] = {RoughTerrainPlannerKind::OA, RoughTerrainPlannerKind::AOEA,
+constexpr RoughTerrainPlannerKind kTerrainPlanners[3] = {RoughTerrainPlannerKind::OA, RoughTerrainPlannerKind::AOEA,
                                                   RoughTerrainPlannerKind::IA};
 constexpr const char* kPlannerTitles[3] = {"OA*", "AOEA*", "IA*"};
 
@@ -91,7 +91,7 @@ struct Terrain {
   ElevationMap map;
 };
 
-struct Run {
+struct TerrainRun {
   bool found = false;
   std::string reason;
   double cost = 0.0;
@@ -114,12 +114,12 @@ struct TerrainResult {
   std::size_t observed_cells = 0;
   std::size_t cells_at_sy = 0;
   double max_s_m2 = 0.0;
-  Run runs[3];
+  TerrainRun runs[3];
 };
 
 using Stat = SampleStats;  // the tables use mean, sd, min and max
 
-json stat_json(const Stat& s) {
+json terrain_stat_json(const Stat& s) {
   json j;
   j["n"] = s.n;
   j["mean"] = s.mean;
@@ -130,16 +130,16 @@ json stat_json(const Stat& s) {
 }
 
 // The metrics summarised, with their TerrainPathMetrics member.
-struct MetricField {
+struct TerrainMetricField {
   const char* key;
   double TerrainPathMetrics::*member;
   int precision;  // in the Markdown tables
 };
-constexpr MetricField kTable2[] = {{"lv_m", &TerrainPathMetrics::lv_m, 2},
+constexpr TerrainMetricField kTable2[] = {{"lv_m", &TerrainPathMetrics::lv_m, 2},
                                    {"av_rad", &TerrainPathMetrics::av_rad, 3},
                                    {"hv_m", &TerrainPathMetrics::hv_m, 4},
                                    {"sv_m2", &TerrainPathMetrics::sv_m2, 5}};
-constexpr MetricField kTable3[] = {{"roll_mean_deg", &TerrainPathMetrics::roll_mean_deg, 2},
+constexpr TerrainMetricField kTable3[] = {{"roll_mean_deg", &TerrainPathMetrics::roll_mean_deg, 2},
                                    {"roll_max_deg", &TerrainPathMetrics::roll_max_deg, 2},
                                    {"pitch_mean_deg", &TerrainPathMetrics::pitch_mean_deg, 2},
                                    {"pitch_max_deg", &TerrainPathMetrics::pitch_max_deg, 2},
@@ -238,8 +238,8 @@ Comparison compare(const std::vector<TerrainResult>& results, int other) {
   std::vector<double> lv, av, hv, sv, rm, rx, pm_, px, tm, tx;
   double sum_lv_o = 0, sum_lv_i = 0, sum_tm_o = 0, sum_tm_i = 0, sum_tx_o = 0, sum_tx_i = 0;
   for (const TerrainResult& r : results) {
-    const Run& a = r.runs[other];
-    const Run& b = r.runs[2];
+    const TerrainRun& a = r.runs[other];
+    const TerrainRun& b = r.runs[2];
     if (!a.found || !b.found) continue;
     ++c.n;
     const TerrainPathMetrics &ma = a.metrics, &mb = b.metrics;
@@ -289,16 +289,16 @@ json comparison_json(const Comparison& c, const char* other) {
   j["ia_shorter"] = c.ia_shorter;
   j["ia_lower_tilt_mean"] = c.ia_lower_tilt_mean;
   j["ia_lower_tilt_max"] = c.ia_lower_tilt_max;
-  j["lv_change_pct"] = stat_json(c.lv_change_pct);
-  j["av_change_pct"] = stat_json(c.av_change_pct);
-  j["hv_change_pct"] = stat_json(c.hv_change_pct);
-  j["sv_change_pct"] = stat_json(c.sv_change_pct);
-  j["roll_mean_abs_change_pct"] = stat_json(c.roll_mean_change_pct);
-  j["roll_max_change_pct"] = stat_json(c.roll_max_change_pct);
-  j["pitch_mean_abs_change_pct"] = stat_json(c.pitch_mean_change_pct);
-  j["pitch_max_change_pct"] = stat_json(c.pitch_max_change_pct);
-  j["tilt_mean_change_pct"] = stat_json(c.tilt_mean_change_pct);
-  j["tilt_max_change_pct"] = stat_json(c.tilt_max_change_pct);
+  j["lv_change_pct"] = terrain_stat_json(c.lv_change_pct);
+  j["av_change_pct"] = terrain_stat_json(c.av_change_pct);
+  j["hv_change_pct"] = terrain_stat_json(c.hv_change_pct);
+  j["sv_change_pct"] = terrain_stat_json(c.sv_change_pct);
+  j["roll_mean_abs_change_pct"] = terrain_stat_json(c.roll_mean_change_pct);
+  j["roll_max_change_pct"] = terrain_stat_json(c.roll_max_change_pct);
+  j["pitch_mean_abs_change_pct"] = terrain_stat_json(c.pitch_mean_change_pct);
+  j["pitch_max_change_pct"] = terrain_stat_json(c.pitch_max_change_pct);
+  j["tilt_mean_change_pct"] = terrain_stat_json(c.tilt_mean_change_pct);
+  j["tilt_max_change_pct"] = terrain_stat_json(c.tilt_max_change_pct);
   j["lv_change_of_means_pct"] = c.lv_change_of_means_pct;
   j["tilt_mean_change_of_means_pct"] = c.tilt_mean_change_of_means_pct;
   j["tilt_max_change_of_means_pct"] = c.tilt_max_change_of_means_pct;
@@ -327,14 +327,14 @@ void write_tables(std::ostream& md, const std::vector<TerrainResult>& results, b
     std::size_t found = 0;
     for (const TerrainResult& r : results) found += r.runs[p].found;
     md << "| " << kPlannerTitles[p] << " | " << (common ? n_common : found) << " / " << terrains;
-    for (const MetricField& f : kTable2) md << " | " << pm(metric_stat(results, p, f.member, use_for(p)), f.precision);
+    for (const TerrainMetricField& f : kTable2) md << " | " << pm(metric_stat(results, p, f.member, use_for(p)), f.precision);
     md << " |\n";
   }
   md << "\n| planner | roll mean (°) | roll max (°) | pitch mean (°) | pitch max (°) | tilt mean (°) | tilt max (°) | "
         "mean abs roll (°) | mean abs pitch (°) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (int p = 0; p < 3; ++p) {
     md << "| " << kPlannerTitles[p];
-    for (const MetricField& f : kTable3) md << " | " << pm(metric_stat(results, p, f.member, use_for(p)), f.precision);
+    for (const TerrainMetricField& f : kTable3) md << " | " << pm(metric_stat(results, p, f.member, use_for(p)), f.precision);
     md << " |\n";
   }
   md << "\n";
@@ -358,7 +358,7 @@ void write_comparison(std::ostream& md, const Comparison& c, const char* other) 
      << format_fixed(c.tilt_max_change_of_means_pct, 1) << " %.\n";
 }
 
-json run_json(const Run& r) {
+json run_json(const TerrainRun& r) {
   json j;
   j["found"] = r.found;
   if (!r.found) j["reason"] = r.reason;
@@ -392,7 +392,7 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
   const Vec2 start_m = given_endpoints ? parse_xy(o.start, "--start") : Vec2(0.5, 0.5);
   const Vec2 goal_m = given_endpoints ? parse_xy(o.goal, "--goal") : Vec2(9.5, 9.5);
   const RoughTerrainPlannerOptions options =
-      terrain_planner_options(o.flags, {kPlanners[0], kPlanners[1], kPlanners[2]});
+      terrain_planner_options(o.flags, {kTerrainPlanners[0], kTerrainPlanners[1], kTerrainPlanners[2]});
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "terrain.json") && !o.force)
@@ -459,9 +459,9 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
     res.start_m = m.geometry().contains(res.start) ? m.geometry().cell_center(res.start) : start_m;
     res.goal_m = m.geometry().contains(res.goal) ? m.geometry().cell_center(res.goal) : goal_m;
     for (int p = 0; p < 3; ++p) {
-      RoughTerrainPlanner planner(kPlanners[p], analysis, options);
+      RoughTerrainPlanner planner(kTerrainPlanners[p], analysis, options);
       const PlanResult r = planner.plan(res.start, res.goal);
-      Run& run = res.runs[p];
+      TerrainRun& run = res.runs[p];
       run.found = r.found();
       run.expanded = r.expanded;
       run.generated = r.generated;
@@ -495,7 +495,7 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
       write_attitude_profile_svg(stem + "_pitch.svg", terrains[i].name + ": pitch along the paths", AttitudeAngle::Pitch, series);
       write_attitude_profile_svg(stem + "_tilt.svg", terrains[i].name + ": tilt along the paths", AttitudeAngle::Tilt, series);
     }
-    for (Run& run : res.runs) {
+    for (TerrainRun& run : res.runs) {
       run.samples.clear();
       run.samples.shrink_to_fit();
     }
@@ -589,18 +589,18 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
   json planners = json::array();
   for (int p = 0; p < 3; ++p) {
     json pj;
-    pj["planner"] = rough_terrain_planner_name(kPlanners[p]);
+    pj["planner"] = rough_terrain_planner_name(kTerrainPlanners[p]);
     std::size_t found = 0;
     for (const TerrainResult& r : results) found += r.runs[p].found;
     pj["found"] = found;
     json common, own;
-    for (const MetricField& f : kTable2) {
-      common[f.key] = stat_json(metric_stat(results, p, f.member, all_found));
-      own[f.key] = stat_json(metric_stat(results, p, f.member, [p](const TerrainResult& r) { return r.runs[p].found; }));
+    for (const TerrainMetricField& f : kTable2) {
+      common[f.key] = terrain_stat_json(metric_stat(results, p, f.member, all_found));
+      own[f.key] = terrain_stat_json(metric_stat(results, p, f.member, [p](const TerrainResult& r) { return r.runs[p].found; }));
     }
-    for (const MetricField& f : kTable3) {
-      common[f.key] = stat_json(metric_stat(results, p, f.member, all_found));
-      own[f.key] = stat_json(metric_stat(results, p, f.member, [p](const TerrainResult& r) { return r.runs[p].found; }));
+    for (const TerrainMetricField& f : kTable3) {
+      common[f.key] = terrain_stat_json(metric_stat(results, p, f.member, all_found));
+      own[f.key] = terrain_stat_json(metric_stat(results, p, f.member, [p](const TerrainResult& r) { return r.runs[p].found; }));
     }
     pj["all_found"] = common;
     pj["own_found"] = own;
@@ -620,7 +620,7 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
     t["observed_cells"] = results[i].observed_cells;
     t["cells_s_at_least_sy"] = results[i].cells_at_sy;
     t["max_s_m2"] = results[i].max_s_m2;
-    for (int p = 0; p < 3; ++p) t[rough_terrain_planner_name(kPlanners[p])] = run_json(results[i].runs[p]);
+    for (int p = 0; p < 3; ++p) t[rough_terrain_planner_name(kTerrainPlanners[p])] = run_json(results[i].runs[p]);
     per.push_back(t);
   }
   j["per_terrain"] = per;
@@ -636,7 +636,7 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
                       "tilt max (°) | expanded |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (std::size_t i = 0; i < terrains.size(); ++i)
     for (int p = 0; p < 3; ++p) {
-      const Run& r = results[i].runs[p];
+      const TerrainRun& r = results[i].runs[p];
       full << "| " << terrains[i].name << " | " << kPlannerTitles[p] << " | ";
       if (!r.found) {
         full << r.reason << " | - | - | - | - | - | - | " << r.expanded << " |\n";
@@ -666,7 +666,7 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
   json timing;
   timing["analysis_ms_total"] = total_analysis_ms;
   for (int p = 0; p < 3; ++p)
-    timing[rough_terrain_planner_name(kPlanners[p])] = {{"search_ms_total", total_search_ms[p]},
+    timing[rough_terrain_planner_name(kTerrainPlanners[p])] = {{"search_ms_total", total_search_ms[p]},
                                                         {"preprocess_ms_total", total_preprocess_ms[p]}};
   write_file(fs::path(o.out) / "timing.json", timing.dump(1) + "\n");
   if (!o.quiet) std::cerr << "bench terrain: wrote " << o.out << "/terrain.md, terrain.json, timing.json, " << svgs * 4 << " SVGs\n";

@@ -13,7 +13,7 @@ namespace {
 using starnav::test::CliResult;
 using starnav::test::run_cli;
 
-const std::string kE1 = std::string(STARNAV_SOURCE_DIR) + "/scenarios/e1_terrain_platform.yaml";
+using starnav::test::kE1;
 
 // A valid scripted scenario without a navigation section.
 const char* kScripted =

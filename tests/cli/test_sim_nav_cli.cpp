@@ -15,7 +15,7 @@ namespace {
 using starnav::test::CliResult;
 using starnav::test::run_cli;
 
-const std::string kE1 = std::string(STARNAV_SOURCE_DIR) + "/scenarios/e1_terrain_platform.yaml";
+using starnav::test::kE1;
 
 std::string nav_scenario(const std::string& obstacles) {
   return "name: small_nav\n"

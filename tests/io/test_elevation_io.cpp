@@ -12,16 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "starnav/config.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/elevation_io.hpp"
 #include "starnav/io/image.hpp"
 #include "support/test_support.hpp"
-
-#if STARNAV_HAVE_GDAL
-#include <gdal_priv.h>
-#include <ogr_spatialref.h>
-#endif
 
 namespace starnav {
 namespace {
@@ -72,22 +66,7 @@ void expect_no_nan(const ElevationMap& m) {
   }
 }
 
-// The error `f` throws must be a starnav::Error whose one-line what() contains `part`.
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-    return what;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not a starnav::Error: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "no error thrown";
-  return {};
-}
+using test::error_of;
 
 // ---- PNG16 + YAML ------------------------------------------------------------------------------
 
@@ -578,14 +557,14 @@ TEST(SharedDemAscTest, EveryFileInTheFolderLoads) {
       EXPECT_EQ(m.height(), nrows);
       expect_no_nan(m);
       ++loaded;
-    } else if (ext == ".tif" && STARNAV_HAVE_GDAL) {
+    } else if (ext == ".tif" && test::expect_geotiff()) {
       const ElevationMap m = read_geotiff(path);
       EXPECT_GT(m.observed_count(), 0u);
       expect_no_nan(m);
       ++loaded;
     }
   }
-  EXPECT_GE(loaded, STARNAV_HAVE_GDAL ? 9 : 6);
+  EXPECT_GE(loaded, test::expect_geotiff() ? 9 : 6);
 }
 
 const DemFact kTiffFacts[] = {
@@ -597,7 +576,7 @@ const DemFact kTiffFacts[] = {
 };
 
 TEST(SharedDemGeoTiffTest, EveryGeoTiffLoadsWithItsFacts) {
-  if (!STARNAV_HAVE_GDAL) GTEST_SKIP() << "built without GDAL";
+  if (!test::expect_geotiff()) GTEST_SKIP() << "without GDAL";
   STARNAV_SKIP_WITHOUT_SHARED("datasets/dem");
   for (const DemFact& f : kTiffFacts) {
     const std::string path = test::shared_path("datasets/dem/" + std::string(f.file));
@@ -619,161 +598,13 @@ TEST(SharedDemGeoTiffTest, EveryGeoTiffLoadsWithItsFacts) {
   EXPECT_NEAR(p.resolution(), 0.000833333333333 * std::sqrt(series_lat(lat) * series_lon(lat)), 1e-3);
 }
 
-// ---- GeoTIFF written with GDAL here --------------------------------------------------------------
-
-#if STARNAV_HAVE_GDAL
-struct TiffSpec {
-  int width = 4, height = 3;
-  GDALDataType type = GDT_Float64;
-  double gt[6] = {500000.0, 2.0, 0.0, 4000006.0, 0.0, -2.0};
-  std::string crs = "utm32";  // "utm32", "wgs84", "" (none)
-  bool has_nodata = false;
-  double nodata = 0.0;
-  std::vector<double> values;  // rows top first
-};
-
-void write_tiff(const std::string& path, const TiffSpec& s) {
-  GDALAllRegister();
-  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
-  ASSERT_NE(driver, nullptr);
-  GDALDataset* ds = driver->Create(path.c_str(), s.width, s.height, 1, s.type, nullptr);
-  ASSERT_NE(ds, nullptr);
-  double gt[6];
-  std::copy(std::begin(s.gt), std::end(s.gt), gt);
-  ds->SetGeoTransform(gt);
-  OGRSpatialReference srs;
-  if (s.crs == "utm32") {
-    srs.SetWellKnownGeogCS("WGS84");
-    srs.SetUTM(32, TRUE);
-    ds->SetSpatialRef(&srs);
-  } else if (s.crs == "wgs84") {
-    srs.SetWellKnownGeogCS("WGS84");
-    ds->SetSpatialRef(&srs);
+// The plugin is found exactly when this build and run should have it (docs/formats.md, "GeoTIFF").
+TEST(GeoTiffTest, PluginIsAvailableExactlyWhenExpected) {
+  const GeotiffSupport support = geotiff_support();
+  EXPECT_EQ(support.available, test::expect_geotiff()) << support.detail;
+  if (!support.available) {
+    EXPECT_EQ(support.detail.rfind("GeoTIFF support needs GDAL: ", 0), 0u) << support.detail;
   }
-  GDALRasterBand* band = ds->GetRasterBand(1);
-  if (s.has_nodata) band->SetNoDataValue(s.nodata);
-  std::vector<double> v = s.values;
-  ASSERT_EQ(band->RasterIO(GF_Write, 0, 0, s.width, s.height, v.data(), s.width, s.height, GDT_Float64, 0, 0,
-                           nullptr),
-            CE_None);
-  GDALClose(ds);
-}
-#endif
-
-TEST(GeoTiffTest, RoundTripThroughAFileWrittenWithGdal) {
-#if !STARNAV_HAVE_GDAL
-  GTEST_SKIP() << "built without GDAL";
-#else
-  ScratchDir dir;
-  TiffSpec s;
-  s.has_nodata = true;
-  s.nodata = -9999;
-  s.values = {101.25, 102.5, -9999, 104.125,  // top row: iy = 2
-              0.1,    0.2,   0.3,   1e-7,     //
-              -5.5,   7,     8,     9.75};    // bottom row: iy = 0
-  write_tiff(dir.file("rt.tif"), s);
-  ElevationGeoref g;
-  const ElevationMap m = read_geotiff(dir.file("rt.tif"), &g);
-  ASSERT_EQ(m.width(), 4);
-  ASSERT_EQ(m.height(), 3);
-  EXPECT_EQ(m.resolution(), 2.0);
-  EXPECT_EQ(m.origin().x, 500000.0);
-  EXPECT_EQ(m.origin().y, 4000000.0);  // lower-left corner: 4000006 - 3 * 2
-  EXPECT_EQ(g.crs, ElevationGeoref::Crs::Projected);
-  EXPECT_NE(g.crs_name.find("UTM"), std::string::npos) << g.crs_name;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) {
-      const double v = s.values[static_cast<std::size_t>(r * 4 + c)];
-      if (v == -9999) {
-        EXPECT_FALSE(m.observed_at(c, 2 - r));
-      } else {
-        EXPECT_EQ(m.height_at(c, 2 - r), v) << c << "," << r;
-      }
-    }
-  EXPECT_EQ(m.observed_count(), 11u);
-  // Through ASC and back: exact.
-  write_asc(m, dir.file("rt.asc"));
-  EXPECT_EQ(read_asc(dir.file("rt.asc")), m);
-#endif
-}
-
-TEST(GeoTiffTest, Float32NodataAndGeographicCrs) {
-#if !STARNAV_HAVE_GDAL
-  GTEST_SKIP() << "built without GDAL";
-#else
-  ScratchDir dir;
-  TiffSpec s;
-  s.width = 2;
-  s.height = 2;
-  s.type = GDT_Float32;
-  s.crs = "wgs84";
-  const double cell = 1.0 / 1200.0;  // 3 arc-seconds
-  s.gt[0] = 10.0;
-  s.gt[1] = cell;
-  s.gt[3] = 45.0 + cell;  // rows span 45 - cell .. 45 + cell: centre latitude 45
-  s.gt[5] = -cell;
-  s.has_nodata = true;
-  s.nodata = -3.4e38;  // stored as the nearest float
-  s.values = {-3.4e38, 200.5, 300.25, 400};
-  write_tiff(dir.file("g.tif"), s);
-  ElevationGeoref g;
-  const ElevationMap m = read_geotiff(dir.file("g.tif"), &g);
-  EXPECT_EQ(g.crs, ElevationGeoref::Crs::Geographic);
-  EXPECT_NEAR(g.centre_latitude_deg, 45.0, 1e-9);
-  EXPECT_NEAR(m.resolution(), cell * std::sqrt(111132.0 * 78847.0), 0.01);
-  EXPECT_EQ(m.origin().x, 0.0);
-  EXPECT_FALSE(m.observed_at(0, 1));
-  EXPECT_EQ(m.height_at(1, 1), 200.5);
-  EXPECT_EQ(m.height_at(0, 0), 300.25);
-  EXPECT_EQ(m.observed_count(), 3u);
-#endif
-}
-
-TEST(GeoTiffTest, RejectsRotationNonSquarePixelsAndNaN) {
-#if !STARNAV_HAVE_GDAL
-  GTEST_SKIP() << "built without GDAL";
-#else
-  ScratchDir dir;
-  TiffSpec base;
-  base.values.assign(12, 1.0);
-
-  TiffSpec rotated = base;
-  rotated.gt[2] = 0.5;
-  write_tiff(dir.file("rot.tif"), rotated);
-  std::string what = error_of([&] { read_geotiff(dir.file("rot.tif")); });
-  EXPECT_EQ(what.rfind(dir.file("rot.tif") + ": geotransform: rotated", 0), 0u) << what;
-
-  TiffSpec sheared = base;
-  sheared.gt[4] = -0.25;
-  write_tiff(dir.file("shear.tif"), sheared);
-  what = error_of([&] { read_geotiff(dir.file("shear.tif")); });
-  EXPECT_EQ(what.rfind(dir.file("shear.tif") + ": geotransform:", 0), 0u) << what;
-
-  TiffSpec rect = base;
-  rect.gt[5] = -3.0;
-  write_tiff(dir.file("rect.tif"), rect);
-  what = error_of([&] { read_geotiff(dir.file("rect.tif")); });
-  EXPECT_EQ(what.rfind(dir.file("rect.tif") + ": pixel size: non-square", 0), 0u) << what;
-
-  TiffSpec south_up = base;
-  south_up.gt[5] = 2.0;
-  write_tiff(dir.file("south.tif"), south_up);
-  what = error_of([&] { read_geotiff(dir.file("south.tif")); });
-  EXPECT_NE(what.find("north-up"), std::string::npos) << what;
-
-  TiffSpec nan = base;
-  nan.values[5] = std::numeric_limits<double>::quiet_NaN();
-  write_tiff(dir.file("nan.tif"), nan);
-  what = error_of([&] { read_geotiff(dir.file("nan.tif")); });
-  EXPECT_EQ(what.rfind(dir.file("nan.tif") + ": band 1: pixel (column 1, row 1) is NaN", 0), 0u) << what;
-
-  // NaN as the nodata value marks cells unobserved.
-  TiffSpec nan_nodata = nan;
-  nan_nodata.has_nodata = true;
-  nan_nodata.nodata = std::numeric_limits<double>::quiet_NaN();
-  write_tiff(dir.file("nan_nodata.tif"), nan_nodata);
-  EXPECT_EQ(read_geotiff(dir.file("nan_nodata.tif")).observed_count(), 11u);
-#endif
 }
 
 TEST(GeoTiffTest, GdalErrorsBecomeOneLineErrorsAndStderrStaysQuiet) {
@@ -784,16 +615,16 @@ TEST(GeoTiffTest, GdalErrorsBecomeOneLineErrorsAndStderrStaysQuiet) {
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_EQ(what.rfind(dir.file("not.tif") + ": ", 0), 0u) << what;
   EXPECT_EQ(err, "");
-  if (!STARNAV_HAVE_GDAL) {
-    EXPECT_NE(what.find("GeoTIFF support needs GDAL: rebuild with -DSTARNAV_WITH_GDAL=ON"), std::string::npos);
+  if (!test::expect_geotiff()) {
+    EXPECT_NE(what.find("GeoTIFF support needs GDAL: "), std::string::npos) << what;
   }
   const std::string missing = error_of([&] { read_geotiff(dir.file("missing.tif")); });
   EXPECT_EQ(missing.rfind(dir.file("missing.tif") + ": ", 0), 0u) << missing;
-#if STARNAV_HAVE_GDAL
-  // An ASCII grid is not a GeoTIFF even though GDAL could read it.
-  write_text(dir.file("grid.tif"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n5\n");
-  EXPECT_NE(error_of([&] { read_geotiff(dir.file("grid.tif")); }).find(dir.file("grid.tif")), std::string::npos);
-#endif
+  if (test::expect_geotiff()) {
+    // An ASCII grid is not a GeoTIFF even though GDAL could read it.
+    write_text(dir.file("grid.tif"), "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n5\n");
+    EXPECT_NE(error_of([&] { read_geotiff(dir.file("grid.tif")); }).find(dir.file("grid.tif")), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -20,14 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::error_of;
 
 TEST(MovingAiMapTest, ParsesHandWrittenFixture) {
   const MovingAiMap map = read_movingai_map(test::test_data("movingai_tiny.map"));

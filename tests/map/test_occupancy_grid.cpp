@@ -15,7 +15,7 @@ using starnav::GridGeometry;
 using starnav::OccupancyGrid;
 using starnav::OccupancyThresholds;
 
-GridGeometry geometry(int w, int h, double res = 0.05) {
+GridGeometry grid_geometry(int w, int h, double res = 0.05) {
   GridGeometry g;
   g.width = w;
   g.height = h;
@@ -68,7 +68,7 @@ TEST(OccupancyThresholds, CustomThresholdsAreInclusive) {
 }
 
 TEST(OccupancyGrid, FillAccessAndCounts) {
-  OccupancyGrid grid(geometry(5, 4), starnav::kUnknownOccupancy);
+  OccupancyGrid grid(grid_geometry(5, 4), starnav::kUnknownOccupancy);
   EXPECT_EQ(grid.width(), 5);
   EXPECT_EQ(grid.height(), 4);
   EXPECT_EQ(grid.cell_count(), 20u);
@@ -101,7 +101,7 @@ TEST(OccupancyGrid, FillAccessAndCounts) {
 }
 
 TEST(OccupancyGrid, BlockedMaskWithUnknownFreeOrBlocked) {
-  OccupancyGrid grid(geometry(3, 2), 0);
+  OccupancyGrid grid(grid_geometry(3, 2), 0);
   grid.set(0, 0, -1);
   grid.set(1, 0, 100);
   grid.set(2, 0, 30);
@@ -117,7 +117,7 @@ TEST(OccupancyGrid, BlockedMaskWithUnknownFreeOrBlocked) {
 }
 
 TEST(OccupancyGrid, CheckedAccessorsThrow) {
-  OccupancyGrid grid(geometry(3, 2), 0);
+  OccupancyGrid grid(grid_geometry(3, 2), 0);
   EXPECT_THROW((void)grid.at(3, 0), std::out_of_range);
   EXPECT_THROW((void)grid.at(0, 2), std::out_of_range);
   EXPECT_THROW((void)grid.at(-1, 0), std::out_of_range);
@@ -129,37 +129,37 @@ TEST(OccupancyGrid, CheckedAccessorsThrow) {
   EXPECT_EQ(grid.at(0, 0), 0);  // unchanged by the failed writes
   EXPECT_NO_THROW(grid.set(2, 1, -1));
   EXPECT_NO_THROW(grid.set(2, 1, 100));
-  EXPECT_THROW(OccupancyGrid(geometry(2, 2), 101), starnav::Error);
-  EXPECT_THROW(OccupancyGrid(geometry(2, 2), -5), starnav::Error);
+  EXPECT_THROW(OccupancyGrid(grid_geometry(2, 2), 101), starnav::Error);
+  EXPECT_THROW(OccupancyGrid(grid_geometry(2, 2), -5), starnav::Error);
 }
 
 TEST(OccupancyGrid, GeometryValidation) {
-  EXPECT_THROW(OccupancyGrid(geometry(0, 3)), starnav::Error);
-  EXPECT_THROW(OccupancyGrid(geometry(3, -1)), starnav::Error);
-  EXPECT_THROW(OccupancyGrid(geometry(70000, 70000)), starnav::Error);  // > 2^31 - 1 cells
-  EXPECT_EQ(error_field(geometry(3, 3, 0.0)), "resolution");
-  EXPECT_EQ(error_field(geometry(3, 3, -0.1)), "resolution");
-  EXPECT_EQ(error_field(geometry(3, 3, std::nan(""))), "resolution");
-  EXPECT_EQ(error_field(geometry(3, 3, std::numeric_limits<double>::infinity())), "resolution");
-  GridGeometry g = geometry(3, 3);
+  EXPECT_THROW(OccupancyGrid(grid_geometry(0, 3)), starnav::Error);
+  EXPECT_THROW(OccupancyGrid(grid_geometry(3, -1)), starnav::Error);
+  EXPECT_THROW(OccupancyGrid(grid_geometry(70000, 70000)), starnav::Error);  // > 2^31 - 1 cells
+  EXPECT_EQ(error_field(grid_geometry(3, 3, 0.0)), "resolution");
+  EXPECT_EQ(error_field(grid_geometry(3, 3, -0.1)), "resolution");
+  EXPECT_EQ(error_field(grid_geometry(3, 3, std::nan(""))), "resolution");
+  EXPECT_EQ(error_field(grid_geometry(3, 3, std::numeric_limits<double>::infinity())), "resolution");
+  GridGeometry g = grid_geometry(3, 3);
   g.origin.yaw = std::nan("");
   EXPECT_EQ(error_field(g), "origin");
-  g = geometry(3, 3);
+  g = grid_geometry(3, 3);
   g.origin.x = std::numeric_limits<double>::infinity();
   EXPECT_EQ(error_field(g), "origin");
-  EXPECT_EQ(error_field(geometry(3, 3)), "<no error>");
+  EXPECT_EQ(error_field(grid_geometry(3, 3)), "<no error>");
   try {
-    OccupancyGrid bad(geometry(0, 3));
+    OccupancyGrid bad(grid_geometry(0, 3));
     FAIL();
   } catch (const starnav::Error& e) {
     EXPECT_NE(std::string(e.what()).find("occupancy grid"), std::string::npos) << e.what();
   }
-  EXPECT_NO_THROW(starnav::validate_geometry(geometry(1, 1)));
-  EXPECT_THROW(starnav::validate_geometry(geometry(1, 0), "x"), starnav::Error);
+  EXPECT_NO_THROW(starnav::validate_geometry(grid_geometry(1, 1)));
+  EXPECT_THROW(starnav::validate_geometry(grid_geometry(1, 0), "x"), starnav::Error);
 }
 
 TEST(OccupancyGrid, EqualityComparesGeometryAndData) {
-  OccupancyGrid a(geometry(3, 2), 0), b(geometry(3, 2), 0);
+  OccupancyGrid a(grid_geometry(3, 2), 0), b(grid_geometry(3, 2), 0);
   EXPECT_TRUE(a == b);
   b.set(1, 1, 100);
   EXPECT_FALSE(a == b);
@@ -170,6 +170,6 @@ TEST(OccupancyGrid, EqualityComparesGeometryAndData) {
   b.mutable_geometry().origin.yaw = 0.0;
   b.mutable_geometry().y_down = true;  // an index grid is not the same map as a metric one
   EXPECT_FALSE(a == b);
-  const OccupancyGrid c(geometry(2, 3), 0);  // same cell count, other shape
+  const OccupancyGrid c(grid_geometry(2, 3), 0);  // same cell count, other shape
   EXPECT_FALSE(a == c);
 }

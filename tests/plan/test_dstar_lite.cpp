@@ -17,10 +17,7 @@ namespace {
 
 using plantest::Map;
 
-int scaled(int n) {
-  const char* v = std::getenv("STARNAV_LONG_TESTS");
-  return (v && std::string(v) == "1") ? n * 10 : n;
-}
+using test::scaled;
 
 testing::AssertionResult valid_path_on(const Map& m, int connectivity, const PlanResult& r, Cell s, Cell g) {
   if (r.path_cells.empty() || !(r.path_cells.front() == s) || !(r.path_cells.back() == g))

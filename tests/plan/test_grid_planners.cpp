@@ -24,11 +24,8 @@ namespace {
 
 using plantest::Map;
 
-bool long_tests() {
-  const char* v = std::getenv("STARNAV_LONG_TESTS");
-  return v && std::string(v) == "1";
-}
-int scaled(int n) { return long_tests() ? n * 10 : n; }
+using test::long_tests;
+using test::scaled;
 
 bool adjacent_move_ok(const Map& m, int connectivity, Cell a, Cell b) {
   const int dx = b.x - a.x, dy = b.y - a.y;

@@ -19,7 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kRoot2 = 1.4142135623730950488;
 
 // Sum of the moves of a path, or -1 when a move is not legal on the map (not adjacent, into an
 // obstacle, or a diagonal cutting a corner).
@@ -33,7 +32,7 @@ double walk_cost(const MovingAiMap& m, const std::vector<Cell>& path) {
     if (std::abs(dx) > 1 || std::abs(dy) > 1 || (!dx && !dy)) return -1;
     if (dx && dy) {
       if (!free(path[k - 1].x + dx, path[k - 1].y) || !free(path[k - 1].x, path[k - 1].y + dy)) return -1;
-      sum += kRoot2;
+      sum += std::numbers::sqrt2;
     } else {
       sum += 1;
     }

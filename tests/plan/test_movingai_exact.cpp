@@ -18,10 +18,7 @@
 namespace starnav {
 namespace {
 
-bool long_tests() {
-  const char* v = std::getenv("STARNAV_LONG_TESTS");
-  return v && std::string(v) == "1";
-}
+using test::long_tests;
 
 void check_map(const std::string& family_and_name, std::size_t instances) {
   const std::string map_path = test::shared_path("benchmarks/movingai/" + family_and_name + ".map");

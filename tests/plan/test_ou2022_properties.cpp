@@ -34,10 +34,7 @@ using plantest::Map;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = std::numbers::pi;
 
-int scaled(int n) {
-  const char* v = std::getenv("STARNAV_LONG_TESTS");
-  return v && std::string(v) == "1" ? n * 10 : n;
-}
+using test::scaled;
 
 // ---- References ----------------------------------------------------------------------------------
 

@@ -22,7 +22,6 @@ namespace starnav {
 namespace {
 
 using plantest::Map;
-constexpr double kPi = std::numbers::pi;
 constexpr double kS2 = std::numbers::sqrt2;
 
 Map empty_map(int w, int h) { return Map{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h, 0)}; }
@@ -59,9 +58,9 @@ TEST(Ou2022Steering, EveryAngleDifference) {
   for (int d = 0; d <= 4; ++d) EXPECT_DOUBLE_EQ(turn_cost_cells(2.5, 0, d), 2.5 * d);
   EXPECT_DOUBLE_EQ(turn_cost_cells(1.0, 7, 1), 2.0);  // 315 -> 45 wraps through 0: 90 degrees
   // From a heading: the smaller angle to the move's direction.
-  EXPECT_NEAR(heading_to_direction_rad(0.0, 4), kPi, 1e-12);
-  EXPECT_NEAR(heading_to_direction_rad(-kPi / 2, 0), kPi / 2, 1e-12);
-  EXPECT_NEAR(heading_to_direction_rad(0.1, 7), kPi / 4 + 0.1, 1e-12);
+  EXPECT_NEAR(heading_to_direction_rad(0.0, 4), std::numbers::pi, 1e-12);
+  EXPECT_NEAR(heading_to_direction_rad(-std::numbers::pi / 2, 0), std::numbers::pi / 2, 1e-12);
+  EXPECT_NEAR(heading_to_direction_rad(0.1, 7), std::numbers::pi / 4 + 0.1, 1e-12);
 }
 
 TEST(Ou2022Steering, TurnCostAlongAPath) {
@@ -104,7 +103,7 @@ TEST(Ou2022Steering, SearchChargesTheTurns) {
   GridPlannerOptions o;
   o.connectivity = 4;
   o.ou2022.turn_cost = 1.0;
-  o.ou2022.start_heading_rad = kPi;
+  o.ou2022.start_heading_rad = std::numbers::pi;
   ImprovedAStarPlanner p(m.grid(1.0), o, false);
   EXPECT_NEAR(p.plan({0, 0}, {6, 4}).cost, 10 + 2 + 4, 1e-9);
   o.ou2022.start_heading_rad = 0.0;
@@ -190,25 +189,25 @@ TEST(Ou2022PathMetrics, Turns) {
   EXPECT_DOUBLE_EQ(m.length, 6.0);
   EXPECT_EQ(m.vertices, 4u);
   EXPECT_EQ(m.turning_points, 2u);
-  EXPECT_NEAR(m.turn_total_rad, kPi, 1e-12);
-  EXPECT_NEAR(m.turn_max_rad, kPi / 2, 1e-12);
-  EXPECT_NEAR(m.smoothness, 2 * (kPi / 2) * (kPi / 2) / 6.0, 1e-12);
+  EXPECT_NEAR(m.turn_total_rad, std::numbers::pi, 1e-12);
+  EXPECT_NEAR(m.turn_max_rad, std::numbers::pi / 2, 1e-12);
+  EXPECT_NEAR(m.smoothness, 2 * (std::numbers::pi / 2) * (std::numbers::pi / 2) / 6.0, 1e-12);
   EXPECT_TRUE(std::isnan(m.clearance_min));
   EXPECT_TRUE(std::isnan(m.clearance_mean));
   // A collinear vertex and a repeated point are not turns; one 45-degree turn at the end.
   m = compute_path_metrics(std::vector<Vec2>{{0, 0}, {1, 0}, {1, 0}, {2, 0}, {3, 1}});
   EXPECT_EQ(m.vertices, 5u);
   EXPECT_EQ(m.turning_points, 1u);
-  EXPECT_NEAR(m.turn_total_rad, kPi / 4, 1e-12);
+  EXPECT_NEAR(m.turn_total_rad, std::numbers::pi / 4, 1e-12);
   EXPECT_NEAR(m.length, 2 + kS2, 1e-12);
-  EXPECT_NEAR(m.smoothness, (kPi / 4) * (kPi / 4) / (2 + kS2), 1e-12);
+  EXPECT_NEAR(m.smoothness, (std::numbers::pi / 4) * (std::numbers::pi / 4) / (2 + kS2), 1e-12);
   // A reversal is a turn of pi; turns to either side count by their absolute value.
   m = compute_path_metrics(std::vector<Vec2>{{0, 0}, {1, 0}, {0, 0}});
-  EXPECT_NEAR(m.turn_max_rad, kPi, 1e-12);
+  EXPECT_NEAR(m.turn_max_rad, std::numbers::pi, 1e-12);
   m = compute_path_metrics(std::vector<Vec2>{{0, 0}, {1, 0}, {2, 1}, {3, 0}});  // +45, -90
   EXPECT_EQ(m.turning_points, 2u);
-  EXPECT_NEAR(m.turn_total_rad, 3 * kPi / 4, 1e-12);
-  EXPECT_NEAR(m.turn_max_rad, kPi / 2, 1e-12);
+  EXPECT_NEAR(m.turn_total_rad, 3 * std::numbers::pi / 4, 1e-12);
+  EXPECT_NEAR(m.turn_max_rad, std::numbers::pi / 2, 1e-12);
   // Degenerate paths.
   m = compute_path_metrics(std::vector<Vec2>{{1, 1}});
   EXPECT_EQ(m.vertices, 1u);

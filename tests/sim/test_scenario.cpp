@@ -13,7 +13,7 @@
 namespace starnav {
 namespace {
 
-const std::string kE1 = std::string(STARNAV_SOURCE_DIR) + "/scenarios/e1_terrain_platform.yaml";
+using test::kE1;
 
 // A small valid scenario; tests edit it line by line.
 const char* kBase =

@@ -18,7 +18,7 @@ namespace starnav {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kE1 = std::string(STARNAV_SOURCE_DIR) + "/scenarios/e1_terrain_platform.yaml";
+using test::kE1;
 
 // Flat ground, no lag, an acceleration limit that never binds: the achieved twist is the command.
 std::string flat_scenario(const std::string& commands, const std::string& extra = {}) {

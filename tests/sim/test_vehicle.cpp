@@ -4,9 +4,7 @@
 // determinism by seed, and the cost of a step.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 
 #include "starnav/core/error.hpp"
 #include "starnav/sim/obstacles.hpp"
@@ -372,8 +370,9 @@ TEST(Vehicle, BadConfigurationNamesTheField) {
   EXPECT_THROW(v.step({}, 0.0, ev), Error);
 }
 
-TEST(Vehicle, StepCostIsMicroseconds) {
-  // The test platform's obstacles on a terrain; time many steps of driving over them.
+// Driving over the test platform's slope and step and a gravel field: no collision, step or slide
+// event, and the robot arrives (how long a step takes is bench_vehicle.cpp's, not a test's).
+TEST(Vehicle, DrivesOverTheTestPlatformWithoutEvents) {
   SlopeStep ss;
   ss.position = Vec3(1.5, 0.0, 0.0);
   Gravel gr;
@@ -382,14 +381,9 @@ TEST(Vehicle, StepCostIsMicroseconds) {
   const World world = world_with({make_slope_step(ss), make_gravel(gr)}, plane_map(10.0, 0.05, 0.0, 0.0, 0.0, -1.0, -5.0));
   Vehicle v(world, VehicleConfig{}, Pose2(0.0, 0.0, 0.0), Rng(1));
   std::vector<VehicleEvent> ev;
-  const int steps = 3000;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < steps; ++i) v.step({0.2, 0.0, 0.0}, 0.01, ev);
-  const double us =
-      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / steps;
-  std::printf("vehicle step: %.2f us (x reached %.2f m)\n", us, v.state().pose.position.x());
+  for (int i = 0; i < 3000; ++i) v.step({0.2, 0.0, 0.0}, 0.01, ev);
   EXPECT_TRUE(ev.empty());
-  EXPECT_LT(us, 1000.0);  // generous: a loaded machine; typical is a few microseconds
+  EXPECT_NEAR(v.state().pose.position.x(), 6.0, 0.05);
 }
 
 }  // namespace

@@ -12,6 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "starnav/config.hpp"
+#include "starnav/core/error.hpp"
+
 namespace starnav::test {
 
 namespace fs = std::filesystem;
@@ -32,6 +35,26 @@ inline std::string shared_path(const std::string& relative) {
 }
 
 inline std::string test_data(const std::string& relative) { return (fs::path(STARNAV_TEST_DATA_DIR) / relative).string(); }
+
+// A scenario of the repository's scenarios/ folder.
+inline std::string scenario_path(const std::string& file) {
+  return (fs::path(STARNAV_SOURCE_DIR) / "scenarios" / file).string();
+}
+inline const std::string kE1 = scenario_path("e1_terrain_platform.yaml");
+
+// STARNAV_LONG_TESTS=1 runs the randomised property tests on ten times more cases.
+inline bool long_tests() {
+  const char* v = std::getenv("STARNAV_LONG_TESTS");
+  return v && std::string(v) == "1";
+}
+inline int scaled(int n) { return long_tests() ? n * 10 : n; }
+
+// Whether this run must read GeoTIFF: starnav built with its GDAL plugin, and the plugin not turned
+// off with STARNAV_GDAL_PLUGIN=none (the no-GDAL stage of docs/ci.md runs the tests that way).
+inline bool expect_geotiff() {
+  const char* env = std::getenv("STARNAV_GDAL_PLUGIN");
+  return STARNAV_HAVE_GDAL && !(env && std::string(env) == "none");
+}
 
 // A fresh empty folder under the system temp dir, removed when the object dies.
 class ScratchDir {
@@ -105,6 +128,30 @@ inline CliResult run_cli(const std::vector<std::string>& args) {
   fs::remove(err_path);
   return r;
 }
+
+// The what() of the starnav::Error that `f` throws, checked to be one line; a test failure when `f`
+// throws something else or nothing.
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const starnav::Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    return what;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a starnav::Error: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "no error thrown";
+  return {};
+}
+
+// A command line that must fail with exit 2 and an error naming `flag`.
+struct BadFlagCase {
+  std::vector<std::string> args;
+  std::string flag;
+};
 
 }  // namespace starnav::test
 

@@ -130,17 +130,14 @@ TEST(CliPlanTerrain, NoAnswerIsExitOneWithReason) {
   }
 }
 
-struct BadCase {
-  std::vector<std::string> args;
-  std::string flag;
-};
+using test::BadFlagCase;
 
 TEST(CliPlanTerrain, BadFlagsNameTheFlag) {
   TerrainFile t;  // its scratch folder (one per test: a second ScratchDir would share the path)
   const std::string occupancy = t.dir.file("grid.map");
   test::write_text(occupancy, "type octile\nheight 3\nwidth 3\nmap\n...\n...\n...\n");
   const std::vector<std::string> on_elevation = {"plan", "--map", t.path, "--start", "0.25,0.25", "--goal", "3.5,2.5"};
-  const std::vector<BadCase> cases = {
+  const std::vector<BadFlagCase> cases = {
       {{"--hy-m", "-1"}, "--hy-m"},
       {{"--ay-rad", "2"}, "--ay-rad"},
       {{"--sy-m2", "0"}, "--sy-m2"},
@@ -167,7 +164,7 @@ TEST(CliPlanTerrain, BadFlagsNameTheFlag) {
     EXPECT_EQ(r.err.rfind("starnav: error: ", 0), 0u) << r.err;
   }
   // The Liu flags and planners on an occupancy map.
-  for (const BadCase& c : std::vector<BadCase>{{{"--hy-m", "0.1"}, "--hy-m"},
+  for (const BadFlagCase& c : std::vector<BadFlagCase>{{{"--hy-m", "0.1"}, "--hy-m"},
                                                {{"--admissible"}, "--admissible"},
                                                {{"--planner", "ia"}, "--planner"}}) {
     std::vector<std::string> args = {"plan", "--map", occupancy, "--start", "0,0", "--goal", "2,2"};
@@ -275,7 +272,7 @@ TEST(CliBenchTerrain, MapWithAutomaticEndpointsAndBadFlags) {
     ASSERT_TRUE(t.map.contains(c.x, c.y));
     EXPECT_EQ(aoea.blocked_mask()[t.map.geometry().index(c.x, c.y)], 0) << k;
   }
-  for (const BadCase& c : std::vector<BadCase>{{{"--generate", "0"}, "--generate"},
+  for (const BadFlagCase& c : std::vector<BadFlagCase>{{{"--generate", "0"}, "--generate"},
                                                {{"--generate", "2", "--map", t.path}, "--map"},
                                                {{"--generate", "1", "--model-resolution", "0.1"}, "--model-resolution"},
                                                {{"--map", t.path, "--seed", "3"}, "--seed"},

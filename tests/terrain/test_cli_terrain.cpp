@@ -89,16 +89,13 @@ TEST(CliTerrain, UnityRawExport) {
   EXPECT_EQ(got.width(), 32);
 }
 
-struct BadCase {
-  std::vector<std::string> args;
-  std::string flag;
-};
+using test::BadFlagCase;
 
 TEST(CliTerrain, BadFlagsNameTheFlag) {
   ScratchDir dir;
   const std::string out = dir.file("t.asc");
   const std::vector<std::string> base = {"terrain", "generate", "--out", out};
-  const std::vector<BadCase> cases = {
+  const std::vector<BadFlagCase> cases = {
       {{"--kind", "mountains", "--size-m", "1,1", "--resolution", "0.1"}, "--kind"},
       {{"--kind", "road", "--class", "Z", "--size-m", "10,10", "--resolution", "0.1"}, "--class"},
       {{"--kind", "road", "--class", "CD", "--size-m", "10,10", "--resolution", "0.1"}, "--class"},

@@ -10,15 +10,13 @@
 #include "starnav/core/error.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/terrain/terrain_generator.hpp"
+#include "support/test_support.hpp"
 
 namespace {
 
 using namespace starnav;
 
-bool long_tests() {
-  const char* v = std::getenv("STARNAV_LONG_TESTS");
-  return v && std::string(v) == "1";
-}
+using starnav::test::long_tests;
 
 double mean_square(const ElevationMap& m) {
   long double s = 0;

@@ -20,6 +20,14 @@ std::string format_error_location(const std::string& file, int line, const std::
   return out;
 }
 
+std::string one_line(std::string text, std::size_t max_chars) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  if (max_chars > 3 && text.size() > max_chars) text = text.substr(0, max_chars - 3) + "...";
+  return text;
+}
+
 Error::Error(std::string message, std::string file, int line, std::string field)
     : std::runtime_error(format_error_location(file, line, field, message)),
       file_(std::move(file)),

@@ -1,6 +1,7 @@
 #pragma once
 // The one error type of starnav: every bad input becomes an Error that names where it came from,
 // so the CLI can print `starnav: error: FILE[:LINE][: FIELD]: what is wrong` and exit 2.
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -25,6 +26,10 @@ class Error : public std::runtime_error {
   std::string field_;
   std::string message_;
 };
+
+// `text` fit for one line of an error message: line breaks and tabs become spaces, trailing
+// spaces go, and with max_chars > 0 a longer text is cut to max_chars ending in "...".
+std::string one_line(std::string text, std::size_t max_chars = 0);
 
 // FILE[:LINE][: FIELD]: message  (parts that are empty are left out).
 std::string format_error_location(const std::string& file, int line, const std::string& field,

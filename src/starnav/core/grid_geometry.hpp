@@ -12,6 +12,9 @@
 
 namespace starnav {
 
+// conventions.md: a grid has at most 2^31 - 1 cells (cell indices fit an int).
+inline constexpr std::uint64_t kMaxGridCells = 2147483647ULL;
+
 struct Cell {
   int x = 0;
   int y = 0;

@@ -31,7 +31,6 @@ namespace fs = std::filesystem;
 namespace {
 
 // The cell limit of validate_geometry (width * height <= INT_MAX).
-constexpr std::uint64_t kMaxCells = 2147483647ULL;
 constexpr double kQuantumCount = 65535.0;
 
 // ---- small helpers -----------------------------------------------------------------------------
@@ -46,12 +45,6 @@ std::string quote(std::string_view s) {
   }
   if (s.size() > limit) out += "...";
   return out + "'";
-}
-
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-  return s;
 }
 
 std::string lower(std::string_view s) {
@@ -499,7 +492,7 @@ AscParsed parse_asc_full(std::string_view text, const std::string& source) {
   }
 
   const std::uint64_t count = static_cast<std::uint64_t>(ncols) * static_cast<std::uint64_t>(nrows);
-  if (count > kMaxCells)
+  if (count > kMaxGridCells)
     throw Error("grid too large: " + std::to_string(ncols) + " x " + std::to_string(nrows) + " cells", source,
                 keys[NCOLS].line, "ncols");
   // Every value takes at least one character and one separator: refuse a large grid before
@@ -902,7 +895,7 @@ namespace {
 
 std::string raw_sidecar(const std::string& path) { return path + ".yaml"; }
 
-// Largest RAW side whose square stays within kMaxCells.
+// Largest RAW side whose square stays within kMaxGridCells.
 constexpr long long kMaxRawSize = 32769;
 
 long long unity_size_for(int w, int h) {

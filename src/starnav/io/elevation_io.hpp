@@ -37,8 +37,18 @@ void write_unity_raw(const ElevationMap& map, const std::string& path);
 ElevationMap read_unity_raw(const std::string& path);
 
 // GeoTIFF through GDAL (first band, nodata honoured, geotransform -> resolution and origin).
-// Throws Error when starnav was built without GDAL.
+// GDAL is loaded on first use from starnav's plugin (io/gdal_raster.hpp); throws Error naming the
+// file when it is not there (starnav built without GDAL, the plugin not found, or turned off by
+// STARNAV_GDAL_PLUGIN=none).
 ElevationMap read_geotiff(const std::string& path);
+
+// Whether read_geotiff can read here: `detail` is the plugin's path when available, else the
+// one-line reason read_geotiff would give.
+struct GeotiffSupport {
+  bool available = false;
+  std::string detail;
+};
+GeotiffSupport geotiff_support();
 
 // ---- Additions ---------------------------------------------------------------------------------
 

@@ -13,7 +13,6 @@ namespace starnav {
 
 namespace {
 
-constexpr std::uint64_t kMaxCells = 2147483647ULL;  // conventions: at most 2^31 - 1 cells
 
 // Splits text into lines on LF, dropping one trailing CR per line (CRLF files). A final line
 // without a newline is kept; the empty piece after a final newline is not a line.
@@ -194,7 +193,7 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
   map.height = header_dimension(lines, "height", source);
   const int height_line = lines.line_number();
   map.width = header_dimension(lines, "width", source);
-  if (static_cast<std::uint64_t>(map.width) * static_cast<std::uint64_t>(map.height) > kMaxCells)
+  if (static_cast<std::uint64_t>(map.width) * static_cast<std::uint64_t>(map.height) > kMaxGridCells)
     throw Error("map too large: " + std::to_string(map.width) + " x " + std::to_string(map.height) +
                     " cells (at most 2^31 - 1)",
                 source, height_line, "height");

@@ -32,12 +32,6 @@ const char* mode_name(RosMapMode mode) {
   return "trinary";
 }
 
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  return s;
-}
-
 // The 1-based line of `key` in a mapping (0 when absent). Errors point at the key, since a null
 // value's own mark is where the next token starts.
 int key_line(const YAML::Node& doc, const char* key) {

@@ -10,12 +10,12 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/plan/bit_grid.hpp"
+#include "starnav/plan/grid_graph.hpp"
 #include "starnav/plan/jps_tables.hpp"
 
 namespace starnav {
 namespace {
 
-constexpr double kSqrt2 = 1.41421356237309504880;
 constexpr std::uint8_t kStartDir = 8;  // the start node: every direction is a successor
 
 using Clock = std::chrono::steady_clock;

@@ -15,7 +15,6 @@ constexpr int kLeafSize = 2;
 inline bool before(const PosedPrimitive& a, const PosedPrimitive& b) {
   return a.obstacle != b.obstacle ? a.obstacle < b.obstacle : a.part < b.part;
 }
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Ray against a node's box (Williams et al.'s slab test: the near and far planes per axis are
 // picked by the sign of the direction, so there is no swap): entry distance, or +inf when missed
@@ -35,7 +34,7 @@ inline double box_entry(const double (&b)[2][3], const RayInv& r, double t_max) 
     t0 = tn > t0 ? tn : t0;
     t1 = tf < t1 ? tf : t1;
   }
-  return t0 <= t1 ? t0 : kInf;
+  return t0 <= t1 ? t0 : kInfinity;
 }
 
 }  // namespace
@@ -106,7 +105,7 @@ bool PrimitiveSet::cast(const Vec3& origin, const Vec3& dir, double max_range, d
   PrimitiveHit ph;
   std::int32_t stack[64];
   int sp = 0;
-  if (box_entry(nodes_[0].b, r, best) == kInf) return false;
+  if (box_entry(nodes_[0].b, r, best) == kInfinity) return false;
   std::int32_t current = 0;
   for (;;) {
     const Node& node = nodes_[static_cast<std::size_t>(current)];
@@ -129,7 +128,7 @@ bool PrimitiveSet::cast(const Vec3& origin, const Vec3& dir, double max_range, d
       const std::int32_t l = node.first, rr = node.first + 1;
       const double tl = box_entry(nodes_[static_cast<std::size_t>(l)].b, r, best);
       const double tr = box_entry(nodes_[static_cast<std::size_t>(rr)].b, r, best);
-      if (tl != kInf && tr != kInf) {
+      if (tl != kInfinity && tr != kInfinity) {
         // Visit the nearer child first; the other waits on the stack.
         if (tl <= tr) {
           stack[sp++] = rr;
@@ -140,11 +139,11 @@ bool PrimitiveSet::cast(const Vec3& origin, const Vec3& dir, double max_range, d
         }
         continue;
       }
-      if (tl != kInf) {
+      if (tl != kInfinity) {
         current = l;
         continue;
       }
-      if (tr != kInf) {
+      if (tr != kInfinity) {
         current = rr;
         continue;
       }
@@ -154,7 +153,7 @@ bool PrimitiveSet::cast(const Vec3& origin, const Vec3& dir, double max_range, d
       if (sp == 0) return found;
       current = stack[--sp];
       const Node& c = nodes_[static_cast<std::size_t>(current)];
-      if (box_entry(c.b, r, best) != kInf) break;
+      if (box_entry(c.b, r, best) != kInfinity) break;
     }
   }
 }

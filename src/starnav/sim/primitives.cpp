@@ -10,7 +10,6 @@ namespace starnav {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Eigen::Matrix3d rpy_matrix(double roll, double pitch, double yaw) {
   return (Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
@@ -82,7 +81,7 @@ bool circle_roots(const double* f, const double* d, int dims, double r, double& 
 bool intersect_box(const PosedPrimitive& p, const Vec3& origin, const Vec3& dir, double max_range, PrimitiveHit& hit) {
   const Vec3 o = p.rotation.transpose() * (origin - p.origin);
   const Vec3 d = p.rotation.transpose() * dir;
-  double t_enter = -kInf, t_exit = kInf;
+  double t_enter = -kInfinity, t_exit = kInfinity;
   int ax_enter = -1, ax_exit = -1;
   double sg_enter = 0.0, sg_exit = 0.0;
   for (int i = 0; i < 3; ++i) {
@@ -119,13 +118,13 @@ bool intersect_cylinder(const PosedPrimitive& p, const Vec3& origin, const Vec3&
   const double dxy[2] = {dir.x(), dir.y()};
   const double fz = origin.z() - p.origin.z();
   const double r = p.radius, h = p.half.z();
-  double s_enter = -kInf, s_exit = kInf;  // side (infinite cylinder)
+  double s_enter = -kInfinity, s_exit = kInfinity;  // side (infinite cylinder)
   if (dxy[0] * dxy[0] + dxy[1] * dxy[1] == 0.0) {
     if (f[0] * f[0] + f[1] * f[1] > r * r) return false;
   } else if (!circle_roots(f, dxy, 2, r, s_enter, s_exit)) {
     return false;
   }
-  double z_enter = -kInf, z_exit = kInf;
+  double z_enter = -kInfinity, z_exit = kInfinity;
   double zn_enter = 0.0, zn_exit = 0.0;
   if (dir.z() == 0.0) {
     if (fz < 0.0 || fz > h) return false;
@@ -167,7 +166,7 @@ bool intersect_prism(const PosedPrimitive& p, const Vec3& origin, const Vec3& di
                      PrimitiveHit& hit) {
   const Vec3 o = p.rotation.transpose() * (origin - p.origin);
   const Vec3 d = p.rotation.transpose() * dir;
-  double t_enter = -kInf, t_exit = kInf;
+  double t_enter = -kInfinity, t_exit = kInfinity;
   int i_enter = -1, i_exit = -1;
   for (int i = 0; i < 5; ++i) {
     const double denom = p.plane_n[i].dot(d);

@@ -20,13 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
-}
-
 int mark_line(const YAML::Node& n) {
   if (!n.IsDefined()) return 0;
   const YAML::Mark m = n.Mark();
@@ -37,7 +30,7 @@ std::string node_kind(const YAML::Node& n) {
   if (n.IsNull()) return "nothing";
   if (n.IsSequence()) return "a list";
   if (n.IsMap()) return "a mapping";
-  return "'" + one_line(n.Scalar()) + "'";
+  return "'" + one_line(n.Scalar(), 60) + "'";
 }
 
 bool is_special_float(std::string_view t) {
@@ -1047,12 +1040,12 @@ ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file)
   try {
     root = YAML::Load(std::string(yaml_text));
   } catch (const YAML::Exception& e) {
-    throw Error("YAML syntax error: " + one_line(e.msg), file, e.mark.is_null() ? 0 : e.mark.line + 1);
+    throw Error("YAML syntax error: " + one_line(e.msg, 60), file, e.mark.is_null() ? 0 : e.mark.line + 1);
   }
   try {
     return parse_document(root, file);
   } catch (const YAML::Exception& e) {
-    throw Error("invalid YAML: " + one_line(e.msg), file, e.mark.is_null() ? 0 : e.mark.line + 1);
+    throw Error("invalid YAML: " + one_line(e.msg, 60), file, e.mark.is_null() ? 0 : e.mark.line + 1);
   }
 }
 

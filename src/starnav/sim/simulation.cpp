@@ -15,7 +15,6 @@ namespace starnav {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Sample index n of a sensor at `rate_hz` is due at n / rate_hz; a step at time t takes every
 // sample due by t (to a nanosecond, so exact multiples of dt are not lost to rounding).
@@ -110,7 +109,7 @@ void Simulation::scan_lidar() {
   s.returns = scan_.points_world.size();
   s.dropped = scan_.dropped;
   s.self_filtered = scan_.self_filtered;
-  s.min_range_m = kInf;
+  s.min_range_m = kInfinity;
   for (const double r : scan_.ranges)
     if (r < s.min_range_m) s.min_range_m = r;
   rays_ += static_cast<std::int64_t>(s.rays);

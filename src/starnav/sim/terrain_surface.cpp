@@ -9,7 +9,6 @@ namespace starnav {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Tolerance, in metres along the ray, for a hit found just outside the cell segment being tested
 // (the segment ends come from rounded divisions), and in cell units for the diagonal split.
 constexpr double kSegmentSlack = 1e-9;
@@ -37,8 +36,8 @@ TerrainSurface::TerrainSurface(const ElevationMap& map) : geometry_(map.geometry
   cos_yaw_ = std::cos(geometry_.origin.yaw);
   sin_yaw_ = std::sin(geometry_.origin.yaw);
   s_.resize(static_cast<std::size_t>(sw_) * static_cast<std::size_t>(sh_));
-  min_h_ = kInf;
-  max_h_ = -kInf;
+  min_h_ = kInfinity;
+  max_h_ = -kInfinity;
   for (int q = 0; q < sh_; ++q) {
     const int iy = std::clamp(q - 1, 0, h_ - 1);
     for (int p = 0; p < sw_; ++p) {
@@ -62,7 +61,7 @@ TerrainSurface::TerrainSurface(const ElevationMap& map) : geometry_(map.geometry
   first.range.resize(2 * static_cast<std::size_t>(first.w) * static_cast<std::size_t>(first.h));
   for (int by = 0; by < first.h; ++by) {
     for (int bx = 0; bx < first.w; ++bx) {
-      double lo = kInf, hi = -kInf;
+      double lo = kInfinity, hi = -kInfinity;
       for (int q = 2 * by; q <= std::min(2 * by + 2, sh_ - 1); ++q)
         for (int p = 2 * bx; p <= std::min(2 * bx + 2, sw_ - 1); ++p) {
           const double v = sample(p, q);
@@ -162,7 +161,7 @@ bool TerrainSurface::test_cell(int cx, int cy, double ox, double oy, double oz, 
   if (std::isnan(h00 + h10 + h01 + h11)) return false;
   // Local coordinates at the segment start.
   const double lx = ox + dx * t_lo - cx, ly = oy + dy * t_lo - cy, lz = oz + dz * t_lo;
-  double best = kInf;
+  double best = kInfinity;
   double best_a = 0.0, best_b = 0.0;
   auto try_plane = [&](double a, double b, bool upper) {
     // Plane h = h00 + a fx + b fy; ray at t_lo + u: solve lz + dz u = h00 + a (lx + dx u) + b (ly + dy u).
@@ -181,7 +180,7 @@ bool TerrainSurface::test_cell(int cx, int cy, double ox, double oy, double oz, 
   };
   try_plane(h10 - h00, h11 - h10, true);   // fx >= fy
   try_plane(h11 - h01, h01 - h00, false);  // fx <  fy
-  if (!(best < kInf)) return false;
+  if (!(best < kInfinity)) return false;
   hit.distance = std::max(best, 0.0);
   hit.normal = world_normal(best_a, best_b);
   hit.from_below = dz - best_a * dx - best_b * dy > 0.0;
@@ -219,8 +218,8 @@ bool TerrainSurface::cast_local(double ox, double oy, double oz, double dx, doub
   double t = t0;
   for (;;) {
     const int bx = cx >> level, by = cy >> level;
-    const double tx = mx ? (static_cast<double>((bx + ix) << level) - ox) * idx : kInf;
-    const double ty = my ? (static_cast<double>((by + iy) << level) - oy) * idy : kInf;
+    const double tx = mx ? (static_cast<double>((bx + ix) << level) - ox) * idx : kInfinity;
+    const double ty = my ? (static_cast<double>((by + iy) << level) - oy) * idy : kInfinity;
     const bool exit_x = tx <= ty;
     const double te = exit_x ? tx : ty;
     const double tseg = te < t1 ? te : t1;

@@ -11,7 +11,6 @@ namespace starnav::viz {
 
 namespace {
 
-std::uint8_t to_byte(double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 255.0))); }
 
 int hex_digit(char c) {
   if (c >= '0' && c <= '9') return c - '0';
@@ -74,9 +73,11 @@ constexpr std::array<Rgba, 11> kViridis{{
 
 }  // namespace
 
+std::uint8_t channel_byte(double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 255.0))); }
+
 Rgba with_opacity(Rgba c, double opacity) {
   if (!(opacity > 0.0)) opacity = 0.0;  // also NaN
-  c.a = to_byte(c.a * std::min(opacity, 1.0));
+  c.a = channel_byte(c.a * std::min(opacity, 1.0));
   return c;
 }
 
@@ -122,15 +123,15 @@ Rgba viridis(double t) {
   const auto i = static_cast<std::size_t>(std::min(9.0, std::floor(x)));
   const double f = x - static_cast<double>(i);
   const Rgba a = kViridis[i], b = kViridis[i + 1];
-  return {to_byte(a.r + (b.r - a.r) * f), to_byte(a.g + (b.g - a.g) * f), to_byte(a.b + (b.b - a.b) * f), 255};
+  return {channel_byte(a.r + (b.r - a.r) * f), channel_byte(a.g + (b.g - a.g) * f), channel_byte(a.b + (b.b - a.b) * f), 255};
 }
 
 Rgba occupancy_colour(std::int8_t value, const OccupancyPalette& palette) {
   if (value < 0) return palette.unknown;
   const double t = std::min<int>(value, 100) / 100.0;  // 0 free .. 1 occupied
   const Rgba f = palette.free, o = palette.occupied;
-  return {to_byte(f.r + (o.r - f.r) * t), to_byte(f.g + (o.g - f.g) * t), to_byte(f.b + (o.b - f.b) * t),
-          to_byte(f.a + (o.a - f.a) * t)};
+  return {channel_byte(f.r + (o.r - f.r) * t), channel_byte(f.g + (o.g - f.g) * t), channel_byte(f.b + (o.b - f.b) * t),
+          channel_byte(f.a + (o.a - f.a) * t)};
 }
 
 }  // namespace starnav::viz

@@ -16,6 +16,9 @@ struct Rgba {
   friend bool operator==(const Rgba&, const Rgba&) = default;
 };
 
+// A colour channel value rounded to the nearest byte, clamped to [0, 255].
+std::uint8_t channel_byte(double v);
+
 // The same colour with its alpha multiplied by `opacity` (clamped to [0, 1]).
 Rgba with_opacity(Rgba c, double opacity);
 

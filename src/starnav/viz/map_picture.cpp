@@ -62,11 +62,16 @@ std::string xml_escape(std::string_view s) {
   return out;
 }
 
+}  // namespace
+
+// Outside the anonymous namespace: MapPicture::Frame (declared in the header) holds them.
 struct Ticks {
   double step = 1.0;
   int decimals = 0;
   std::vector<double> values;
 };
+
+namespace {
 
 double nice_number(double raw) {
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));

@@ -15,8 +15,6 @@ namespace {
 // Image row of grid row iy (file order, top row first).
 int raster_row(const GridGeometry& g, int iy) { return g.y_down ? iy : g.height - 1 - iy; }
 
-std::uint8_t to_byte(double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 255.0))); }
-
 }  // namespace
 
 std::vector<float> hillshade(const ElevationMap& map, const HillshadeOptions& o) {
@@ -108,7 +106,7 @@ RgbaImage elevation_raster(const ElevationMap& map, const ElevationStyle& style)
       Rgba c = viridis((map.height_at_index(i) - range->min) / span);
       if (!shade.empty()) {
         const double f = (1.0 - style.hillshade_strength) + style.hillshade_strength * shade[i] / flat;
-        c = {to_byte(c.r * f), to_byte(c.g * f), to_byte(c.b * f), 255};
+        c = {channel_byte(c.r * f), channel_byte(c.g * f), channel_byte(c.b * f), 255};
       }
       img.set(ix, row, c);
     }

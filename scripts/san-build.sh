@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The sanitizer build: one clang-16 tree that serves the tests under AddressSanitizer +
+# UndefinedBehaviorSanitizer (make asan) and the fuzz-corpus replay (make fuzz-replay).
+# Everything is compiled with ASan + UBSan at -O1 with line tables (enough for symbolized stack
+# traces, much quicker to build than full debug info) and without
+# NDEBUG, so assertions are checked too. Fuzzing itself (make fuzz) adds libFuzzer's coverage
+# instrumentation in a tree of its own: pass "-DSTARNAV_FUZZ_COVERAGE=ON" (scripts/fuzz.sh does).
+#
+#   scripts/san-build.sh BUILD_DIR ["EXTRA CMAKE ARGS"] [TARGET...]     (default targets: all)
+set -euo pipefail
+[ $# -ge 1 ] || { echo "usage: $0 BUILD_DIR [\"CMAKE ARGS\"] [TARGET...]" >&2; exit 2; }
+build=$1
+extra=${2:-}
+shift $(( $# >= 2 ? 2 : 1 ))
+here=$(cd "$(dirname "$0")" && pwd)
+cxx=${FUZZ_CXX:-clang++-16}
+command -v "$cxx" >/dev/null || { echo "starnav: $cxx not found: run scripts/install-deps.sh fuzz" >&2; exit 2; }
+exec "$here/cmake-build.sh" "$build" "-DCMAKE_CXX_COMPILER=$cxx -DCMAKE_BUILD_TYPE=Sanitize \
+-DSTARNAV_SANITIZE=ON -DSTARNAV_BUILD_FUZZ=ON -DSTARNAV_BUILD_BENCH=OFF $extra" "$@"
