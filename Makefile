@@ -34,7 +34,7 @@ bench: build
 bench-full: build
 	@STARNAV_BENCH_FULL=1 scripts/bench.sh $(BUILD)
 
-# The sanitizer build: clang-16, AddressSanitizer + UndefinedBehaviorSanitizer on everything, -O2
+# The sanitizer build: clang-16, AddressSanitizer + UndefinedBehaviorSanitizer on everything, -O1
 # with line tables, assertions on (scripts/san-build.sh); the tests and the fuzz-corpus replay.
 san-build:
 	@scripts/install-deps.sh fuzz
@@ -75,4 +75,4 @@ format:
 	@find src apps tests bench fuzz examples -name '*.cpp' -o -name '*.hpp' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD) $(SAN_BUILD) $(NOGDAL_BUILD) build-asan build-fuzz
+	rm -rf $(BUILD) $(SAN_BUILD) $(NOGDAL_BUILD) build-fuzz
