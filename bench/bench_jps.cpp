@@ -1,4 +1,4 @@
-// JPS and JPS+ on the MovingAI maps of issue 3's speed table, through the GridPlanner interface
+// JPS and JPS+ on the MovingAI maps of docs/benchmarks.md's speed table, through the GridPlanner interface
 // (what `starnav bench movingai` times). Each iteration runs a fixed sample of the map's
 // scenario problems (every k-th solvable line, so all path lengths are represented).
 // Counters: median_us = median time per query (median over problems of each problem's median

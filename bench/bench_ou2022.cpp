@@ -1,4 +1,4 @@
-// Ou et al. 2022 (issue 4) speed checks.
+// Ou et al. 2022 (docs/papers/ou2022.md) speed checks.
 //
 // Ou2022/<variant>/<map>: the planner variants on MovingAI maps (hard inflation R in cells as
 // listed in kMaps, so that every variant runs on the same inflated map), over a fixed sample of

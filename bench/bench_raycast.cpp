@@ -1,4 +1,4 @@
-// Ray casting and LiDAR scans (issue 6, "Speed"): a 16-line LiDAR (VLP-16 preset) at 0.2 deg
+// Ray casting and LiDAR scans (docs/simulator.md, "Speed"): a 16-line LiDAR (VLP-16 preset) at 0.2 deg
 // horizontal resolution, 28,800 rays per scan, over a 100 m x 100 m terrain at 0.1 m with 100
 // obstacles. Target: >= 1 million rays per second on one core.
 // The terrain is smooth and random (sum of plane waves and Gaussian bumps from starnav::Rng);

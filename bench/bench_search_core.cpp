@@ -1,4 +1,4 @@
-// The search core on the MovingAI maps of issue 3's table: open-list variants (4-ary / binary
+// The search core on the MovingAI maps of docs/benchmarks.md's table: open-list variants (4-ary / binary
 // heap, decrease-key / lazy deletion), fixed-point vs double costs, A* and Dijkstra.
 // Each iteration runs a fixed sample of the map's scenario instances (every k-th line, so all
 // path lengths are represented). Counters: median_us = median time per query (median over

@@ -1,6 +1,6 @@
 // Terrain module: analysis of a 1000 x 1000 elevation map (0.1 m cells, 100 m x 100 m hills),
 // incremental update, the IA* move-cost table, terrain generation (road directional / paper,
-// hills), and the planners' time per expansion on the same map (issue 5: IA* within 1.5x of
+// hills), and the planners' time per expansion on the same map (IA* within 1.5x of
 // plain A*'s time per expansion).
 #include <benchmark/benchmark.h>
 

@@ -38,6 +38,7 @@
 #include "starnav/io/ros_map.hpp"
 #include "starnav/map/elevation_map.hpp"
 #include "starnav/map/occupancy_grid.hpp"
+#include "starnav/harness/navigation_run.hpp"
 #include "starnav/sim/scenario.hpp"
 
 namespace starnav::fuzz {
@@ -349,28 +350,24 @@ inline void check_scenario_obstacles(const std::vector<ScenarioObstacle>& obstac
   }
 }
 
-inline void check_scenario_navigation(const ScenarioNavigation& n) {
-  const auto pos = [](const std::optional<double>& v) { return !v || (std::isfinite(*v) && *v > 0); };
-  const auto nonneg = [](const std::optional<double>& v) { return !v || (std::isfinite(*v) && *v >= 0); };
+inline void check_scenario_settings(const std::vector<ParamSetting>& settings) {
+  for (const ParamSetting& v : settings)
+    require(!v.key.empty() && v.file == "fuzz.yaml" && v.line > 0 && !v.field.empty(),
+            "scenario: a setting lost its key, file, line or field");
+}
+
+inline void check_scenario_navigation(const ScenarioSpec& s) {
+  const ScenarioNavigation& n = *s.navigation;
   require(finite2(n.goal), "scenario: non-finite navigation goal");
-  require(std::isfinite(n.goal_tolerance_m) && n.goal_tolerance_m > 0, "scenario: bad goal tolerance");
-  require(n.planner == "astar" || n.planner == "dstar_lite", "scenario: unknown planner '" + n.planner + "'");
-  require(n.extent == "world" || n.extent == "paper", "scenario: unknown map extent '" + n.extent + "'");
-  require(n.map_mode.empty() || n.map_mode == "nodes_3d" || n.map_mode == "lidar_2d",
-          "scenario: unknown map mode '" + n.map_mode + "'");
-  require(std::isfinite(n.resolution_m) && n.resolution_m > 0 && std::isfinite(n.paper_min_size_m) &&
-              n.paper_min_size_m > 0 && std::isfinite(n.no_return_clear_m) && n.no_return_clear_m >= 0,
-          "scenario: bad navigation map resolution, paper_min_size_m or no_return_clear_m");
-  require(nonneg(n.barrier_distance_m) && pos(n.max_step_m) && nonneg(n.clear_margin_m),
-          "scenario: bad navigation map distance");
-  require(!n.max_slope_rad || (*n.max_slope_rad > 0 && *n.max_slope_rad < 0.5 * kPi), "scenario: bad max_slope");
-  require((!n.hit_gain || (*n.hit_gain >= 1 && *n.hit_gain <= 255)) &&
-              (!n.miss_loss || (*n.miss_loss >= 0 && *n.miss_loss <= 255)) &&
-              (!n.evidence_max || (*n.evidence_max >= 1 && *n.evidence_max <= 255)),
-          "scenario: evidence counts outside their ranges");
-  require(pos(n.cruise_speed_mps) && pos(n.look_ahead_m) && pos(n.pursuit_look_ahead_m) && pos(n.heading_gain) &&
-              pos(n.max_yaw_rate_radps) && pos(n.turn_tolerance_rad) && pos(n.slow_down_distance_m),
-          "scenario: non-positive follower value");
+  check_scenario_settings(n.settings);
+  if (s.localization) check_scenario_settings(s.localization->settings);
+  // The components' declared parameters judge the settings (the harness, without a world):
+  // a refusal is a starnav::Error (fine); anything else escaping is a finding.
+  try {
+    check_navigation_scenario(s);
+  } catch (const Error& e) {
+    require(std::string(e.what()).find('\n') == std::string::npos, "scenario: a multi-line navigation error");
+  }
 }
 
 inline void check_scenario(const ScenarioSpec& s) {
@@ -395,7 +392,7 @@ inline void check_scenario(const ScenarioSpec& s) {
           "scenario: unknown motion_mode '" + s.motion_mode + "'");
   if (s.navigation) {
     require(s.commands.empty(), "scenario: navigation scenario with a command script");
-    check_scenario_navigation(*s.navigation);
+    check_scenario_navigation(s);
   }
   check_scenario_terrain(s.terrain);
   check_scenario_obstacles(s.obstacles);

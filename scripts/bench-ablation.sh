@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# make bench (via scripts/bench.sh): the reproduction of Ou et al. 2022 (issue 4; spec
+# make bench (via scripts/bench.sh): the reproduction of Ou et al. 2022 (spec
 # ../shared/spec/ou2022_improved_astar.md section 5; write-up docs/papers/ou2022.md).
 #
 # 1. `starnav bench ablation` over 100 random queries of 40-60 cells (seed 0) on indoor maps: the
@@ -132,7 +132,7 @@ if [ -x "$bench" ]; then
      inflation_reused_k: fit("^Ou2022Inflation/.*reuse:1"),
      bar_k: 1.1}' "$out/speed_benchmark.json" >"$out/speed.json"
   {
-    echo "# Speed checks (issue 4)"
+    echo "# Speed checks (Ou et al. 2022)"
     echo
     echo "Thread CPU time per expansion (ns, median of 3 repetitions), full method (inflation + LOS + turn_w + W)"
     echo "against plain A* on the same inflated map and heuristic; bar: ratio <= 1.3."

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# make bench (via scripts/bench.sh): the navigation experiments of Li et al. 2019 (issue 7; spec
+# make bench (via scripts/bench.sh): the navigation experiments of Li et al. 2019 (spec
 # ../shared/spec/li2019_simulation_navigation.md section 10; write-up docs/papers/li2019.md).
 #
 # `starnav bench nav` over STARNAV_NAV_SEEDS seeds (20 by default) of E2, E3 in both motion modes

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# make bench (via scripts/bench.sh): the reproduction of Liu et al. 2024 (issue 5; spec
+# make bench (via scripts/bench.sh): the reproduction of Liu et al. 2024 (spec
 # ../shared/spec/liu2024_rough_terrain.md section 7; write-up docs/papers/liu2024.md).
 #
 # 1. `starnav bench terrain --generate 50`: OA*, AOEA* and IA* on 50 hills terrains of 10 m x 10 m

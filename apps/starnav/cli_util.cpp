@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "starnav/core/error.hpp"
+#include "starnav/io/file_bytes.hpp"
 
 namespace starnav::cli {
 
@@ -55,8 +56,7 @@ void check_output_path(const std::string& path, bool force, const std::string& f
 }
 
 MapFormat output_map_format(const std::string& path, bool elevation) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(path);
   if (ext == ".yaml" || ext == ".yml") return elevation ? MapFormat::ElevationYaml : MapFormat::RosMap;
   if (ext == ".map") return MapFormat::MovingAi;
   if (ext == ".asc") return MapFormat::Asc;
@@ -67,11 +67,16 @@ MapFormat output_map_format(const std::string& path, bool elevation) {
 }
 
 bool picture_is_png(const std::string& path, const std::string& flag) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(path);
   if (ext == ".png") return true;
   if (ext == ".svg") return false;
   throw Error("picture must end in .svg or .png", path, 0, flag);
+}
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
 }
 
 std::string format_fixed(double v, int precision) {

@@ -31,6 +31,8 @@ bool picture_is_png(const std::string& path, const std::string& flag);
 
 // A number with a fixed count of decimals; "-" for NaN, "inf" / "-inf" for infinities.
 std::string format_fixed(double v, int precision);
+// Up to 10 significant digits, shortest form ("0.5", "12.25"): numbers in one-line summaries.
+std::string format_number(double v);
 
 // Summary of a sample for the bench reports: median (the mean of the middle two for an even
 // count), mean, standard deviation (n - 1; 0 for one value), min and max; all 0 when empty.

@@ -51,7 +51,7 @@ struct BenchPair {
   std::string scen_path;
 };
 
-// The exactness rule of issue 3: published lengths carry up to 0.005 of rounding.
+// The exactness rule (docs/benchmarks.md): published lengths carry up to 0.005 of rounding.
 double exact_tolerance(double optimal) { return std::max(0.01, 1e-5 * optimal); }
 
 // Everything a summary needs, for one planner on one map or on all of them.

@@ -1,5 +1,5 @@
 // starnav bench ablation: the path-planning experiment of Ou et al. 2022 (paper 4.2, Table 2 and
-// Fig. 15; issue 4, spec ou2022_improved_astar.md section 5).
+// Fig. 15; docs/papers/ou2022.md, spec ou2022_improved_astar.md section 5).
 //
 //   starnav bench ablation --map FILE (--queries FILE | --random N [--seed S]) [--out DIR]
 //                          [--inflate R] [--turn-cost K] [--min-dist C] [--max-dist C]

@@ -1,5 +1,5 @@
 // starnav bench nav: a navigation scenario over many seeds (Li et al. 2019 navigation loop;
-// nav/navigation_run.hpp), with D* Lite and A*-from-scratch replanning compared on the same runs.
+// harness/navigation_run.hpp), with D* Lite and A*-from-scratch replanning compared on the same runs.
 //
 //   starnav bench nav --scenario FILE --seeds N [--seed-base B] [--motion-mode M]
 //                     [--out DIR] [--json | --csv] [--force] [--quiet]
@@ -46,7 +46,7 @@
 #include "starnav/control/path_follower.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
-#include "starnav/nav/navigation_run.hpp"
+#include "starnav/harness/navigation_run.hpp"
 #include "starnav/sim/scenario.hpp"
 
 namespace starnav::cli {
@@ -65,6 +65,7 @@ struct NavBenchOptions {
   std::string seeds;  // strings: parsed here so that errors name the flag in one line
   std::string seed_base;
   std::string motion_mode;
+  std::vector<std::string> sets;
   std::string out;
   bool json = false;
   bool csv = false;
@@ -442,7 +443,9 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
   }
 
-  const ScenarioSpec loaded = load_scenario(o.scenario);
+  std::vector<ScenarioOverride> overrides;
+  for (const std::string& text : o.sets) overrides.push_back(parse_scenario_override(text));
+  const ScenarioSpec loaded = load_scenario(o.scenario, overrides);
   if (!loaded.navigation)
     throw Error("not a navigation scenario (no navigation section; see docs/scenarios.md)", o.scenario, 0, "navigation");
   if (mode) (void)resolve_motion_mode(*mode, loaded.vehicle.robot.drive, "--motion-mode");
@@ -556,6 +559,8 @@ void register_bench_nav(CLI::App& app, Context& ctx) {
   cmd->add_option("--seeds", o->seeds, "number of seeds N (at least 1)");
   cmd->add_option("--seed-base", o->seed_base, "first seed B (default 0): seeds B..B+N-1 replace sim.seed");
   cmd->add_option("--motion-mode", o->motion_mode, "auto | turn_then_drive | holonomic | pure_pursuit (overrides the scenario)");
+  cmd->add_option("--set", o->sets,
+                  "KEY=VALUE: set any scenario key before it is read, e.g. navigation.follower.cruise_speed_mps=0.3 (repeatable)");
   cmd->add_option("--out", o->out, "directory for runs.csv and summary.json (created)");
   cmd->add_flag("--json", o->json, "print one JSON document (the summary.json of --out)");
   cmd->add_flag("--csv", o->csv, "print one CSV row per seed and planner (the runs.csv of --out)");

@@ -1,5 +1,5 @@
 // starnav bench terrain: the experiment of Liu et al. 2024 (paper section 4, Tables 2 and 3,
-// Figs. 6 and 8; issue 5, spec liu2024_rough_terrain.md section 7; write-up docs/papers/liu2024.md).
+// Figs. 6 and 8; docs/terrain.md, spec liu2024_rough_terrain.md section 7; write-up docs/papers/liu2024.md).
 //
 //   starnav bench terrain (--map FILE | --generate N [--seed S] [--amplitude A]) [--start X,Y --goal X,Y]
 //                         [--model-resolution R] [planner flags as plan: --hy-m ... --unobserved]
@@ -7,7 +7,7 @@
 //
 // For every terrain (the map, or N hills terrains of 10 m x 10 m at 0.1 m with seeds S..S+N-1) it
 // runs OA*, AOEA* and IA* (IA*: the paper's H with reopening unless --admissible) from start to
-// goal and measures each path (terrain/path_metrics.hpp): lv, av, hv, Sv (Table 2) and the roll,
+// goal and measures each path (terrain/terrain_path_metrics.hpp): lv, av, hv, Sv (Table 2) and the roll,
 // pitch and tilt of the 0.6 m x 0.4 m footprint along it (Table 3: |mean| and max, degrees).
 //
 // Start and goal: (0.5, 0.5) and (9.5, 9.5) m on generated terrains, as the paper; on a --map the

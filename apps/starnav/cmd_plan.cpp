@@ -1,4 +1,4 @@
-// starnav plan: one query on a map with any grid planner (issue 3).
+// starnav plan: one query on a map with any grid planner (docs/benchmarks.md).
 //
 //   starnav plan --map FILE --start X,Y --goal X,Y [--planner NAME] [--weight W]
 //                [--connectivity 4|8] [--unknown free|blocked] [--cells] [--json]
@@ -7,7 +7,7 @@
 //                [--turn-cost K] [--turn-exact] [--adaptive-weight] [--smooth none|los|gradient]
 //                [--smooth-clearance M] [--start-heading-deg A]
 //
-// The second group are the features of Ou et al. 2022 (issue 4, plan/ou2022_options.hpp): all of
+// The second group are the features of Ou et al. 2022 (docs/papers/ou2022.md, plan/ou2022_options.hpp): all of
 // them with --planner astar and ou2022 (whose defaults are the paper's), hard inflation and
 // smoothing with the others; --json adds the path metrics (plan/path_metrics.hpp) under `metrics`.
 // --smooth gradient goes beyond the paper: line of sight, then the gradient smoother of
@@ -38,6 +38,7 @@
 #include "starnav/io/map_file.hpp"
 #include "starnav/plan/gradient_smoothing.hpp"
 #include "starnav/plan/grid_planner.hpp"
+#include "starnav/registry/components.hpp"
 #include "starnav/plan/inflation.hpp"
 #include "starnav/plan/path_metrics.hpp"
 #include "starnav/viz/map_picture.hpp"
@@ -62,7 +63,7 @@ struct PlanOptions {
   bool force = false;
   double max_expansions = 0;
   double time_budget_s = 0;
-  // Issue 4 (Ou et al. 2022). Options whose absence means "the planner's default" are read
+  // Ou et al. 2022. Options whose absence means "the planner's default" are read
   // through their CLI::Option (count() == 0: not given).
   std::string heuristic;
   double inflate = 0.0;
@@ -80,7 +81,7 @@ struct PlanOptions {
   CLI::Option* smooth_opt = nullptr;
   CLI::Option* smooth_clearance_opt = nullptr;
   CLI::Option* start_heading_opt = nullptr;
-  // Elevation maps (issue 5).
+  // Elevation maps (docs/terrain.md).
   TerrainPlanFlags terrain;
   CLI::Option* planner_opt = nullptr;
   std::vector<CLI::Option*> occupancy_only;  // flags of the occupancy planners
@@ -114,12 +115,6 @@ Cell endpoint_cell(const std::string& text, const std::string& flag, bool in_cel
   const double lim = 1e9;
   if (std::abs(c.x()) > lim || std::abs(c.y()) > lim) return {-1, -1};  // far outside the map
   return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
-}
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
 }
 
 // Elevation maps: the Liu 2024 planners (cmd_plan_terrain.cpp).
@@ -157,8 +152,11 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   if (const CLI::Option* f = o.terrain.first_given())
     throw Error("applies to elevation maps only (planners oa, aoea, ia)", {}, 0, f->get_name());
   {
-    const auto rough = rough_terrain_planner_names();
-    if (std::find(rough.begin(), rough.end(), o.planner) != rough.end())
+    // The registry says which map a planner needs; an old spelling works with a warning.
+    std::string warning;
+    const GlobalPlannerDef& def = find_global_planner(o.planner, "--planner", &warning);
+    if (!warning.empty()) std::cerr << "starnav: warning: --planner: " << warning << "\n";
+    if (def.info.has("needs_elevation"))
       throw Error("'" + o.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
   }
   if (o.unknown != "free" && o.unknown != "blocked")
@@ -291,7 +289,7 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     // on index grids).
     viz::PictureOptions picture_options;
     picture_options.title =
-        std::string(planner->name()) + ": " + (r.found() ? "cost " + number(r.cost) : plan_status_reason(r.status));
+        std::string(planner->name()) + ": " + (r.found() ? "cost " + format_number(r.cost) : plan_status_reason(r.status));
     viz::MapPicture picture(grid, picture_options);
     if (options.ou2022.inflation.hard()) {
       // The cells blocked by hard inflation alone.
@@ -371,25 +369,25 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     std::cout << "planner:    " << planner->name() << (planner->admissible() ? "" : " (inadmissible)") << "\n";
     if (r.found()) {
       std::cout << "found:      yes, " << r.path_cells.size() << " points\n";
-      std::cout << "cost:       " << number(r.cost) << "\n";
-      std::cout << "length:     " << number(r.length) << " " << unit << "\n";
+      std::cout << "cost:       " << format_number(r.cost) << "\n";
+      std::cout << "length:     " << format_number(r.length) << " " << unit << "\n";
       if (smoothed)
-        std::cout << "gradient:   " << smoothed->points.size() << " points, " << number(metrics.length) << " " << unit
-                  << " long, energy " << number(smoothed->energy_input) << " -> " << number(smoothed->energy_output)
+        std::cout << "gradient:   " << smoothed->points.size() << " points, " << format_number(metrics.length) << " " << unit
+                  << " long, energy " << format_number(smoothed->energy_input) << " -> " << format_number(smoothed->energy_output)
                   << " in " << smoothed->iterations << " sweeps\n";
       if (!unsmoothed.empty())
         std::cout << "smoothing:  " << unsmoothed_metrics.vertices << " -> " << metrics.vertices << " vertices, "
                   << unsmoothed_metrics.turning_points << " -> " << metrics.turning_points << " turning points\n";
       else std::cout << "turns:      " << metrics.turning_points << " turning points\n";
-      std::cout << "turning:    " << number(metrics.turn_total_rad) << " rad total, " << number(metrics.turn_max_rad)
+      std::cout << "turning:    " << format_number(metrics.turn_total_rad) << " rad total, " << format_number(metrics.turn_max_rad)
                 << " rad max\n";
-      std::cout << "clearance:  " << number(metrics.clearance_min) << " min, " << number(metrics.clearance_mean)
+      std::cout << "clearance:  " << format_number(metrics.clearance_min) << " min, " << format_number(metrics.clearance_mean)
                 << " mean (" << unit << ")\n";
     } else {
       std::cout << "found:      no (" << plan_status_reason(r.status) << ")\n";
     }
     std::cout << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
-    std::cout << "time:       " << number(r.time_ms) << " ms\n";
+    std::cout << "time:       " << format_number(r.time_ms) << " ms\n";
     if (!o.out.empty() && r.found()) std::cout << "wrote " << o.out << "\n";
     if (!o.svg.empty()) std::cout << "wrote " << o.svg << "\n";
   }
@@ -407,10 +405,13 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
                    "start X,Y: cells on MovingAI maps (column, row from the top), metres on metric maps")
       ->required();
   plan->add_option("--goal", o->goal, "goal X,Y (same units as --start)")->required();
-  std::string names;
-  for (const auto& n : grid_planner_names()) names += (names.empty() ? "" : "|") + n;
+  std::string names, elevation_names;
+  for (const GlobalPlannerDef& d : global_planners()) {
+    std::string& list = d.info.has("needs_elevation") ? elevation_names : names;
+    list += (list.empty() ? "" : "|") + d.info.name;
+  }
   plan->add_option("--planner", o->planner,
-                   names + " (default astar); on elevation maps oa|aoea|ia (default ia)");
+                   names + " (default astar); on elevation maps " + elevation_names + " (default ia)");
   plan->add_option("--weight", o->weight, "wastar: f = g + W*h, W >= 1 (default 1; > 1 is inadmissible)");
   plan->add_option("--connectivity", o->connectivity, "4 or 8 (default 8, no corner cutting)");
   plan->add_option("--unknown", o->unknown, "unknown cells are free or blocked (default blocked)");
@@ -430,7 +431,7 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   plan->add_option("--max-expansions", o->max_expansions, "stop after this many expansions (0: no limit)");
   plan->add_option("--time-budget", o->time_budget_s, "stop after this many seconds of search (0: no limit)");
   plan->add_flag("--force", o->force, "overwrite existing output files");
-  // Ou et al. 2022 (issue 4).
+  // Ou et al. 2022 (docs/papers/ou2022.md).
   plan->add_option("--heuristic", o->heuristic,
                    "manhattan|octile|euclidean|zero (default octile on 8-connected grids, manhattan on 4-connected "
                    "ones and for ou2022; manhattan on 8-connected grids is inadmissible)");
@@ -458,7 +459,7 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   o->start_heading_opt = plan->add_option("--start-heading-deg", o->start_heading_deg,
                                           "the robot's initial yaw, so the first move's turn is charged (map frame; "
                                           "cell axes on MovingAI maps)");
-  // Elevation maps (issue 5, cmd_plan_terrain.cpp): the Liu 2024 flags; the flags above that only
+  // Elevation maps (docs/terrain.md, cmd_plan_terrain.cpp): the Liu 2024 flags; the flags above that only
   // the occupancy planners use are refused there.
   add_terrain_plan_flags(plan, o->terrain);
   o->planner_opt = plan->get_option("--planner");

@@ -1,4 +1,4 @@
-// starnav plan on an elevation map: OA*, AOEA* or IA* of Liu et al. 2024 (issue 5; docs/terrain.md).
+// starnav plan on an elevation map: OA*, AOEA* or IA* of Liu et al. 2024 (docs/terrain.md; docs/terrain.md).
 //
 //   starnav plan --map ELEVATION_FILE --start X,Y --goal X,Y [--planner oa|aoea|ia (default ia)]
 //                [--hy-m H] [--ay-rad A] [--sy-m2 S] [--weights ws,we,wr,w1,w2] [--admissible]
@@ -23,6 +23,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cli_util.hpp"
 #include "cmd_plan_terrain.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/plan/grid_planner.hpp"
@@ -32,12 +33,6 @@ namespace starnav::cli {
 namespace {
 
 using json = nlohmann::ordered_json;
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
 
 RoughTerrainPlannerKind planner_kind(const std::string& name) {
   const std::vector<std::string> occupancy = grid_planner_names();
@@ -83,7 +78,7 @@ void run_plan_terrain(const TerrainPlanRequest& rq, const TerrainPlanFlags& flag
     std::vector<Cell> expanded_cells;
     if (rq.expanded) expanded_cells = planner.trace();
     const std::string title = std::string(planner.name()) + ": " +
-                              (r.found() ? "lv " + number(metrics.lv_m) + " m, cost " + number(r.cost)
+                              (r.found() ? "lv " + format_number(metrics.lv_m) + " m, cost " + format_number(r.cost)
                                          : plan_status_reason(r.status));
     // Expanded cells (when asked) take the place of the obstacle band: one translucent layer.
     write_terrain_paths_svg(rq.svg, map, title, {{std::string(planner.name()), r.found() ? &r.path_cells : nullptr}},
@@ -129,13 +124,13 @@ void run_plan_terrain(const TerrainPlanRequest& rq, const TerrainPlanFlags& flag
     std::cout << "\n";
     if (r.found()) {
       std::cout << "found:      yes, " << r.path_cells.size() << " points\n";
-      std::cout << "cost:       " << number(r.cost) << "\n";
-      std::cout << "length:     " << number(r.length) << " m horizontal, lv " << number(metrics.lv_m) << " m\n";
-      std::cout << "terrain:    av " << number(metrics.av_rad) << " rad, hv " << number(metrics.hv_m) << " m, Sv "
-                << number(metrics.sv_m2) << " m^2\n";
-      std::cout << "attitude:   roll " << number(metrics.roll_mean_deg) << " / " << number(metrics.roll_max_deg)
-                << " deg, pitch " << number(metrics.pitch_mean_deg) << " / " << number(metrics.pitch_max_deg)
-                << " deg, tilt " << number(metrics.tilt_mean_deg) << " / " << number(metrics.tilt_max_deg)
+      std::cout << "cost:       " << format_number(r.cost) << "\n";
+      std::cout << "length:     " << format_number(r.length) << " m horizontal, lv " << format_number(metrics.lv_m) << " m\n";
+      std::cout << "terrain:    av " << format_number(metrics.av_rad) << " rad, hv " << format_number(metrics.hv_m) << " m, Sv "
+                << format_number(metrics.sv_m2) << " m^2\n";
+      std::cout << "attitude:   roll " << format_number(metrics.roll_mean_deg) << " / " << format_number(metrics.roll_max_deg)
+                << " deg, pitch " << format_number(metrics.pitch_mean_deg) << " / " << format_number(metrics.pitch_max_deg)
+                << " deg, tilt " << format_number(metrics.tilt_mean_deg) << " / " << format_number(metrics.tilt_max_deg)
                 << " deg (|mean| / max)\n";
     } else {
       std::cout << "found:      no (" << plan_status_reason(r.status) << ")\n";
@@ -143,7 +138,7 @@ void run_plan_terrain(const TerrainPlanRequest& rq, const TerrainPlanFlags& flag
     std::cout << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
     if (kind == RoughTerrainPlannerKind::IA && planner.reopened() > 0)
       std::cout << "reopened:   " << planner.reopened() << "\n";
-    std::cout << "time:       " << number(r.time_ms) << " ms\n";
+    std::cout << "time:       " << format_number(r.time_ms) << " ms\n";
     if (!rq.out.empty() && r.found()) std::cout << "wrote " << rq.out << "\n";
     if (!rq.svg.empty()) std::cout << "wrote " << rq.svg << "\n";
   }

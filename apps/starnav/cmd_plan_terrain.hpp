@@ -1,5 +1,5 @@
 #pragma once
-// starnav plan on an elevation map (Liu et al. 2024, issue 5): called by cmd_plan.cpp when --map
+// starnav plan on an elevation map (Liu et al. 2024, docs/terrain.md): called by cmd_plan.cpp when --map
 // is an elevation map. See cmd_plan_terrain.cpp.
 #include <string>
 

@@ -18,8 +18,9 @@
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/point_cloud_io.hpp"
-#include "starnav/nav/navigation_pictures.hpp"
-#include "starnav/nav/navigation_run.hpp"
+#include "starnav/harness/navigation_pictures.hpp"
+#include "starnav/harness/navigation_run.hpp"
+#include "starnav/harness/parameter_docs.hpp"
 #include "starnav/sim/simulation.hpp"
 #include "starnav/viz/map_picture.hpp"
 #include "starnav/viz/plot_svg.hpp"
@@ -39,6 +40,8 @@ struct SimOptions {
   std::string point_clouds;
   std::string motion_mode;
   std::string planner;
+  std::string controller;
+  std::vector<std::string> sets;
   bool compare_astar = false;
   bool step_all_hits = false;
   bool png = false;
@@ -191,9 +194,11 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   NavigationOptions options;
   if (!o.motion_mode.empty()) options.motion_mode = o.motion_mode;
   if (!o.planner.empty()) options.planner = o.planner;
+  if (!o.controller.empty()) options.controller = o.controller;
   options.compare_astar = o.compare_astar;
   options.step_all_hits = o.step_all_hits;
   NavigationRun run(spec, options);
+  for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
   prepare_out_dir(o.out);
   add_cloud_writer(run.simulation(), spec, o.out);
 
@@ -235,7 +240,9 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 }
 
 void run_sim(const SimOptions& o, Context& ctx) {
-  ScenarioSpec spec = load_scenario(o.scenario);
+  std::vector<ScenarioOverride> overrides;
+  for (const std::string& text : o.sets) overrides.push_back(parse_scenario_override(text));
+  ScenarioSpec spec = load_scenario(o.scenario, overrides);
   if (!o.seed.empty()) spec.seed = parse_unsigned(o.seed, "--seed", "a non-negative integer");
   if (!o.duration.empty()) spec.duration_s = parse_duration(o.duration);
   if (!o.point_clouds.empty()) {
@@ -245,6 +252,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   }
   if (!spec.navigation) {
     for (const auto& [flag, given] : {std::pair{"--motion-mode", !o.motion_mode.empty()}, std::pair{"--planner", !o.planner.empty()},
+                                      std::pair{"--controller", !o.controller.empty()},
                                       std::pair{"--compare-astar", o.compare_astar}, std::pair{"--all-hits", o.step_all_hits}})
       if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
   }
@@ -304,13 +312,18 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
   sim->add_option("--point-clouds", o->point_clouds, "ply | pcd | none: write LiDAR point clouds (world frame) to OUT/clouds/");
   sim->add_option("--motion-mode", o->motion_mode,
                   "navigation: auto | turn_then_drive | holonomic | pure_pursuit (overrides motion_mode)");
-  sim->add_option("--planner", o->planner, "navigation: astar | dstar_lite (overrides navigation.planner)");
-  sim->add_flag("--compare-astar", o->compare_astar, "navigation with dstar_lite: also run A* from scratch at every plan");
+  sim->add_option("--planner", o->planner, "navigation: a global planner (overrides navigation.planner; list below)");
+  sim->add_option("--controller", o->controller, "navigation: a local controller (overrides navigation.controller; list below)");
+  sim->add_option("--set", o->sets,
+                  "KEY=VALUE: set any scenario key before it is read, e.g. navigation.follower.look_ahead_m=0.4 "
+                  "(repeatable; checked as if written in the file)");
+  sim->add_flag("--compare-astar", o->compare_astar, "navigation with an incremental planner (dstar_lite): also run A* from scratch at every plan");
   sim->add_flag("--all-hits", o->step_all_hits, "navigation: steps.jsonl holds every LiDAR return, not only obstacle hits");
   sim->add_flag("--png", o->png, "navigation: also write scene.png and overlay.png");
   sim->add_flag("--force", o->force, "write into a non-empty output folder");
   sim->add_flag("--json", o->json, "print metrics.json to stdout");
   sim->add_flag("--quiet", o->quiet, "no progress bar");
+  sim->footer(component_help());
   sim->callback([o, &ctx] { run_sim(*o, ctx); });
 }
 

@@ -19,5 +19,6 @@ void register_bench_nav(CLI::App& app, Context& ctx);       // cmd_bench_nav.cpp
 void register_map_render(CLI::App& map, Context& ctx);       // cmd_map_render.cpp
 void register_terrain_commands(CLI::App& app, Context& ctx);  // cmd_terrain.cpp
 void register_sim_commands(CLI::App& app, Context& ctx);      // cmd_sim.cpp
+void register_params_command(CLI::App& app, Context& ctx);    // cmd_params.cpp
 
 }  // namespace starnav::cli

@@ -1,5 +1,5 @@
 #pragma once
-// What `starnav plan` on elevation maps and `starnav bench terrain` share (Liu et al. 2024, issue 5):
+// What `starnav plan` on elevation maps and `starnav bench terrain` share (Liu et al. 2024, docs/terrain.md):
 // the planner flags, the options they make, the metrics as JSON, and the pictures (terrain with
 // paths, the paper's Fig. 6; attitude along a path, its Fig. 8).
 #include <CLI/CLI.hpp>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "starnav/terrain/path_metrics.hpp"
+#include "starnav/terrain/terrain_path_metrics.hpp"
 #include "starnav/terrain/rough_terrain_planners.hpp"
 
 namespace starnav::cli {

@@ -54,7 +54,35 @@ TEST(SimNavCli, ArrivesAndWritesTheNavigationRecords) {
                         "metrics.json", "timing.json", "scene.svg", "overlay.svg"})
     EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(out) / f)) << f;
   EXPECT_EQ(starnav::test::read_text(out + "/paths.csv").rfind("plan_id,t_s,x_m,y_m\n", 0), 0u);
-  EXPECT_EQ(starnav::test::read_text(out + "/replans.csv").rfind("plan_id,t_s,cause,status,expanded,cost_m,time_ms", 0), 0u);
+  EXPECT_EQ(starnav::test::read_text(out + "/replans.csv").rfind("plan_id,t_s,cause,status,expanded,cost_m,astar_status", 0), 0u);
+}
+
+TEST(SimNavCli, ComponentsAreChosenAndSetFromTheCommandLine) {
+  starnav::test::ScratchDir dir;
+  const std::string file = dir.file("nav.yaml");
+  starnav::test::write_text(file, nav_scenario(""));
+  // --help lists every registered controller and planner with their parameter sections.
+  const CliResult help = run_cli({"sim", "--help"});
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* name : {"straight_to_goal", "path_follower", "dstar_lite", "ground_truth", "navigation.follower.{"})
+    EXPECT_NE(help.out.find(name), std::string::npos) << name << " missing from sim --help";
+  // --controller and --set reach the components.
+  const CliResult r = run_cli({"sim", file, "--out", dir.file("a"), "--quiet", "--json", "--controller", "straight_to_goal",
+                               "--set", "navigation.straight_to_goal.speed_mps=0.25"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"controller\": \"straight_to_goal\""), std::string::npos) << r.out;
+  const CliResult bad = run_cli({"sim", file, "--out", dir.file("b"), "--quiet", "--set", "navigation.follower.look_ahead_m=-1"});
+  expect_one_error_line(bad, 2, {"nav.yaml", "navigation.follower.look_ahead_m (--set)", "> 0"}, "--set bad value");
+  const CliResult unknown = run_cli({"sim", file, "--out", dir.file("c"), "--quiet", "--controller", "dwa"});
+  expect_one_error_line(unknown, 2, {"--controller", "unknown controller 'dwa'", "straight_to_goal"}, "unknown controller");
+  // The old D* Lite spelling works, with a warning on stderr.
+  const CliResult old = run_cli({"sim", file, "--out", dir.file("d"), "--quiet", "--planner", "dstarlite"});
+  EXPECT_EQ(old.exit_code, 0) << old.err;
+  EXPECT_NE(old.err.find("starnav: warning: --planner: 'dstarlite' is deprecated; use 'dstar_lite'"), std::string::npos) << old.err;
+  // starnav params lists them too, as docs/parameters.md.
+  const CliResult params = run_cli({"params", "--markdown"});
+  EXPECT_EQ(params.exit_code, 0);
+  EXPECT_NE(params.out.find("### `straight_to_goal`"), std::string::npos);
 }
 
 TEST(SimNavCli, EnclosedGoalExitsOneWithTheReason) {
@@ -75,7 +103,7 @@ TEST(SimNavCli, BadNavigationFlagsNameTheFlag) {
   starnav::test::write_text(file, nav_scenario(""));
   expect_one_error_line(run_cli({"sim", file, "--out", dir.file("a"), "--motion-mode", "sideways"}), 2, {"--motion-mode"},
                         "unknown mode");
-  expect_one_error_line(run_cli({"sim", file, "--out", dir.file("b"), "--planner", "dijkstra"}), 2, {"--planner"},
+  expect_one_error_line(run_cli({"sim", file, "--out", dir.file("b"), "--planner", "nonesuch"}), 2, {"--planner"},
                         "unknown planner");
   // A scripted scenario has no navigation to configure.
   expect_one_error_line(run_cli({"sim", kE1, "--out", dir.file("c"), "--motion-mode", "holonomic"}), 2,

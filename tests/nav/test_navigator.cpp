@@ -18,15 +18,15 @@ namespace starnav {
 namespace {
 
 // 10 m x 6 m at 0.1 m, 2D mode (each return marks its cell), barrier 0.3 m.
-NavigatorConfig config_2d(NavPlanner planner = NavPlanner::AStar) {
+NavigatorConfig config_2d(const std::string& planner = "astar") {
   NavigatorConfig c;
   c.geometry.width = 100;
   c.geometry.height = 60;
   c.geometry.resolution = 0.1;
   c.map.mode = NodeMapMode::Lidar2D;
   c.map.barrier_distance_m = 0.3;
-  c.planner = planner;
-  c.compare_astar = planner == NavPlanner::DStarLite;
+  c.planner.name = planner;
+  c.compare_astar = planner == "dstar_lite";
   return c;
 }
 
@@ -92,7 +92,7 @@ TEST(Navigator, ObstacleOffThePathDoesNotReplanOnThePathDoes) {
 
 // Random obstacles, cycle after cycle, robot moving along its path: the navigator replans
 // exactly when the remaining path (from the progress it had) is blocked after the update.
-void random_replan_property(NavPlanner planner, std::uint64_t seed, int& replans, int& kept) {
+void random_replan_property(const std::string& planner, std::uint64_t seed, int& replans, int& kept) {
   Navigator nav(config_2d(planner), RobotConfig{}, kGoal);
   Rng rng(seed);
   Pose2 pose = kStart;
@@ -153,14 +153,14 @@ void random_replan_property(NavPlanner planner, std::uint64_t seed, int& replans
 
 TEST(Navigator, ReplansExactlyWhenTheRemainingPathIsBlockedAStar) {
   int replans = 0, kept = 0;
-  for (std::uint64_t seed = 1; seed <= 12; ++seed) random_replan_property(NavPlanner::AStar, seed, replans, kept);
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) random_replan_property("astar", seed, replans, kept);
   EXPECT_GT(replans, 30);  // both branches exercised many times
   EXPECT_GT(kept, 30);
 }
 
 TEST(Navigator, ReplansExactlyWhenTheRemainingPathIsBlockedDStarLiteEqualsAStar) {
   int replans = 0, kept = 0;
-  for (std::uint64_t seed = 1; seed <= 12; ++seed) random_replan_property(NavPlanner::DStarLite, seed, replans, kept);
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) random_replan_property("dstar_lite", seed, replans, kept);
   EXPECT_GT(replans, 30);
   EXPECT_GT(kept, 30);
 }
@@ -238,7 +238,7 @@ TEST(Navigator, RejectsBadConfigurations) {
   c.goal_tolerance_m = 0.0;
   EXPECT_THROW(Navigator(c, RobotConfig{}, kGoal), Error);
   c = config_2d();
-  c.follower.mode = MotionMode::Holonomic;
+  c.controller.settings.push_back({"motion_mode", "holonomic", "", 0, "motion_mode"});
   RobotConfig diff;
   diff.drive = DriveKind::Differential;
   try {
@@ -247,8 +247,25 @@ TEST(Navigator, RejectsBadConfigurations) {
   } catch (const Error& e) {
     EXPECT_EQ(e.field(), "motion_mode");
   }
-  EXPECT_EQ(parse_nav_planner("dstar_lite", "x"), NavPlanner::DStarLite);
-  EXPECT_THROW(parse_nav_planner("dijkstra", "x"), Error);
+  // Any occupancy planner of the registry navigates; an elevation planner or an unknown name does not.
+  c = config_2d("dijkstra");
+  EXPECT_EQ(Navigator(c, RobotConfig{}, kGoal).planner_name(), "dijkstra");
+  c = config_2d("ia");
+  EXPECT_THROW(Navigator(c, RobotConfig{}, kGoal), Error);
+  c = config_2d("nonesuch");
+  try {
+    Navigator nav(c, RobotConfig{}, kGoal);
+    FAIL() << "unknown planner accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "navigation.planner");
+    EXPECT_NE(std::string(e.what()).find("dstar_lite"), std::string::npos) << e.what();
+  }
+  // The old spelling still works, with a warning.
+  c = config_2d("dstarlite");
+  const Navigator old(c, RobotConfig{}, kGoal);
+  EXPECT_EQ(old.planner_name(), "dstar_lite");
+  ASSERT_EQ(old.warnings().size(), 1u);
+  EXPECT_NE(old.warnings()[0].find("deprecated"), std::string::npos);
 }
 
 }  // namespace

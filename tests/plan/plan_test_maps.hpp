@@ -1,5 +1,5 @@
 #pragma once
-// Random small maps and an independent reference Dijkstra for the planner tests (issue 3).
+// Random small maps and an independent reference Dijkstra for the planner tests (docs/benchmarks.md).
 // Written from scratch here, sharing nothing with src/starnav/plan: a std::priority_queue over an
 // adjacency function of its own.
 #include <cmath>

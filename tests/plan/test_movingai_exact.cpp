@@ -1,4 +1,4 @@
-// Exactness on the MovingAI benchmarks (issue 3), a small sample for `make test`: the first
+// Exactness on the MovingAI benchmarks (docs/benchmarks.md), a small sample for `make test`: the first
 // instances and a few spread over the file (so long paths too) of one map per family (including brc201d's unsolvable length-0 problems and the
 // street maps' CRLF files), solved by astar and dijkstra, and by wastar within its bound.
 // |cost - optimal| <= max(0.01, 1e-5 * optimal): published lengths carry up to 0.005 of rounding.

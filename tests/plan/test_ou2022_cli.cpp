@@ -1,4 +1,4 @@
-// Ou et al. 2022 (issue 4) on the command line: `starnav plan` with the new flags and its
+// Ou et al. 2022 (docs/papers/ou2022.md) on the command line: `starnav plan` with the new flags and its
 // `metrics`, the errors for JPS with search features, and `starnav bench ablation` end to end on
 // a small map (files, keys, determinism of everything but the times).
 // GCC 12 reports a false -Wrestrict in std::string concatenation inlined from run_cli (GCC bug

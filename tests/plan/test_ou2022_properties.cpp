@@ -1,4 +1,4 @@
-// Ou et al. 2022 (issue 4), property tests over thousands of random small maps, against
+// Ou et al. 2022 (docs/papers/ou2022.md), property tests over thousands of random small maps, against
 // references written here from scratch (brute-force distances, a Dijkstra over (cell, incoming
 // direction) states, the exact segment test of plan_test_maps.hpp):
 //   - inflation equals a brute-force distance check (blocked cells, clearance, cost band);

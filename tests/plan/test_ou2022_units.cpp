@@ -1,4 +1,4 @@
-// Ou et al. 2022 (issue 4), hand-built cases: the move-direction table and every steering angle
+// Ou et al. 2022 (docs/papers/ou2022.md), hand-built cases: the move-direction table and every steering angle
 // difference, the turn cost along paths and in the search, the adaptive weight, each path
 // metric, the inflation rule and its cost band, LOS smoothing on a drawn map, and which planner
 // accepts which feature.

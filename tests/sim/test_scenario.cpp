@@ -6,6 +6,7 @@
 #include <string>
 
 #include "support/test_support.hpp"
+#include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/sim/scenario.hpp"
@@ -410,6 +411,43 @@ TEST(ScenarioLimits, GravelKeepsItsCountThoughTheParserChecksOnePiece) {
   ASSERT_EQ(w.obstacles.size(), 2u);
   EXPECT_EQ(w.obstacles[0].parts.size(), 2000u);
   EXPECT_EQ(w.obstacles[1].parts.size(), 3000u);
+}
+
+
+TEST(ScenarioOverrides, SetAnyKeyBeforeTheScenarioIsRead) {
+  const std::vector<ScenarioOverride> o = {parse_scenario_override("sim.duration_s=2.5"),
+                                           parse_scenario_override("robot.start.yaw_deg=90"),
+                                           parse_scenario_override("navigation.goal.x_m=3"),
+                                           parse_scenario_override("navigation.follower.look_ahead_m=0.4")};
+  const ScenarioSpec s = load_scenario(test::scenario_path("e4_dynamic_dead_end.yaml"), o);
+  EXPECT_EQ(s.duration_s, 2.5);
+  EXPECT_NEAR(s.start.yaw, kPi / 2, 1e-12);
+  EXPECT_EQ(s.navigation->goal.x(), 3.0);
+  bool found = false;
+  for (const ParamSetting& v : s.navigation->settings)
+    if (v.key == "follower.look_ahead_m") {
+      found = true;
+      EXPECT_EQ(v.value, "0.4");
+      EXPECT_EQ(v.line, 0);  // from the command line: no line in the file
+      EXPECT_EQ(v.field, "navigation.follower.look_ahead_m (--set)");
+    }
+  EXPECT_TRUE(found);
+  // Lists too: a YAML value.
+  const ScenarioOverride list = parse_scenario_override("world.terrain.generate.size_m=[4.0, 3.0]");
+  EXPECT_NO_THROW(load_scenario(kE1, std::vector<ScenarioOverride>{list}));
+}
+
+TEST(ScenarioOverrides, BadOverridesAreOneLineErrorsNamingTheKey) {
+  EXPECT_EQ(test::error_of([] { parse_scenario_override("no_equals_sign"); }).find("--set"), 0u);
+  EXPECT_EQ(test::error_of([] { parse_scenario_override("=3"); }).find("--set"), 0u);
+  const auto err = [](const std::string& text) {
+    return test::error_of([&] { load_scenario(kE1, std::vector<ScenarioOverride>{parse_scenario_override(text)}); });
+  };
+  EXPECT_NE(err("sim.duration_s=-1").find("sim.duration_s (--set): must be > 0"), std::string::npos) << err("sim.duration_s=-1");
+  EXPECT_NE(err("sim.nonesuch=1").find("sim.nonesuch (--set)"), std::string::npos) << err("sim.nonesuch=1");
+  EXPECT_NE(err("sim.dt_s.x=1").find("'dt_s' is not a section"), std::string::npos) << err("sim.dt_s.x=1");
+  EXPECT_NE(err("Sim..x=1").find("dotted lower_snake_case"), std::string::npos);
+  EXPECT_NE(err("sim.duration_s=[1").find("not a YAML value"), std::string::npos);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// starnav plan on elevation maps and starnav bench terrain (issue 5): the CLI's numbers equal the
+// starnav plan on elevation maps and starnav bench terrain (docs/terrain.md): the CLI's numbers equal the
 // library's on the same map, JSON keys, exit codes, flags named in errors, report files.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 
 #include "starnav/io/elevation_io.hpp"
 #include "starnav/io/map_file.hpp"
-#include "starnav/terrain/path_metrics.hpp"
+#include "starnav/terrain/terrain_path_metrics.hpp"
 #include "starnav/terrain/rough_terrain_planners.hpp"
 #include "starnav/terrain/terrain_generator.hpp"
 #include "support/test_support.hpp"

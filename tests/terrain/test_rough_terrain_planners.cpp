@@ -189,7 +189,7 @@ TEST(RoughTerrainPlanners, AoeaStarPathsStayClearOfThresholdsAndObstacles) {
     RoughTerrainPlanner aoea(RoughTerrainPlannerKind::AOEA, m, o);
     const TerrainAnalysis& t = aoea.analysis();
     const auto raw = liu_obstacle_mask(t, o.cost);
-    const auto expanded = expand_mask(raw, 40, 30, o.robot_radius_m / 0.1);
+    const auto expanded = inflate_mask(raw, 40, 30, o.robot_radius_m / 0.1);
     EXPECT_EQ(aoea.blocked_mask(), expanded);
     // A free cell far from the corners, if any, as start and goal.
     Cell s{-1, -1}, g{-1, -1};

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 
 namespace starnav {
@@ -58,36 +59,33 @@ const char* follow_status_name(FollowStatus status) {
 
 namespace {
 
-void require(bool ok, const char* field, const std::string& what) {
-  if (!ok) throw Error(what, {}, 0, std::string("follower.") + field);
-}
-void positive(double v, const char* field) {
-  require(std::isfinite(v) && v > 0.0, field, "must be finite and > 0");
-}
+// PathFollowerConfig's fields are named "follower.<field>" in errors.
+void require_field(bool ok, const char* field, const std::string& what) { require(ok, std::string("follower.") + field, what); }
+void require_follower_positive(double v, const char* field) { require_positive(v, std::string("follower.") + field); }
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 }  // namespace
 
 void PathFollowerConfig::validate() const {
-  require(mode == MotionMode::Auto || mode == MotionMode::TurnThenDrive || mode == MotionMode::Holonomic ||
+  require_field(mode == MotionMode::Auto || mode == MotionMode::TurnThenDrive || mode == MotionMode::Holonomic ||
               mode == MotionMode::PurePursuit,
           "mode", "unknown motion mode");
-  positive(cruise_speed_mps, "cruise_speed_mps");
-  positive(min_speed_mps, "min_speed_mps");
-  require(min_speed_mps <= cruise_speed_mps, "min_speed_mps", "must not exceed cruise_speed_mps");
-  positive(look_ahead_m, "look_ahead_m");
-  positive(pursuit_look_ahead_m, "pursuit_look_ahead_m");
-  positive(heading_gain, "heading_gain");
-  positive(max_yaw_rate_radps, "max_yaw_rate_radps");
-  require(std::isfinite(turn_tolerance_rad) && turn_tolerance_rad > 0.0 && turn_tolerance_rad < kPi,
+  require_follower_positive(cruise_speed_mps, "cruise_speed_mps");
+  require_follower_positive(min_speed_mps, "min_speed_mps");
+  require_field(min_speed_mps <= cruise_speed_mps, "min_speed_mps", "must not exceed cruise_speed_mps");
+  require_follower_positive(look_ahead_m, "look_ahead_m");
+  require_follower_positive(pursuit_look_ahead_m, "pursuit_look_ahead_m");
+  require_follower_positive(heading_gain, "heading_gain");
+  require_follower_positive(max_yaw_rate_radps, "max_yaw_rate_radps");
+  require_field(std::isfinite(turn_tolerance_rad) && turn_tolerance_rad > 0.0 && turn_tolerance_rad < kPi,
           "turn_tolerance_rad", "must lie in (0, pi)");
-  positive(vertex_tolerance_m, "vertex_tolerance_m");
-  positive(goal_tolerance_m, "goal_tolerance_m");
+  require_follower_positive(vertex_tolerance_m, "vertex_tolerance_m");
+  require_follower_positive(goal_tolerance_m, "goal_tolerance_m");
   // The final approach inserts a vertex farther than goal tolerance from the goal; it must lie
   // beyond the vertex tolerance or it would count as reached at once.
-  require(vertex_tolerance_m < goal_tolerance_m, "vertex_tolerance_m", "must be < goal_tolerance_m");
-  positive(slow_down_distance_m, "slow_down_distance_m");
+  require_field(vertex_tolerance_m < goal_tolerance_m, "vertex_tolerance_m", "must be < goal_tolerance_m");
+  require_follower_positive(slow_down_distance_m, "slow_down_distance_m");
 }
 
 PathFollower::PathFollower(const PathFollowerConfig& config, const RobotConfig& robot) : config_(config) {
@@ -312,6 +310,101 @@ FollowOutput PathFollower::pure_pursuit(const Pose2& pose) {
   out.command.vx = speed;
   out.command.wz = speed * kappa;
   return out;
+}
+
+}  // namespace starnav
+
+// ---- the component -------------------------------------------------------------------------------
+
+namespace starnav {
+
+const char* control_status_name(ControlStatus s) {
+  switch (s) {
+    case ControlStatus::Idle: return "idle";
+    case ControlStatus::Tracking: return "tracking";
+    case ControlStatus::Arrived: return "arrived";
+    case ControlStatus::CannotReach: return "cannot_reach";
+    case ControlStatus::Blocked: return "blocked";
+  }
+  return "unknown";
+}
+
+Footprint footprint_of(const RobotConfig& config) { return {config.body_length_m, config.body_width_m}; }
+
+VelocityLimits velocity_limits_of(const RobotConfig& config) {
+  // One wheel at its speed limit, the others as the motion needs (the inverse kinematics of
+  // robot_model.cpp): the largest speed along each axis alone.
+  VelocityLimits l;
+  const double v = config.max_wheel_speed_radps * config.wheel_radius_m;
+  l.max_vx_mps = v;
+  switch (config.drive) {
+    case DriveKind::Mecanum:
+      l.max_vy_mps = v * std::tan(config.roller_angle_rad);
+      l.max_yaw_rate_radps = v / (config.half_track_m + config.half_wheelbase_m);
+      break;
+    case DriveKind::Differential: l.max_yaw_rate_radps = v / config.half_track_m; break;
+    case DriveKind::Ackermann: l.max_yaw_rate_radps = 0.0; break;
+  }
+  return l;
+}
+
+const ParamTable<PathFollowerConfig>& path_follower_params() {
+  static const ParamTable<PathFollowerConfig> table = [] {
+    using C = PathFollowerConfig;
+    ParamTable<C> t;
+    t.choice("motion_mode", {"auto", "turn_then_drive", "holonomic", "pure_pursuit"},
+             [](C& c, const std::string& v) { c.mode = parse_motion_mode(v, "motion_mode"); },
+             [](const C& c) { return std::string(motion_mode_name(c.mode)); },
+             "auto: pure_pursuit for an ackermann robot, turn_then_drive otherwise (also the scenario's top-level "
+             "motion_mode and --motion-mode)");
+    t.real("cruise_speed_mps", &C::cruise_speed_mps, positive(), "m/s", "nominal speed (the paper's 0.2)");
+    t.real("min_speed_mps", &C::min_speed_mps, positive(), "m/s", "floor of the slow-down, <= cruise_speed_mps");
+    t.real("look_ahead_m", &C::look_ahead_m, positive(), "m", "turn_then_drive, holonomic: look-ahead on the segment's line");
+    t.real("pursuit_look_ahead_m", &C::pursuit_look_ahead_m, positive(), "m", "pure_pursuit: look-ahead along the path");
+    t.real("heading_gain", &C::heading_gain, positive(), "1/s", "yaw rate per radian of heading error");
+    t.real("max_yaw_rate_degps", &C::max_yaw_rate_radps, positive(), "deg/s", "yaw rate limit", kPi / 180.0);
+    t.real("turn_tolerance_deg", &C::turn_tolerance_rad, open(0.0, 180.0), "deg",
+           "turn_then_drive: heading error below which driving starts", kPi / 180.0);
+    t.real("vertex_tolerance_m", &C::vertex_tolerance_m, positive(), "m",
+           "a vertex is reached this far ahead along its segment (< goal_tolerance_m)");
+    t.real("goal_tolerance_m", &C::goal_tolerance_m, positive(), "m", "the path's end is reached this close");
+    t.real("slow_down_distance_m", &C::slow_down_distance_m, positive(), "m",
+           "speed ramps down linearly over this distance before a stop");
+    return t;
+  }();
+  return table;
+}
+
+ControlOutput PathFollowerController::compute(const ControlInput& input) {
+  const FollowOutput out = follower_.compute(input.pose);
+  ControlOutput c;
+  c.twist = out.command;
+  switch (out.status) {
+    case FollowStatus::NoPath: c.status = ControlStatus::Idle; break;
+    case FollowStatus::Turning:
+    case FollowStatus::Driving: c.status = ControlStatus::Tracking; break;
+    case FollowStatus::Arrived: c.status = ControlStatus::Arrived; break;
+    case FollowStatus::Missed: c.status = ControlStatus::CannotReach; break;
+  }
+  return c;
+}
+
+LocalControllerDef path_follower_controller() {
+  LocalControllerDef d;
+  d.info.role = Role::LocalController;
+  d.info.name = "path_follower";
+  d.info.section = "follower";
+  d.info.summary = "Li et al. 2019 path following: turn_then_drive, holonomic or pure_pursuit (spec li2019 section 9)";
+  d.info.params = path_follower_params().specs();
+  d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
+    const PathFollowerConfig c = configured(path_follower_params(), settings, ctx.file);
+    try {
+      return std::make_unique<PathFollowerController>(c, ctx.robot);  // validates, resolves the motion mode
+    } catch (const Error& e) {
+      rethrow_at_setting(e, settings, ctx.file);
+    }
+  };
+  return d;
 }
 
 }  // namespace starnav

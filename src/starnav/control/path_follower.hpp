@@ -20,7 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "starnav/control/local_controller.hpp"
 #include "starnav/core/geometry.hpp"
+#include "starnav/core/params.hpp"
 #include "starnav/robot/robot_model.hpp"
 
 namespace starnav {
@@ -52,6 +54,10 @@ struct PathFollowerConfig {
   // Throws Error naming the field (prefix "follower.").
   void validate() const;
 };
+
+// The follower's declared parameters (section navigation.follower; motion_mode is also the
+// scenario's top-level motion_mode and the CLI's --motion-mode).
+const ParamTable<PathFollowerConfig>& path_follower_params();
 
 enum class FollowStatus : std::uint8_t {
   NoPath,   // no path set: zero twist
@@ -123,6 +129,23 @@ class PathFollower {
   bool hold_set_ = false;          // holonomic: heading captured at the first compute()
   double hold_yaw_ = 0.0;
   FollowStatus final_ = FollowStatus::NoPath;  // Arrived / Missed once reached (sticky)
+};
+
+// The follower as a LocalController (registry name "path_follower").
+class PathFollowerController final : public LocalController {
+ public:
+  PathFollowerController(const PathFollowerConfig& config, const RobotConfig& robot) : follower_(config, robot) {}
+  std::string_view name() const override { return "path_follower"; }
+  void set_path(std::span<const Vec2> points) override { follower_.set_path(points); }
+  void clear() override { follower_.clear(); }
+  bool has_path() const override { return follower_.has_path(); }
+  const std::vector<Vec2>& path() const override { return follower_.path(); }
+  ControlOutput compute(const ControlInput& input) override;
+  bool wants_smoothed_path() const override { return follower_.mode() == MotionMode::PurePursuit; }
+  const PathFollower& follower() const { return follower_; }
+
+ private:
+  PathFollower follower_;
 };
 
 }  // namespace starnav

@@ -1,5 +1,7 @@
 #include "starnav/core/error.hpp"
 
+#include <cmath>
+
 namespace starnav {
 
 std::string format_error_location(const std::string& file, int line, const std::string& field,
@@ -36,5 +38,13 @@ Error::Error(std::string message, std::string file, int line, std::string field)
       message_(std::move(message)) {}
 
 Error Error::with_file(const std::string& file) const { return Error(message_, file, line_, field_); }
+
+void require(bool ok, const std::string& field, const std::string& what) {
+  if (!ok) throw Error(what, {}, 0, field);
+}
+void require_positive(double v, const std::string& field) { require(std::isfinite(v) && v > 0.0, field, "must be finite and > 0"); }
+void require_non_negative(double v, const std::string& field) {
+  require(std::isfinite(v) && v >= 0.0, field, "must be finite and >= 0");
+}
 
 }  // namespace starnav

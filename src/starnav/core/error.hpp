@@ -35,4 +35,9 @@ std::string one_line(std::string text, std::size_t max_chars = 0);
 std::string format_error_location(const std::string& file, int line, const std::string& field,
                                   const std::string& message);
 
+// Checks for configurations' validate(): an Error naming `field` when the check fails.
+void require(bool ok, const std::string& field, const std::string& what);
+void require_positive(double v, const std::string& field);      // finite and > 0
+void require_non_negative(double v, const std::string& field);  // finite and >= 0
+
 }  // namespace starnav

@@ -76,4 +76,15 @@ struct GridGeometry {
   double height_m() const { return height * resolution; }
 };
 
+// A rectangle of cells [x0, x1) x [y0, y1).
+struct CellRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+  // Grown by `margin` cells on every side and clipped to a width x height map.
+  CellRect grown(int margin, int width, int height) const {
+    return {x0 - margin < 0 ? 0 : x0 - margin, y0 - margin < 0 ? 0 : y0 - margin,
+            x1 + margin > width ? width : x1 + margin, y1 + margin > height ? height : y1 + margin};
+  }
+};
+
 }  // namespace starnav

@@ -10,16 +10,11 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/io/elevation_io.hpp"
+#include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // A .yaml is an elevation sidecar when it has z_min/z_max, a map_server map when it has
 // occupied_thresh (conventions.md).

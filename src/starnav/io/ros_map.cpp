@@ -371,8 +371,7 @@ void write_ros_map(const OccupancyGrid& grid, const std::string& yaml_path, RosM
   for (const char ch : metadata.image)
     if (static_cast<unsigned char>(ch) < 0x20)
       throw Error("image name contains a control character", yaml_path, 0, "image");
-  std::string extension = fs::path(metadata.image).extension().string();
-  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const std::string extension = lower_extension(metadata.image);
   if (extension != ".pgm" && extension != ".png")
     throw Error("image must be a .pgm or .png file, got '" + metadata.image + "'", yaml_path, 0, "image");
   if (scale && extension == ".pgm")

@@ -22,6 +22,7 @@
 //
 // Masks up to 2^31 - 1 cells (the map limit of validate_geometry) are supported; squared
 // distances are exact integers stored in doubles (exact below 2^53).
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -99,5 +100,21 @@ std::vector<double> squared_distance_transform(std::span<const std::uint8_t> mas
 std::vector<double> obstacle_distance_m(const OccupancyGrid& grid, const OccupancyThresholds& thresholds = {},
                                         bool unknown_is_obstacle = true,
                                         std::vector<std::int32_t>* nearest = nullptr, int threads = 1);
+
+// The one inflation-radius rule, shared by plan/inflation, terrain's obstacle expansion and the
+// navigation map: a cell lies within a radius of r cells of an obstacle when its squared distance
+// d2 (in cells^2, exact integers from the transforms above) satisfies d2 <= r^2 (1 + 1e-9):
+// inclusive, with a relative tolerance for the rounding of radius_m / resolution (0.3 / 0.1 =
+// 2.9999999999999996 still includes distance 3). A radius of 0 inflates nothing.
+inline double inflation_radius_cells(double radius_m, double resolution) { return radius_m / resolution; }
+inline double inflation_limit_squared(double radius_cells) { return radius_cells * radius_cells * (1.0 + 1e-9); }
+inline bool within_inflation_radius(double squared_cells, double radius_cells) {
+  return radius_cells > 0.0 && squared_cells <= inflation_limit_squared(radius_cells);
+}
+// How many cells beyond a changed region an incremental update must look to decide every cell
+// within the radius exactly.
+inline int inflation_margin_cells(double radius_cells) {
+  return static_cast<int>(std::floor(radius_cells * (1.0 + 1e-9))) + 1;
+}
 
 }  // namespace starnav

@@ -7,16 +7,9 @@
 #include "starnav/core/polyline.hpp"
 #include "starnav/plan/grid_graph.hpp"
 #include "starnav/plan/path_smoothing.hpp"
+#include "starnav/registry/components.hpp"
 
 namespace starnav {
-
-const char* nav_planner_name(NavPlanner p) { return p == NavPlanner::AStar ? "astar" : "dstar_lite"; }
-
-NavPlanner parse_nav_planner(const std::string& s, const std::string& field) {
-  if (s == "astar") return NavPlanner::AStar;
-  if (s == "dstar_lite") return NavPlanner::DStarLite;
-  throw Error("unknown planner '" + s + "' (astar, dstar_lite)", "", 0, field);
-}
 
 const char* nav_status_name(NavStatus s) {
   switch (s) {
@@ -36,7 +29,6 @@ void NavigatorConfig::validate() const {
     throw Error("must be > 0", "", 0, "navigation.goal_tolerance_m");
   if (!(no_return_clear_m >= 0.0) || !std::isfinite(no_return_clear_m))
     throw Error("must be >= 0", "", 0, "navigation.map.no_return_clear_m");
-  follower.validate();
 }
 
 namespace {
@@ -70,11 +62,50 @@ std::vector<Cell> turning_cells(const std::vector<Cell>& cells) {
 
 }  // namespace
 
+namespace {
+
+// Errors of the registry lookup name where the component's name was given.
+[[noreturn]] void rethrow_at_choice(const Error& e, const ComponentChoice& c) {
+  throw Error(e.message(), c.file, c.line, c.field);
+}
+
+}  // namespace
+
 Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal)
     : config_(config),
       goal_(goal),
       map_((config.validate(), config.geometry), config.map),
-      follower_(config.follower, robot) {
+      footprint_(footprint_of(robot)),
+      limits_(velocity_limits_of(robot)) {
+  warnings_ = config_.warnings;
+  const ComponentChoice& pc = config_.planner;
+  const GlobalPlannerDef* planner = nullptr;
+  std::string warning;
+  try {
+    planner = &find_global_planner(pc.name, pc.field, &warning);
+  } catch (const Error& e) {
+    rethrow_at_choice(e, pc);
+  }
+  if (!warning.empty()) warnings_.push_back(pc.field + ": " + warning);
+  if (planner->info.has("needs_elevation"))
+    throw Error("planner '" + planner->info.name + "' plans on elevation maps; navigation plans on its occupancy map",
+                pc.file, pc.line, pc.field);
+  planner_name_ = planner->info.name;
+  incremental_ = planner->info.has("incremental");
+  planner_ = planner->make({search_options(), pc.file}, pc.settings);
+
+  const ComponentChoice& cc = config_.controller;
+  const LocalControllerDef* controller = nullptr;
+  try {
+    controller = &find_local_controller(cc.name, cc.field, &warning);
+  } catch (const Error& e) {
+    rethrow_at_choice(e, cc);
+  }
+  if (!warning.empty()) warnings_.push_back(cc.field + ": " + warning);
+  controller_name_ = controller->info.name;
+  controller_ = controller->make({robot, cc.file}, cc.settings);
+  if (incremental_) pending_mark_.assign(config_.geometry.cell_count(), 0);
+
   const auto g = config_.geometry.world_to_cell(goal_);
   if (!g) throw Error("the goal lies outside the navigation map", "", 0, "navigation.goal");
   goal_cell_ = *g;
@@ -93,9 +124,9 @@ NavCycle Navigator::on_points(const Vec3& sensor_origin, std::span<const Vec3> p
 NavCycle Navigator::after_update(NodeMapUpdate update, const Pose2& pose, double t) {
   NavCycle cycle;
   cycle.t_s = t;
-  if (dstar_) {
-    // Cells that changed since the last plan; D* Lite gets their values at the next plan, so a
-    // cell that flickered and came back costs nothing (D* Lite ignores unchanged passability).
+  if (incremental_ && !plans_.empty()) {
+    // Cells that changed since the last plan; the planner gets their values at the next plan, so
+    // a cell that flickered and came back costs nothing (D* Lite ignores unchanged passability).
     for (const Cell& c : update.occupancy_changed) {
       const std::size_t i = config_.geometry.index(c.x, c.y);
       if (!pending_mark_[i]) {
@@ -156,13 +187,13 @@ bool Navigator::remaining_path_blocked() const {
 }
 
 double Navigator::distance_to_path(const Vec2& p) const {
-  if (!follower_.has_path()) return 0.0;
-  return distance_to_polyline(p, follower_.path());
+  if (!controller_->has_path()) return 0.0;
+  return distance_to_polyline(p, controller_->path());
 }
 
 std::vector<Vec2> Navigator::follower_points(const std::vector<Cell>& cells, const Vec2& robot) const {
   std::vector<Cell> vertices;
-  if (follower_.mode() == MotionMode::PurePursuit) {
+  if (controller_->wants_smoothed_path()) {
     // An Ackermann robot cannot take 45 degree grid corners: line-of-sight smoothing (spec section 9).
     const GridSearchMap search(map_.occupancy(), OccupancyThresholds{}, true);
     vertices = remove_redundant_nodes(search, cells);
@@ -190,7 +221,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
     progress_ = 0;
     status_ = NavStatus::NoPath;
     no_path_reason_ = reason;
-    follower_.clear();
+    controller_->clear();
     if (on_plan) on_plan(*this, plans_.back());
   };
 
@@ -208,23 +239,16 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
     start = *e;
   }
 
+  const PlanningLayers layers{&map_.occupancy(), nullptr};
   PlanResult r;
-  if (config_.planner == NavPlanner::DStarLite) {
-    if (!dstar_) {
-      dstar_ = std::make_unique<DStarLite>(map_.occupancy(), search_options());
-      pending_mark_.assign(config_.geometry.cell_count(), 0);
-      r = dstar_->plan(start, goal_cell_);
-    } else {
-      const OccupancyGrid& occ = map_.occupancy();
-      for (CellChange& c : pending_) {
-        c.occupancy = occ.at(c.cell.x, c.cell.y);
-        pending_mark_[config_.geometry.index(c.cell.x, c.cell.y)] = 0;
-      }
-      dstar_->update_cells(pending_);
-      pending_.clear();
-      dstar_->move_start(start);
-      r = dstar_->replan();
+  if (incremental_) {
+    const OccupancyGrid& occ = map_.occupancy();
+    for (CellChange& c : pending_) {
+      c.occupancy = occ.at(c.cell.x, c.cell.y);
+      pending_mark_[config_.geometry.index(c.cell.x, c.cell.y)] = 0;
     }
+    r = planner_->plan(layers, start, goal_cell_, pending_);
+    pending_.clear();
     if (config_.compare_astar) {
       const PlanResult a = astar_from_scratch(map_.occupancy(), start, goal_cell_);
       p.compared = true;
@@ -237,7 +261,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
       p.astar_backward_status = plan_status_reason(b.status);
     }
   } else {
-    r = astar_from_scratch(map_.occupancy(), start, goal_cell_);
+    r = planner_->plan(layers, start, goal_cell_, {});
   }
   p.status = plan_status_reason(r.status);
   p.expanded = r.expanded;
@@ -256,28 +280,36 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   if (!p.cells.empty()) p.cells.pop_back();  // the escape cell starts the planned path
   p.cells.insert(p.cells.end(), r.path_cells.begin(), r.path_cells.end());
   p.points = follower_points(p.cells, pose.translation());
-  follower_.set_path(p.points);
+  controller_->set_path(p.points);
   progress_ = 0;
   status_ = NavStatus::Navigating;
   plans_.push_back(std::move(p));
   if (on_plan) on_plan(*this, plans_.back());
 }
 
-BodyTwist Navigator::command(const Pose2& pose, double t) {
+BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& velocity) {
   if (status_ != NavStatus::Navigating) return {};
   if ((pose.translation() - goal_).norm() <= config_.goal_tolerance_m) {
     status_ = NavStatus::Arrived;
     arrival_t_ = t;
-    follower_.clear();
+    controller_->clear();
     return {};
   }
-  const FollowOutput out = follower_.compute(pose);
-  if (out.status == FollowStatus::Arrived || out.status == FollowStatus::Missed) {
-    // The follower ended its path outside the goal tolerance: plan again at the next cycle.
+  ControlInput in;
+  in.t_s = t;
+  in.pose = pose;
+  in.velocity = velocity;
+  in.local_map = &map_.occupancy();
+  in.footprint = footprint_;
+  in.limits = limits_;
+  in.goal = goal_;
+  const ControlOutput out = controller_->compute(in);
+  if (out.status == ControlStatus::Arrived || out.status == ControlStatus::CannotReach) {
+    // The controller ended its path outside the goal tolerance: plan again at the next cycle.
     replan_missed_ = true;
     return {};
   }
-  return out.command;
+  return out.twist;
 }
 
 }  // namespace starnav

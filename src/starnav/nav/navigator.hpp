@@ -16,39 +16,39 @@
 // Per control step (command): arrived when within goal_tolerance of the goal (status Arrived,
 // zero twist); otherwise the PathFollower's twist for the current path.
 //
-// Planners: "astar" searches from scratch at every plan (the paper); "dstar_lite" keeps one
-// D* Lite search; at a replan it is given the cells whose occupancy changed since its last
-// search (their values now), moved to the robot's start and repaired. With compare_astar, every
-// plan of a dstar_lite run also runs A* from scratch on the same map, from the robot to the goal
-// and from the goal to the robot (expansions and costs recorded; the robot follows D* Lite).
+// Components, by name from the registry (registry/components.hpp): the global planner plans on the
+// node map's occupancy ("astar" from scratch at every plan, as the paper; an incremental planner,
+// "dstar_lite", keeps one search and at a replan is given the cells whose occupancy changed since
+// its last search, their values now); the local controller turns the path into twists
+// ("path_follower", the paper's). With compare_astar, every plan of an incremental planner also
+// runs A* from scratch on the same map, from the robot to the goal and from the goal to the robot
+// (expansions and costs recorded; the robot follows the incremental planner's path).
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "starnav/control/path_follower.hpp"
+#include "starnav/control/local_controller.hpp"
+#include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/nav/node_height_map.hpp"
-#include "starnav/plan/dstar_lite.hpp"
+#include "starnav/plan/global_planner.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/robot/robot_model.hpp"
 #include "starnav/sense/lidar.hpp"
 
 namespace starnav {
 
-enum class NavPlanner : std::uint8_t { AStar, DStarLite };
-const char* nav_planner_name(NavPlanner p);                                   // "astar", "dstar_lite"
-NavPlanner parse_nav_planner(const std::string& s, const std::string& field);  // Error naming field
-
 struct NavigatorConfig {
   GridGeometry geometry;  // the map's grid (world-aligned, y up)
   NodeMapParams map;
-  NavPlanner planner = NavPlanner::AStar;
-  bool compare_astar = false;     // dstar_lite: also A* from scratch at every plan
+  ComponentChoice planner{"astar", {}, "navigation.planner", 0, {}};              // a global planner on occupancy grids
+  ComponentChoice controller{"path_follower", {}, "navigation.controller", 0, {}};  // a local controller
+  bool compare_astar = false;     // incremental planners: also A* from scratch at every plan
   double goal_tolerance_m = 0.15;
   double no_return_clear_m = 0.0; // see NodeHeightMap::integrate(const LidarScan&, double)
-  PathFollowerConfig follower;
+  std::vector<std::string> warnings;  // from whoever built the configuration; Navigator::warnings() repeats them
   void validate() const;  // Error naming the field
 };
 
@@ -89,8 +89,9 @@ struct NavCycle {
 
 class Navigator {
  public:
-  // Throws Error naming the field for bad configurations, a goal outside the map, or a motion
-  // mode the robot cannot do.
+  // Builds the planner and the controller from the registry. Throws Error naming the field for
+  // bad configurations, unknown components or parameters, a planner that needs an elevation map,
+  // a goal outside the map, or a motion mode the robot cannot do.
   Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal);
   ~Navigator();
   Navigator(const Navigator&) = delete;
@@ -103,15 +104,21 @@ class Navigator {
   NavCycle on_scan(const LidarScan& scan, const Pose2& pose, double t);
   // The same with a scan given as sensor origin and world points (tests, other sensors).
   NavCycle on_points(const Vec3& sensor_origin, std::span<const Vec3> points, const Pose2& pose, double t);
-  // One control step.
-  BodyTwist command(const Pose2& pose, double t);
+  // One control step at the localizer's pose, with the robot's current body twist.
+  BodyTwist command(const Pose2& pose, double t, const BodyTwist& velocity = {});
 
   NavStatus status() const { return status_; }
   const std::string& no_path_reason() const { return no_path_reason_; }
   double arrival_time_s() const { return arrival_t_; }
   const NodeHeightMap& map() const { return map_; }
   const NavigatorConfig& config() const { return config_; }
-  const PathFollower& follower() const { return follower_; }
+  const LocalController& controller() const { return *controller_; }
+  const GlobalPlanner& planner() const { return *planner_; }
+  // The registry names of the planner and the controller (aliases resolved).
+  const std::string& planner_name() const { return planner_name_; }
+  const std::string& controller_name() const { return controller_name_; }
+  // What the registry said about deprecated names (empty when none were used).
+  const std::vector<std::string>& warnings() const { return warnings_; }
   const Vec2& goal() const { return goal_; }
   const std::vector<NavPlan>& plans() const { return plans_; }
   // The index of the remaining path's first cell in plans().back().cells.
@@ -131,9 +138,14 @@ class Navigator {
   Vec2 goal_;
   Cell goal_cell_{};
   NodeHeightMap map_;
-  PathFollower follower_;
-  std::unique_ptr<DStarLite> dstar_;
-  std::vector<CellChange> pending_;        // cells changed since D* Lite's last search
+  std::unique_ptr<GlobalPlanner> planner_;
+  std::unique_ptr<LocalController> controller_;
+  std::string planner_name_, controller_name_;
+  std::vector<std::string> warnings_;
+  bool incremental_ = false;
+  Footprint footprint_;
+  VelocityLimits limits_;
+  std::vector<CellChange> pending_;        // cells changed since the incremental planner's last search
   std::vector<std::uint8_t> pending_mark_;  // 1 = in pending_
   std::vector<NavPlan> plans_;
   std::size_t progress_ = 0;

@@ -16,9 +16,6 @@ namespace {
 constexpr int kTile = 32;  // cells per side of the tiles the incremental refresh works in
 constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
 
-// Squared radius in cells with a relative tolerance, so that a radius of exactly k cells (given
-// as k * resolution in metres) includes distance k: the same rule as terrain's expand_mask.
-int expansion_margin(double radius_cells) { return static_cast<int>(std::floor(radius_cells * (1.0 + 1e-9))) + 1; }
 
 }  // namespace
 
@@ -65,8 +62,8 @@ void NodeHeightMap::rebuild() {
     options.robot_radius_m = 0.0;  // the expansion is ours (incremental over tiles)
     analysis_.compute(elevation_, options);
   }
-  blocked_ = expand_mask(raw_blocked(), geometry_.width, geometry_.height,
-                         params_.barrier_distance_m / geometry_.resolution);
+  blocked_ = inflate_mask(raw_blocked(), geometry_.width, geometry_.height,
+                         inflation_radius_cells(params_.barrier_distance_m, geometry_.resolution));
   for (std::size_t i = 0; i < n; ++i) occupancy_.data()[i] = occupancy_value(i);
 }
 
@@ -265,8 +262,8 @@ NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3>
 }
 
 void NodeHeightMap::refresh_occupancy(const CellRect& raw_changed, NodeMapUpdate& update) {
-  const double rc = params_.barrier_distance_m / geometry_.resolution;
-  const CellRect region = raw_changed.grown(expansion_margin(rc), geometry_.width, geometry_.height);
+  const double rc = inflation_radius_cells(params_.barrier_distance_m, geometry_.resolution);
+  const CellRect region = raw_changed.grown(inflation_margin_cells(rc), geometry_.width, geometry_.height);
   for (int y = region.y0; y < region.y1; ++y)
     for (int x = region.x0; x < region.x1; ++x) {
       const std::size_t i = geometry_.index(x, y);
@@ -283,28 +280,8 @@ void NodeHeightMap::refresh_occupancy(const CellRect& raw_changed, NodeMapUpdate
 // Cells within the radius of a changed raw cell may change; their nearest raw cells within the
 // radius lie within `margin` more cells, so a window of that size decides them exactly.
 void NodeHeightMap::refresh_expansion(const CellRect& raw_changed) {
-  const int w = geometry_.width, h = geometry_.height;
-  const double rc = params_.barrier_distance_m / geometry_.resolution;
-  const int margin = expansion_margin(rc);
-  const CellRect region = raw_changed.grown(margin, w, h);
-  const CellRect window = region.grown(margin, w, h);
-  const int ww = window.x1 - window.x0, wh = window.y1 - window.y0;
-  const std::vector<std::uint8_t>& raw = raw_blocked();
-  sub_.resize(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh));
-  for (int y = window.y0; y < window.y1; ++y)
-    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(geometry_.index(window.x0, y)), ww,
-                sub_.begin() + static_cast<std::ptrdiff_t>(y - window.y0) * ww);
-  // Same rule as terrain's expand_mask (a radius of exactly k cells includes distance k), with
-  // the transform's buffers kept between calls.
-  const bool expand = rc > 0.0;
-  if (expand) dt_.compute(sub_, ww, wh);
-  const double limit = rc * rc * (1.0 + 1e-9) + 1e-12;
-  for (int y = region.y0; y < region.y1; ++y)
-    for (int x = region.x0; x < region.x1; ++x) {
-      const std::size_t k = static_cast<std::size_t>(y - window.y0) * static_cast<std::size_t>(ww) +
-                            static_cast<std::size_t>(x - window.x0);
-      blocked_[geometry_.index(x, y)] = expand ? (dt_.squared_cells()[k] <= limit ? 1 : 0) : (sub_[k] ? 1 : 0);
-    }
+  inflation_.update(raw_blocked(), geometry_.width, geometry_.height,
+                    inflation_radius_cells(params_.barrier_distance_m, geometry_.resolution), raw_changed, blocked_);
 }
 
 std::optional<Cell> NodeHeightMap::escape_cell(Cell start, std::vector<Cell>* path) const {

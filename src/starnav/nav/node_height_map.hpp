@@ -34,6 +34,7 @@
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/map/distance_transform.hpp"
+#include "starnav/map/mask_inflation.hpp"
 #include "starnav/map/elevation_map.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/sense/lidar.hpp"
@@ -150,9 +151,8 @@ class NodeHeightMap {
   std::vector<std::uint8_t> tile_dirty_;
   std::vector<std::uint32_t> dirty_tiles_;
   std::vector<CellRect> dirty_rects_;
-  std::vector<std::uint8_t> sub_;  // expansion window
   std::vector<Vec3> pass_ends_;
-  DistanceTransform dt_;
+  IncrementalInflation inflation_;  // the windowed expansion update
   bool any_evidence_ = false;
 };
 

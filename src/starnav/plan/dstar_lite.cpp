@@ -25,7 +25,7 @@ DStarLite::DStarLite(const OccupancyGrid& grid, const GridPlannerOptions& option
   validate_grid_planner_options(options);
   if (options.weight != 1.0) throw Error("only wastar takes a weight", {}, 0, "weight");
   if (!options.heuristic.empty())
-    throw Error("dstarlite uses its own heuristic (octile, manhattan on 4-connected grids), got '" +
+    throw Error("dstar_lite uses its own heuristic (octile, manhattan on 4-connected grids), got '" +
                     options.heuristic + "'",
                 {}, 0, "heuristic");
   map_ = GridSearchMap(grid, thresholds_, unknown_is_free_);
@@ -225,7 +225,7 @@ std::size_t DStarLite::update_cells(std::span<const CellChange> changes) {
 }
 
 PlanResult DStarLite::replan(const SearchLimits& limits) {
-  if (!initialised_) throw Error("replan() before a successful plan()", {}, 0, "dstarlite");
+  if (!initialised_) throw Error("replan() before a successful plan()", {}, 0, "dstar_lite");
   trace_.clear();
   PlanResult result;
   if (const auto why = check_endpoints(map_, start_, goal_)) {
@@ -259,7 +259,7 @@ PlanResult DStarLite::replan(const SearchLimits& limits) {
       }
     });
     if (best == kNoState || steps > map_.state_count())
-      throw Error("internal error: D* Lite path extraction failed", {}, 0, "dstarlite");
+      throw Error("internal error: D* Lite path extraction failed", {}, 0, "dstar_lite");
     s = best;
     cells.push_back(map_.cell(s));
   }

@@ -26,16 +26,18 @@
 
 namespace starnav {
 
-struct CellChange {
-  Cell cell;
-  std::int8_t occupancy = kOccupiedOccupancy;  // new value, -1..100 (classified with the thresholds)
-};
 
 class DStarLite final : public GridPlanner {
  public:
   explicit DStarLite(const OccupancyGrid& grid, const GridPlannerOptions& options = {});
 
-  std::string_view name() const override { return "dstarlite"; }
+  std::string_view name() const override { return "dstar_lite"; }
+  bool incremental() const override { return true; }
+  PlanResult replan(Cell start, std::span<const CellChange> changed) override {
+    update_cells(changed);
+    move_start(start);
+    return replan();
+  }
   bool admissible() const override { return true; }
 
   // Starts over: a fresh search from start to goal (GridPlanner interface).

@@ -1,5 +1,5 @@
 #pragma once
-// Gradient smoothing of a planned path beyond Ou et al. 2022 (issue 4: "a further smoothing
+// Gradient smoothing of a planned path beyond Ou et al. 2022 ("a further smoothing
 // beyond the paper ... that keeps a minimum clearance"). The paper's line-of-sight pruning gives a
 // taut polyline whose corners touch the inflated obstacles; a robot following it has to turn on
 // the spot there. This smoother spreads those turns over the free space around them.

@@ -3,6 +3,7 @@
 // benchmarks and (later) the navigation stack. Virtual dispatch happens once per query; inside a
 // search everything is templated (see search_core.hpp), so the interface costs nothing per node.
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,6 +14,12 @@
 
 namespace starnav {
 
+// A cell whose occupancy changed, with its new value (incremental planners, map updates).
+struct CellChange {
+  Cell cell;
+  std::int8_t occupancy = kOccupiedOccupancy;  // new value, -1..100 (classified with the thresholds)
+};
+
 struct GridPlannerOptions {
   int connectivity = 8;           // 4 or 8 (8: no corner cutting, conventions.md)
   bool unknown_is_free = false;   // optimistic planning in unknown space
@@ -20,7 +27,7 @@ struct GridPlannerOptions {
   double weight = 1.0;            // weighted A*: f = g + w*h, w >= 1
   std::string heuristic;          // "" = the planner's default; "octile", "manhattan", "euclidean", "zero"
   bool record_trace = false;      // keep the expanded cells (for pictures)
-  Ou2022Options ou2022;           // inflation, smoothing, steering cost, adaptive weight (issue 4)
+  Ou2022Options ou2022;           // inflation, smoothing, steering cost, adaptive weight (docs/papers/ou2022.md)
 };
 
 class GridPlanner {
@@ -37,6 +44,11 @@ class GridPlanner {
     static const std::vector<Cell> empty;
     return empty;
   }
+  // Incremental planners (D* Lite) keep their search between queries: after a first plan(),
+  // replan() takes the cells whose occupancy changed since (with their new values) and the
+  // robot's new start cell, and repairs the search toward the same goal.
+  virtual bool incremental() const { return false; }
+  virtual PlanResult replan(Cell start, std::span<const CellChange> changed);
   // The grid path of the last query before line-of-sight smoothing (empty when the planner did
   // not smooth it); path_cells of the result is then the smoothed path.
   virtual const std::vector<Cell>& unsmoothed_path() const {
@@ -45,7 +57,7 @@ class GridPlanner {
   }
 };
 
-// Names: dijkstra, astar, wastar, jps, jpsplus, thetastar, dstarlite, ou2022 (see ou2022_options.hpp
+// Names: dijkstra, astar, wastar, jps, jpsplus, thetastar, dstar_lite (alias dstarlite), ou2022 (see ou2022_options.hpp
 // for which planner honours which of options.ou2022). Throws Error for an unknown
 // name or options the planner cannot honour (e.g. jps with connectivity 4).
 std::unique_ptr<GridPlanner> make_grid_planner(std::string_view name, const OccupancyGrid& grid,

@@ -50,20 +50,19 @@ void ObstacleInflator::inflate(const OccupancyGrid& grid, const OccupancyThresho
   // One pass over the cells: clearance, the hard radius, the band (squared distances compared
   // first, so exp runs only inside the band).
   out.clearance_m.resize(n);
-  const double radius_cells = options.radius_m / out.resolution;
+  const double radius_cells = inflation_radius_cells(options.radius_m, out.resolution);
   const bool hard = options.hard(), graded = options.graded();
-  const double band_cells = options.cost_radius_m / out.resolution;
-  const double band_squared = band_cells * band_cells;
+  const double band_cells = inflation_radius_cells(options.cost_radius_m, out.resolution);
   if (graded) out.multiplier.assign(n, 1.0);
   else out.multiplier.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const double d_m = std::sqrt(d2[i]) * out.resolution;
     out.clearance_m[i] = d_m;
     if (out.blocked[i]) continue;
-    if (hard && within_radius_cells(d2[i], radius_cells)) {
+    if (hard && within_inflation_radius(d2[i], radius_cells)) {
       out.blocked[i] = 1;
       ++out.inflated_cells;
-    } else if (graded && d2[i] <= band_squared * (1.0 + 1e-9)) {
+    } else if (graded && d2[i] <= inflation_limit_squared(band_cells)) {
       out.multiplier[i] = inflation_cost_multiplier(d_m, options);
     }
   }

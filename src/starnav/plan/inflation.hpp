@@ -1,5 +1,5 @@
 #pragma once
-// Obstacle inflation for the planners (Ou et al. 2022's "safety protection", issue 4): one exact
+// Obstacle inflation for the planners (Ou et al. 2022's "safety protection", docs/papers/ou2022.md): one exact
 // Euclidean distance transform of the obstacle mask (map/distance_transform.hpp, linear time),
 // then a threshold for the hard radius and, optionally, the graded cost band. The formulas are
 // documented with InflationOptions (ou2022_options.hpp).
@@ -20,12 +20,6 @@ void validate_inflation(const InflationOptions& options);
 // - R)) inside the band R < d <= R2, 1 outside it (and 1 when there is no band). Cells with d <= R
 // are blocked; this function does not say so.
 double inflation_cost_multiplier(double d_m, const InflationOptions& options);
-
-// Whether a squared distance in cells lies within a radius in cells (the hard-inflation rule,
-// inclusive with a relative tolerance of 1e-9 for the rounding of radius_m / resolution).
-inline bool within_radius_cells(double squared_cells, double radius_cells) {
-  return radius_cells > 0.0 && squared_cells <= radius_cells * radius_cells * (1.0 + 1e-9);
-}
 
 struct InflatedMap {
   int width = 0;

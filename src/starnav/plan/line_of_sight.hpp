@@ -21,7 +21,7 @@ namespace starnav {
 
 namespace detail {
 // The walk behind line_of_sight; with kReport, *blocker receives the padded state of the first
-// blocked cell met (issue 4: path smoothing uses it to reject later segments in O(1)).
+// blocked cell met (path smoothing uses it to reject later segments in O(1)).
 template <bool kReport>
 inline bool line_of_sight_walk(const GridSearchMap& map, int x0, int y0, int x1, int y1, std::int64_t* blocker) {
   const std::uint8_t* pass = map.data();

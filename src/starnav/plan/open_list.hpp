@@ -1,13 +1,13 @@
 #pragma once
 // Open lists for best-first search.
 //
-// Shared building block (issue 3): `DaryHeap` is a d-ary min-heap that can track where each
+// Shared building block (docs/benchmarks.md): `DaryHeap` is a d-ary min-heap that can track where each
 // entry sits (for decrease-key / update / remove) or not (lazy deletion). The search core, D* Lite
 // and the JPS planners may all use it; `DecreaseKeyOpenList` and `LazyOpenList` adapt it to a
 // SearchMemory (search_memory.hpp). Both give the same expansion order, because the entry order
 // is total (f, then larger g, then lower state id: conventions.md), so the minimum is unique.
 //
-// Measured on the MovingAI maps of issue 3 (bench/bench_search_core.cpp): for A*, lazy deletion
+// Measured on the MovingAI maps of docs/benchmarks.md (bench/bench_search_core.cpp): for A*, lazy deletion
 // was 1.5-2x slower than decrease-key (more and staler entries); binary and 4-ary decrease-key were
 // within about 5% of each other (4-ary 12% ahead on maze512-4-0); for Dijkstra all four were
 // within 5%. The 4-ary decrease-key heap is the default (`DefaultOpenList`).

@@ -1,5 +1,5 @@
 #pragma once
-// Path metrics shared by every planner, the benchmarks and (later) the simulator (issue 4):
+// Path metrics shared by every planner, the benchmarks and (later) the simulator (docs/papers/ou2022.md):
 // length, vertices, turning points, total and maximum absolute turning angle, minimum and mean
 // clearance, smoothness.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Removal of redundant path nodes by line of sight (Ou et al. 2022, Fig. 5; issue 4).
+// Removal of redundant path nodes by line of sight (Ou et al. 2022, Fig. 5; docs/papers/ou2022.md).
 //
 // From the anchor P0, keep the farthest later vertex Pj whose straight segment from the anchor
 // touches no blocked cell, make it the anchor, repeat until the last vertex. The line test is

@@ -12,19 +12,23 @@
 namespace starnav {
 
 std::vector<std::string> grid_planner_names() {
-  return {"dijkstra", "astar", "wastar", "jps", "jpsplus", "thetastar", "dstarlite", "ou2022"};
+  return {"dijkstra", "astar", "wastar", "jps", "jpsplus", "thetastar", "dstar_lite", "ou2022"};
+}
+
+PlanResult GridPlanner::replan(Cell /*start*/, std::span<const CellChange> /*changed*/) {
+  throw Error("planner '" + std::string(name()) + "' is not incremental: plan again from scratch", {}, 0, "planner");
 }
 
 std::unique_ptr<GridPlanner> make_grid_planner(std::string_view name, const OccupancyGrid& grid,
                                                const GridPlannerOptions& options) {
   using Kind = BestFirstGridPlanner::Kind;
-  // Issue 4: the improved A* of Ou et al. 2022, and its features on astar (all of them) and on
+  // The improved A* of Ou et al. 2022, and its features on astar (all of them) and on
   // every other planner (hard inflation and smoothing only; ou2022.hpp).
   if (name == "ou2022") return std::make_unique<ImprovedAStarPlanner>(grid, options, true);
   if (options.ou2022.any()) {
     if (name == "astar") return std::make_unique<ImprovedAStarPlanner>(grid, options, false);
     const auto names = grid_planner_names();
-    if (std::find(names.begin(), names.end(), name) != names.end())
+    if (std::find(names.begin(), names.end(), name) != names.end() || name == "dstarlite")
       return make_inflated_smoothed_planner(name, grid, options, &make_grid_planner);
   }
   if (name == "dijkstra") return std::make_unique<BestFirstGridPlanner>(Kind::Dijkstra, grid, options);
@@ -33,7 +37,7 @@ std::unique_ptr<GridPlanner> make_grid_planner(std::string_view name, const Occu
   if (name == "jps") return make_jps_planner(grid, options, false);
   if (name == "jpsplus") return make_jps_planner(grid, options, true);
   if (name == "thetastar") return std::make_unique<ThetaStarPlanner>(grid, options);
-  if (name == "dstarlite") return std::make_unique<DStarLite>(grid, options);
+  if (name == "dstar_lite" || name == "dstarlite") return std::make_unique<DStarLite>(grid, options);
   std::string known;
   for (const auto& n : grid_planner_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown planner '" + std::string(name) + "' (" + known + ")", {}, 0, "planner");

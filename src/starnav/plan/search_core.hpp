@@ -1,5 +1,5 @@
 #pragma once
-// The one best-first search engine of starnav (issue 3). Every grid planner is this loop with a
+// The one best-first search engine of starnav (docs/benchmarks.md). Every grid planner is this loop with a
 // different graph, cost, heuristic and open list, all template policies (no virtual call per
 // node):
 //

@@ -1,7 +1,7 @@
 #pragma once
 // Per-state search memory, allocated once per map and reused by every query.
 //
-// Shared building block (issue 3): the search core (search_core.hpp), Theta*, and anyone else who
+// Shared building block (docs/benchmarks.md): the search core (search_core.hpp), Theta*, and anyone else who
 // needs per-state g / parent / open-list bookkeeping may use it (the JPS planners are welcome to).
 //
 // Each state holds its cost-so-far g, its parent, its slot in the open list (or a closed / not-open
@@ -38,7 +38,7 @@ struct SearchNode {
   bool closed() const { return slot == kClosed; }
   bool open() const { return slot < kClosed; }
 };
-// Issue 3: search state <= 32 bytes per state (24 with 64-bit costs, 20 -> 24 padded otherwise).
+// Budget (docs/benchmarks.md): search state <= 32 bytes per state (24 with 64-bit costs, 20 -> 24 padded otherwise).
 static_assert(sizeof(SearchNode<std::int64_t>) <= 32 && sizeof(SearchNode<double>) <= 32);
 
 template <class Cost>

@@ -25,15 +25,8 @@ DriveKind parse_drive_kind(const std::string& s, const std::string& field) {
 
 namespace {
 
-void require(bool ok, const char* field, const std::string& what) {
-  if (!ok) throw Error(what, {}, 0, std::string("robot.") + field);
-}
-void positive(double v, const char* field) {
-  require(std::isfinite(v) && v > 0.0, field, "must be finite and > 0");
-}
-void non_negative(double v, const char* field) {
-  require(std::isfinite(v) && v >= 0.0, field, "must be finite and >= 0");
-}
+// RobotConfig's fields are named "robot.<field>" in errors.
+std::string robot_field(const char* field) { return std::string("robot.") + field; }
 
 // Mecanum wheels FL, FR, RL, RR at (+-L2, +-L1) with rollers at alpha (spec li2019 section 8):
 //   w_FL = (vx - vy/t - k wz) / r,  w_FR = (vx + vy/t + k wz) / r,
@@ -130,24 +123,24 @@ class AckermannModel final : public RobotModel {
 }  // namespace
 
 void RobotConfig::validate() const {
-  require(drive == DriveKind::Mecanum || drive == DriveKind::Differential || drive == DriveKind::Ackermann, "drive",
+  require(drive == DriveKind::Mecanum || drive == DriveKind::Differential || drive == DriveKind::Ackermann, robot_field("drive"),
           "unknown drive kind");
-  positive(half_track_m, "half_track_m");
-  positive(half_wheelbase_m, "half_wheelbase_m");
-  positive(wheel_radius_m, "wheel_radius_m");
+  require_positive(half_track_m, robot_field("half_track_m"));
+  require_positive(half_wheelbase_m, robot_field("half_wheelbase_m"));
+  require_positive(wheel_radius_m, robot_field("wheel_radius_m"));
   require(std::isfinite(roller_angle_rad) && roller_angle_rad > 0.0 && roller_angle_rad < 0.5 * kPi,
-          "roller_angle_rad", "must lie in (0, pi/2)");
-  positive(body_length_m, "body_length_m");
-  positive(body_width_m, "body_width_m");
-  positive(body_height_m, "body_height_m");
-  non_negative(ground_clearance_m, "ground_clearance_m");
-  positive(max_wheel_speed_radps, "max_wheel_speed_radps");
-  positive(max_wheel_accel_radps2, "max_wheel_accel_radps2");
-  non_negative(actuator_lag_s, "actuator_lag_s");
-  require(std::isfinite(max_steer_rad) && max_steer_rad > 0.0 && max_steer_rad < 0.5 * kPi, "max_steer_rad",
+          robot_field("roller_angle_rad"), "must lie in (0, pi/2)");
+  require_positive(body_length_m, robot_field("body_length_m"));
+  require_positive(body_width_m, robot_field("body_width_m"));
+  require_positive(body_height_m, robot_field("body_height_m"));
+  require_non_negative(ground_clearance_m, robot_field("ground_clearance_m"));
+  require_positive(max_wheel_speed_radps, robot_field("max_wheel_speed_radps"));
+  require_positive(max_wheel_accel_radps2, robot_field("max_wheel_accel_radps2"));
+  require_non_negative(actuator_lag_s, robot_field("actuator_lag_s"));
+  require(std::isfinite(max_steer_rad) && max_steer_rad > 0.0 && max_steer_rad < 0.5 * kPi, robot_field("max_steer_rad"),
           "must lie in (0, pi/2)");
-  positive(max_steer_rate_radps, "max_steer_rate_radps");
-  non_negative(max_step_m, "max_step_m");
+  require_positive(max_steer_rate_radps, robot_field("max_steer_rate_radps"));
+  require_non_negative(max_step_m, robot_field("max_step_m"));
 }
 
 std::unique_ptr<RobotModel> make_robot_model(const RobotConfig& config) {

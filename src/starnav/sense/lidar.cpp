@@ -12,10 +12,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-void require(bool ok, const char* field, const std::string& what) {
-  if (!ok) throw Error(what, {}, 0, field);
-}
-
 int beams_for(double scan_angle, double resolution) {
   const bool full = std::abs(scan_angle - 2.0 * kPi) <= 1e-9;
   const double n = scan_angle / resolution;

@@ -11,12 +11,6 @@ namespace starnav {
 
 namespace {
 
-void positive(double v, const char* field) {
-  if (!std::isfinite(v) || !(v > 0.0)) throw Error("must be a positive number", {}, 0, field);
-}
-void non_negative(double v, const char* field) {
-  if (!std::isfinite(v) || v < 0.0) throw Error("must be a non-negative number", {}, 0, field);
-}
 void finite(const Vec3& v, const char* field) {
   if (!v.allFinite()) throw Error("must be finite", {}, 0, field);
 }
@@ -68,13 +62,13 @@ void validate(const Obstacle& o) {
 Obstacle make_slope_step(const SlopeStep& s) {
   finite(s.position, "position");
   finite(s.yaw, "yaw");
-  positive(s.width, "width");
-  positive(s.ramp_length, "ramp_length");
-  positive(s.ramp_height, "ramp_height");
-  positive(s.platform_length, "platform_length");
-  positive(s.step_height, "step_height");
-  positive(s.step_length, "step_length");
-  non_negative(s.depth, "depth");
+  require_positive(s.width, "width");
+  require_positive(s.ramp_length, "ramp_length");
+  require_positive(s.ramp_height, "ramp_height");
+  require_positive(s.platform_length, "platform_length");
+  require_positive(s.step_height, "step_height");
+  require_positive(s.step_length, "step_length");
+  require_non_negative(s.depth, "depth");
   Obstacle o;
   o.name = "slope_step";
   o.anchor = s.position;
@@ -121,9 +115,9 @@ Obstacle make_undulating_ground(const UndulatingGround& u) {
   finite(u.position, "position");
   finite(u.yaw, "yaw");
   if (u.count < 1) throw Error("must be at least 1", {}, 0, "count");
-  positive(u.base_width, "base_width");
-  positive(u.height, "height");
-  positive(u.width, "width");
+  require_positive(u.base_width, "base_width");
+  require_positive(u.height, "height");
+  require_positive(u.width, "width");
   Obstacle o;
   o.name = "undulating_ground";
   o.anchor = u.position;
@@ -143,12 +137,12 @@ Obstacle make_undulating_ground(const UndulatingGround& u) {
 Obstacle make_round_convex(const RoundConvex& r) {
   finite(r.position, "position");
   finite(r.yaw, "yaw");
-  positive(r.box_size.x(), "box_size");
-  positive(r.box_size.y(), "box_size");
-  positive(r.box_size.z(), "box_size");
-  positive(r.radius, "radius");
-  positive(r.cylinder_height, "cylinder_height");
-  non_negative(r.depth, "depth");
+  require_positive(r.box_size.x(), "box_size");
+  require_positive(r.box_size.y(), "box_size");
+  require_positive(r.box_size.z(), "box_size");
+  require_positive(r.radius, "radius");
+  require_positive(r.cylinder_height, "cylinder_height");
+  require_non_negative(r.depth, "depth");
   Obstacle o;
   o.name = "round_convex";
   o.anchor = r.position;
@@ -168,11 +162,11 @@ Obstacle make_round_convex(const RoundConvex& r) {
 Obstacle make_gravel(const Gravel& g, const TerrainSurface* ground) {
   finite(g.position, "position");
   finite(g.yaw, "yaw");
-  positive(g.length, "length");
-  positive(g.width, "width");
+  require_positive(g.length, "length");
+  require_positive(g.width, "width");
   if (g.count < 1) throw Error("must be at least 1", {}, 0, "count");
-  positive(g.size_min, "size_min");
-  positive(g.size_max, "size_max");
+  require_positive(g.size_min, "size_min");
+  require_positive(g.size_max, "size_max");
   if (g.size_max < g.size_min) throw Error("must be >= size_min", {}, 0, "size_max");
   if (!(g.sphere_fraction >= 0.0 && g.sphere_fraction <= 1.0)) throw Error("must be in [0, 1]", {}, 0, "sphere_fraction");
   if (!(g.embed >= 0.0 && g.embed < 1.0)) throw Error("must be in [0, 1)", {}, 0, "embed");

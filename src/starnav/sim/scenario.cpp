@@ -180,6 +180,12 @@ class Fields {
     return v ? deg_to_rad(v->number()) : def_rad;
   }
   std::string path(const char* key) const { return field_.empty() ? std::string(key) : field_ + "." + key; }
+  // Every key, in document order.
+  std::vector<std::string> keys() const {
+    std::vector<std::string> k;
+    for (const Entry& e : entries_) k.push_back(e.key);
+    return k;
+  }
   int line() const { return line_; }
   int line_of(const std::string& key) const {
     for (const Entry& e : entries_)
@@ -228,7 +234,8 @@ Fields::Fields(const Value& v, const Doc& doc) : field_(v.field()), line_(v.line
     const std::string key = it->first.Scalar();
     for (const Entry& e : entries_)
       if (e.key == key) throw Error("duplicate key", doc.file, l, path(key.c_str()));
-    entries_.push_back({key, it->second, l > 0 ? l : v.line()});
+    // A key without a mark was set on the command line (--set): it has no line.
+    entries_.push_back({key, it->second, it->first.Mark().is_null() ? 0 : l});
   }
 }
 
@@ -708,6 +715,23 @@ ScenarioLidar parse_lidar(const Value& v, const Doc& doc, const RobotConfig& rob
 
 // ---- the document ------------------------------------------------------------------------------
 
+ParamSetting setting_of(const Value& e, const std::string& key, const Doc& doc) {
+  return {key, e.node().Scalar(), doc.file, e.line(), e.line() > 0 ? e.field() : e.field() + " (--set)"};
+}
+
+// Every value under `v` as a setting with its dotted key (relative to `prefix`) and line; the
+// navigation stack checks them against its components' declared parameters.
+void collect_settings(const Value& v, const Doc& doc, const std::string& prefix, std::vector<ParamSetting>& out) {
+  Fields f = fields_of(v, doc);
+  for (const std::string& k : f.keys()) {
+    const Value e = *f.take(k.c_str());
+    const std::string key = prefix.empty() ? k : prefix + "." + k;
+    if (e.node().IsMap()) collect_settings(e, doc, key, out);
+    else if (e.node().IsScalar()) out.push_back(setting_of(e, key, doc));
+    else e.fail("expected a value or a section of values, found " + node_kind(e.node()));
+  }
+}
+
 ScenarioNavigation parse_navigation(const Value& v, const Doc& doc) {
   ScenarioNavigation n;
   n.source = {v.line(), v.field()};
@@ -719,55 +743,22 @@ ScenarioNavigation parse_navigation(const Value& v, const Doc& doc) {
     n.goal = Vec2(gf.required("x_m").number(), gf.required("y_m").number());
     gf.finish("x_m, y_m");
   }
-  n.goal_tolerance_m = f.positive("goal_tolerance_m", n.goal_tolerance_m);
-  if (auto p = f.take("planner")) {
-    n.planner = p->string();
-    if (n.planner != "astar" && n.planner != "dstar_lite") p->fail("unknown planner '" + n.planner + "' (astar, dstar_lite)");
+  for (const std::string& k : f.keys()) {
+    if (k == "goal") continue;
+    const Value e = *f.take(k.c_str());
+    if (e.node().IsMap()) collect_settings(e, doc, k, n.settings);
+    else if (e.node().IsScalar()) n.settings.push_back(setting_of(e, k, doc));
+    else e.fail("expected a value or a section of values, found " + node_kind(e.node()));
   }
-  if (auto m = f.take("map")) {
-    Fields g = fields_of(*m, doc);
-    n.resolution_m = g.positive("resolution_m", n.resolution_m);
-    if (auto e = g.take("extent")) {
-      n.extent = e->string();
-      if (n.extent != "world" && n.extent != "paper") e->fail("unknown extent '" + n.extent + "' (world, paper)");
-    }
-    n.paper_min_size_m = g.positive("paper_min_size_m", n.paper_min_size_m);
-    if (auto e = g.take("mode")) {
-      n.map_mode = e->string();
-      if (n.map_mode != "nodes_3d" && n.map_mode != "lidar_2d") e->fail("unknown map mode '" + n.map_mode + "' (nodes_3d, lidar_2d)");
-    }
-    if (auto e = g.take("barrier_distance_m")) n.barrier_distance_m = e->non_negative();
-    if (auto e = g.take("max_step_m")) n.max_step_m = e->positive();
-    if (auto e = g.take("max_slope_deg")) {
-      const double deg = e->number();
-      if (!(deg > 0.0 && deg < 90.0)) e->fail("must be in (0, 90)");
-      n.max_slope_rad = deg_to_rad(deg);
-    }
-    if (auto e = g.take("clear_margin_m")) n.clear_margin_m = e->non_negative();
-    if (auto e = g.take("hit_gain")) n.hit_gain = static_cast<int>(e->integer(1, 255));
-    if (auto e = g.take("miss_loss")) n.miss_loss = static_cast<int>(e->integer(0, 255));
-    if (auto e = g.take("evidence_max")) n.evidence_max = static_cast<int>(e->integer(1, 255));
-    n.no_return_clear_m = g.non_negative("no_return_clear_m", n.no_return_clear_m);
-    g.finish("resolution_m, extent, paper_min_size_m, mode, barrier_distance_m, max_step_m, max_slope_deg, clear_margin_m, "
-             "hit_gain, miss_loss, evidence_max, no_return_clear_m");
-  }
-  if (auto fo = f.take("follower")) {
-    Fields g = fields_of(*fo, doc);
-    const auto pos = [&](const char* key, std::optional<double>& out) {
-      if (auto e = g.take(key)) out = e->positive();
-    };
-    pos("cruise_speed_mps", n.cruise_speed_mps);
-    pos("look_ahead_m", n.look_ahead_m);
-    pos("pursuit_look_ahead_m", n.pursuit_look_ahead_m);
-    pos("heading_gain", n.heading_gain);
-    if (auto e = g.take("max_yaw_rate_degps")) n.max_yaw_rate_radps = deg_to_rad(e->positive());
-    if (auto e = g.take("turn_tolerance_deg")) n.turn_tolerance_rad = deg_to_rad(e->positive());
-    pos("slow_down_distance_m", n.slow_down_distance_m);
-    g.finish("cruise_speed_mps, look_ahead_m, pursuit_look_ahead_m, heading_gain, max_yaw_rate_degps, turn_tolerance_deg, "
-             "slow_down_distance_m");
-  }
-  f.finish("goal, goal_tolerance_m, planner, map, follower");
   return n;
+}
+
+ScenarioSettings parse_settings_section(const Value& v, const Doc& doc) {
+  ScenarioSettings out;
+  out.source = {v.line(), v.field()};
+  if (!v.node().IsMap()) v.fail("expected a section (key: value lines), found " + node_kind(v.node()));
+  collect_settings(v, doc, "", out.settings);
+  return out;
 }
 
 ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
@@ -983,6 +974,10 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
       throw Error("a navigation scenario has no command script (the navigation stack drives)", file,
                   top.line_of("commands"), "commands");
   }
+  if (auto v = top.take("localization")) {
+    s.localization = parse_settings_section(*v, doc);
+    if (!s.navigation) v->fail("localization needs a navigation section (the navigation loop reads its pose from it)");
+  }
 
   if (auto v = top.take("metrics")) {
     Fields f = fields_of(*v, doc);
@@ -1016,7 +1011,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
     f.finish("trajectory_every_n_steps, point_clouds");
   }
 
-  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, motion_mode, navigation, metrics, outputs");
+  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, motion_mode, navigation, localization, metrics, outputs");
   return s;
 }
 
@@ -1035,26 +1030,96 @@ int ScenarioSpec::segment_at(double t) const {
   return static_cast<int>(it - commands.begin());
 }
 
-ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file) {
+namespace {
+
+// A copy of `n` without marks: values set on the command line have no line in the file.
+YAML::Node unmarked(const YAML::Node& n) {
+  if (n.IsScalar()) return YAML::Node(n.Scalar());
+  if (n.IsSequence()) {
+    YAML::Node out(YAML::NodeType::Sequence);
+    for (const auto& e : n) out.push_back(unmarked(e));
+    return out;
+  }
+  if (n.IsMap()) {
+    YAML::Node out(YAML::NodeType::Map);
+    for (auto it = n.begin(); it != n.end(); ++it) out[it->first.Scalar()] = unmarked(it->second);
+    return out;
+  }
+  return YAML::Node();
+}
+
+void apply_override(YAML::Node& root, const ScenarioOverride& o, const std::string& file) {
+  const std::string field = "--set " + o.key;
+  std::vector<std::string> parts;
+  for (std::size_t b = 0;;) {
+    const std::size_t e = o.key.find('.', b);
+    parts.push_back(o.key.substr(b, e == std::string::npos ? std::string::npos : e - b));
+    if (e == std::string::npos) break;
+    b = e + 1;
+  }
+  for (const std::string& p : parts)
+    if (p.empty() || p.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
+      throw Error("a key is dotted lower_snake_case names (navigation.follower.look_ahead_m)", "", 0, field);
+  if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  if (!root.IsMap()) throw Error("the scenario is not a mapping", file, 0, field);
+  YAML::Node node = root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node child = node[parts[i]];
+    if (!child.IsDefined() || child.IsNull()) {
+      node[parts[i]] = YAML::Node(YAML::NodeType::Map);
+      child.reset(node[parts[i]]);
+    } else if (!child.IsMap()) {
+      throw Error("'" + parts[i] + "' is not a section of the scenario", file, 0, field);
+    }
+    node.reset(child);
+  }
+  YAML::Node value;
+  try {
+    value = YAML::Load(o.value);
+  } catch (const YAML::Exception& e) {
+    throw Error("not a YAML value: " + one_line(e.msg, 60), "", 0, field);
+  }
+  // A fresh key (no mark): the value has no line in the file.
+  node.remove(parts.back());
+  node[parts.back()] = value.IsNull() && !o.value.empty() ? YAML::Node(o.value) : unmarked(value);
+}
+
+}  // namespace
+
+ScenarioOverride parse_scenario_override(const std::string& text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) throw Error("expected KEY=VALUE, found '" + one_line(text, 60) + "'", "", 0, "--set");
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file, std::span<const ScenarioOverride> overrides) {
   YAML::Node root;
   try {
     root = YAML::Load(std::string(yaml_text));
   } catch (const YAML::Exception& e) {
     throw Error("YAML syntax error: " + one_line(e.msg, 60), file, e.mark.is_null() ? 0 : e.mark.line + 1);
   }
+  for (const ScenarioOverride& o : overrides) apply_override(root, o, file);
   try {
     return parse_document(root, file);
   } catch (const YAML::Exception& e) {
     throw Error("invalid YAML: " + one_line(e.msg, 60), file, e.mark.is_null() ? 0 : e.mark.line + 1);
+  } catch (const Error& e) {
+    // A value from --set has no line: say where it came from.
+    if (e.line() == 0 && !e.field().empty() && e.field().find("(--set)") == std::string::npos)
+      for (const ScenarioOverride& o : overrides)
+        if (e.field() == o.key || e.field().rfind(o.key + ".", 0) == 0 || e.field().rfind(o.key + "[", 0) == 0)
+          throw Error(e.message(), e.file(), 0, e.field() + " (--set)");
+    throw;
   }
 }
 
-ScenarioSpec load_scenario(const std::string& path) {
+ScenarioSpec load_scenario(const std::string& path, std::span<const ScenarioOverride> overrides) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(fs::exists(path) ? "cannot read the file" : "no such file", path);
   std::ostringstream ss;
   ss << in.rdbuf();
-  return parse_scenario(ss.str(), path);
+  return parse_scenario(ss.str(), path, overrides);
 }
 
 WorldDescription build_world(const ScenarioSpec& spec) {

@@ -12,12 +12,14 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
+#include "starnav/core/params.hpp"
 #include "starnav/robot/robot_model.hpp"
 #include "starnav/sense/imu.hpp"
 #include "starnav/sense/lidar.hpp"
@@ -108,29 +110,21 @@ struct ScenarioOutputs {
   int clouds_every_n_scans = 1;
 };
 
-// The `navigation` section (docs/scenarios.md): plain values, read by the navigation stack
-// (nav/navigation_run), which fills every value not given from its own defaults. The simulator
-// itself ignores the section.
+// The `navigation` section (docs/scenarios.md): the goal, and every other value as a setting
+// (dotted key relative to the section, its text and line). The navigation harness checks the
+// settings against the declared parameters of the components the scenario names (planner,
+// controller, the map, the navigator); the simulator knows none of them.
 struct ScenarioNavigation {
   Vec2 goal = Vec2::Zero();
-  double goal_tolerance_m = 0.15;
-  std::string planner = "astar";  // astar (from scratch at every replan, as the paper) | dstar_lite
-  // map
-  double resolution_m = 0.1;
-  std::string extent = "world";   // world: the world's bounds; paper: 1.5 x |goal - start| per axis
-  double paper_min_size_m = 4.0;  // extent: paper, smallest side
-  std::string map_mode;           // "" (from the LiDAR: 3D -> nodes_3d, 2D -> lidar_2d) | nodes_3d | lidar_2d
-  std::optional<double> barrier_distance_m;  // default: the body's circumscribed radius
-  std::optional<double> max_step_m;          // default: robot.max_step_m
-  std::optional<double> max_slope_rad;       // map.max_slope_deg
-  std::optional<double> clear_margin_m;
-  std::optional<int> hit_gain, miss_loss, evidence_max;
-  double no_return_clear_m = 0.0;
-  // follower (defaults: PathFollowerConfig)
-  std::optional<double> cruise_speed_mps, look_ahead_m, pursuit_look_ahead_m, heading_gain, max_yaw_rate_radps,
-      turn_tolerance_rad, slow_down_distance_m;
+  std::vector<ParamSetting> settings;  // "planner", "goal_tolerance_m", "map.resolution_m", "follower.look_ahead_m", ...
   ScenarioSource source;       // the section
   ScenarioSource goal_source;  // navigation.goal
+};
+
+// A section read as settings only (localization: odometry, localizer, ground_truth.sigma_xy_m, ...).
+struct ScenarioSettings {
+  std::vector<ParamSetting> settings;
+  ScenarioSource source;
 };
 
 struct ScenarioSpec {
@@ -161,6 +155,7 @@ struct ScenarioSpec {
   std::string motion_mode;
   ScenarioSource motion_mode_source;
   std::optional<ScenarioNavigation> navigation;  // present: a navigation scenario (no command script)
+  std::optional<ScenarioSettings> localization;  // navigation scenarios: the localization chain
 
   // metrics.reference_line_m: the line the robot is meant to follow (E1: the centre line); the
   // recorder reports the track's distance from it.
@@ -174,9 +169,20 @@ struct ScenarioSpec {
   int segment_at(double t) const;
 };
 
+// A value given on the command line for a dotted key of the scenario, applied to the YAML before
+// it is read (`--set navigation.follower.look_ahead_m=0.4`): every key of every section can be
+// set, and the value is checked exactly as if it were in the file. Errors name it "KEY (--set)".
+struct ScenarioOverride {
+  std::string key;    // dotted lower_snake_case names
+  std::string value;  // a YAML value: 0.4, astar, [1.0, 2.0]
+};
+// "KEY=VALUE"; Error (field "--set") otherwise.
+ScenarioOverride parse_scenario_override(const std::string& text);
+
 // Parses a scenario. `file` names the document in errors and anchors relative paths.
-ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file);
-ScenarioSpec load_scenario(const std::string& path);
+ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file,
+                            std::span<const ScenarioOverride> overrides = {});
+ScenarioSpec load_scenario(const std::string& path, std::span<const ScenarioOverride> overrides = {});
 
 // The world of a scenario: loads or generates the terrain, applies its features, places the
 // obstacles on it (gravel from its seed). Errors name the scenario file, line and field.

@@ -128,10 +128,12 @@ void Simulation::sample_sensors(bool initial) {
   if (imu_model_ && !initial && due(next_imu_, imu_model_->config().rate_hz, t)) {
     imu_.push_back(imu_model_->sample(t, vehicle_->state().twist.wz, t - last_imu_t_));
     last_imu_t_ = t;
+    if (on_imu) on_imu(imu_.back());
     while (due(next_imu_, imu_model_->config().rate_hz, t)) ++next_imu_;
   }
   if (encoders_ && due(next_encoder_, spec_.encoders->rate_hz, t)) {
     encoder_samples_.push_back({t, encoders_->sample(vehicle_->state().wheel_angle_rad)});
+    if (on_encoders) on_encoders(encoder_samples_.back());
     while (due(next_encoder_, spec_.encoders->rate_hz, t)) ++next_encoder_;
   }
 }
@@ -172,6 +174,7 @@ void Simulation::step() {
     bumper_ = vehicle_->bumper_contact();
     add_event(t1, "bumper", bumper_ ? "contact" : "released", vehicle_->state().pose.position.head<2>());
   }
+  if (spec_.bumper && on_bumper) on_bumper(BumperReading{t1, bumper_});
 
   sample_sensors(false);
   track_step();

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "starnav/core/polyline.hpp"
+#include "starnav/sense/bumper.hpp"
 #include "starnav/sense/imu.hpp"
 #include "starnav/sense/lidar.hpp"
 #include "starnav/sense/wheel_encoders.hpp"
@@ -87,8 +88,13 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // Called with every LiDAR scan as it is taken (point clouds, navigation, tests). Set before run.
+  // Sensor hooks, called with every sample as it is taken, at each sensor's own rate (what a
+  // real robot's drivers publish): LiDAR scans, IMU readings, cumulative encoder ticks, and the
+  // bumper's state after every step (with a bumper). Set before run.
   std::function<void(const LidarScan&)> on_scan;
+  std::function<void(const ImuModel::ImuReading&)> on_imu;
+  std::function<void(const EncoderSample&)> on_encoders;
+  std::function<void(const BumperReading&)> on_bumper;
   // When set, replaces the command script: called at every step with t_k and the vehicle in its
   // state at t_k; returns the body twist to apply over the step (navigation drives through it).
   std::function<BodyTwist(double t)> command_source;

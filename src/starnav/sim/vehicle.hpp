@@ -14,7 +14,7 @@
 #include "starnav/core/rng.hpp"
 #include "starnav/robot/robot_model.hpp"
 #include "starnav/sim/world.hpp"
-#include "starnav/terrain/path_metrics.hpp"
+#include "starnav/core/plane_fit.hpp"
 
 namespace starnav {
 

@@ -226,7 +226,7 @@ void RoughTerrainPlanner::build() {
                options_.robot_radius_m == t.options().robot_radius_m) {
       blocked_ = t.expanded_obstacle_mask();
     } else {
-      blocked_ = expand_mask(liu_obstacle_mask(t, options_.cost), t.width(), t.height(),
+      blocked_ = inflate_mask(liu_obstacle_mask(t, options_.cost), t.width(), t.height(),
                              options_.robot_radius_m / t.resolution());
     }
     OccupancyGrid grid(t.geometry(), kFreeOccupancy);
@@ -339,6 +339,70 @@ PlanResult RoughTerrainPlanner::plan_ia(Cell start, Cell goal, const SearchLimit
 std::unique_ptr<RoughTerrainPlanner> make_rough_terrain_planner(std::string_view name, const ElevationMap& map,
                                                                 const RoughTerrainPlannerOptions& options) {
   return std::make_unique<RoughTerrainPlanner>(parse_rough_terrain_planner(std::string(name)), map, options);
+}
+
+}  // namespace starnav
+
+// ---- the component -------------------------------------------------------------------------------
+
+namespace starnav {
+
+namespace {
+
+const ParamTable<RoughTerrainPlannerOptions>& rough_terrain_params() {
+  static const ParamTable<RoughTerrainPlannerOptions> table = [] {
+    using C = RoughTerrainPlannerOptions;
+    ParamTable<C> t;
+    t.real("robot_radius_m", &C::robot_radius_m, non_negative(), "m", "AOEA*: obstacle expansion radius");
+    t.boolean("reopen", &C::reopen, "IA*: reopen closed states reached again with a lower G (the paper's Algorithm 1)");
+    t.choice("unobserved", {"blocked", "free_flat", "unknown_cost"},
+             [](C& c, const std::string& v) { c.unobserved = parse_unobserved_policy(v); },
+             [](const C& c) { return std::string(unobserved_policy_name(c.unobserved)); },
+             "how unobserved cells are treated");
+    return t;
+  }();
+  return table;
+}
+
+// A rough-terrain planner as a GlobalPlanner: a search on the elevation layer per call.
+class TerrainGlobalPlanner final : public GlobalPlanner {
+ public:
+  TerrainGlobalPlanner(std::string name, const RoughTerrainPlannerOptions& o) : name_(std::move(name)), options_(o) {}
+  std::string_view name() const override { return name_; }
+  PlanResult plan(const PlanningLayers& layers, Cell start, Cell goal, std::span<const CellChange> /*changed*/) override {
+    if (!layers.elevation) throw Error("planner '" + name_ + "' plans on elevation maps only", {}, 0, "planner");
+    return make_rough_terrain_planner(name_, *layers.elevation, options_)->plan(start, goal);
+  }
+
+ private:
+  std::string name_;
+  RoughTerrainPlannerOptions options_;
+};
+
+}  // namespace
+
+GlobalPlannerDef rough_terrain_global_planner(RoughTerrainPlannerKind kind) {
+  GlobalPlannerDef d;
+  const std::string name = rough_terrain_planner_name(kind);
+  d.info.role = Role::GlobalPlanner;
+  d.info.name = name;
+  d.info.section = name;
+  d.info.summary = kind == RoughTerrainPlannerKind::OA     ? "OA*: A* on traversable cells of an elevation map (Liu et al. 2024)"
+                   : kind == RoughTerrainPlannerKind::AOEA ? "AOEA*: OA* with obstacle expansion (Liu et al. 2024)"
+                                                           : "IA*: slope, step and ruggedness costs (Liu et al. 2024)";
+  d.info.capabilities = {"needs_elevation"};
+  if (kind != RoughTerrainPlannerKind::IA) d.info.capabilities.insert(d.info.capabilities.begin(), "admissible");
+  d.info.params = rough_terrain_params().specs();
+  d.make = [name](const GlobalPlannerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GlobalPlanner> {
+    const RoughTerrainPlannerOptions o = configured(rough_terrain_params(), settings, ctx.file);
+    try {
+      o.validate();
+    } catch (const Error& e) {
+      rethrow_at_setting(e, settings, ctx.file);
+    }
+    return std::make_unique<TerrainGlobalPlanner>(name, o);
+  };
+  return d;
 }
 
 }  // namespace starnav

@@ -27,6 +27,7 @@
 
 #include "starnav/map/elevation_map.hpp"
 #include "starnav/plan/grid_graph.hpp"
+#include "starnav/plan/global_planner.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/search_core.hpp"
 #include "starnav/terrain/liu_cost.hpp"
@@ -210,5 +211,8 @@ class RoughTerrainPlanner final : public GridPlanner {
 
 std::unique_ptr<RoughTerrainPlanner> make_rough_terrain_planner(std::string_view name, const ElevationMap& map,
                                                                 const RoughTerrainPlannerOptions& options = {});
+
+// The registry entry of a rough-terrain planner (capability needs_elevation).
+GlobalPlannerDef rough_terrain_global_planner(RoughTerrainPlannerKind kind);
 
 }  // namespace starnav

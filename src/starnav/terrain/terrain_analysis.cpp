@@ -44,12 +44,6 @@ int move_index(int dx, int dy) {
   return -1;
 }
 
-CellRect CellRect::grown(int margin, int width, int height) const {
-  CellRect r{std::max(0, x0 - margin), std::max(0, y0 - margin), std::min(width, x1 + margin),
-             std::min(height, y1 + margin)};
-  return r;
-}
-
 BlockStats block_stats(const std::vector<double>& z, const std::vector<std::uint8_t>& observed, int width, int height,
                        double resolution, int x, int y) {
   BlockStats s;
@@ -298,56 +292,19 @@ void TerrainAnalysis::compute_masks(const CellRect& r) {
 
 namespace {
 
-double radius_in_cells(double radius_m, double resolution) { return radius_m / resolution; }
-
-// Squared radius in cells with a relative tolerance, so that a radius of exactly k cells (given
-// as k * resolution in metres, e.g. 0.3 / 0.1 = 2.9999999999999996) includes distance k.
-double squared_radius_limit(double radius_cells) { return radius_cells * radius_cells * (1.0 + 1e-9) + 1e-12; }
-
 }  // namespace
-
-std::vector<std::uint8_t> expand_mask(const std::vector<std::uint8_t>& mask, int width, int height,
-                                      double radius_cells) {
-  std::vector<std::uint8_t> out(mask.size());
-  if (!(radius_cells > 0.0)) {
-    for (std::size_t i = 0; i < mask.size(); ++i) out[i] = mask[i] ? 1 : 0;
-    return out;
-  }
-  const std::vector<double> d2 = squared_distance_transform(mask, width, height);
-  const double limit = squared_radius_limit(radius_cells);
-  for (std::size_t i = 0; i < mask.size(); ++i) out[i] = d2[i] <= limit ? 1 : 0;
-  return out;
-}
 
 void TerrainAnalysis::compute_expansion(const CellRect& affected) {
   const int w = geometry_.width, h = geometry_.height;
-  const double rc = radius_in_cells(options_.robot_radius_m, geometry_.resolution);
+  const double rc = inflation_radius_cells(options_.robot_radius_m, geometry_.resolution);
   const bool whole = affected.x0 == 0 && affected.y0 == 0 && affected.x1 == w && affected.y1 == h;
   if (whole || expanded_obstacle_.size() != z_.size()) {
-    expanded_obstacle_ = expand_mask(obstacle_, w, h, rc);
-    expanded_li_ = expand_mask(li_blocked_, w, h, rc);
+    expanded_obstacle_ = inflate_mask(obstacle_, w, h, rc);
+    expanded_li_ = inflate_mask(li_blocked_, w, h, rc);
     return;
   }
-  // Cells within rc of a changed mask cell may change; their nearest obstacles within rc lie
-  // within rc more cells, so a window of that size decides them exactly.
-  const int margin = static_cast<int>(std::floor(rc * (1.0 + 1e-9))) + 1;
-  const CellRect region = affected.grown(margin, w, h);
-  const CellRect window = region.grown(margin, w, h);
-  const int ww = window.x1 - window.x0, wh = window.y1 - window.y0;
-  std::vector<std::uint8_t> sub(static_cast<std::size_t>(ww) * static_cast<std::size_t>(wh));
-  for (int pass = 0; pass < 2; ++pass) {
-    const std::vector<std::uint8_t>& src = pass == 0 ? obstacle_ : li_blocked_;
-    std::vector<std::uint8_t>& dst = pass == 0 ? expanded_obstacle_ : expanded_li_;
-    for (int y = window.y0; y < window.y1; ++y)
-      for (int x = window.x0; x < window.x1; ++x)
-        sub[static_cast<std::size_t>(y - window.y0) * static_cast<std::size_t>(ww) + static_cast<std::size_t>(x - window.x0)] =
-            src[index(x, y)];
-    const std::vector<std::uint8_t> e = expand_mask(sub, ww, wh, rc);
-    for (int y = region.y0; y < region.y1; ++y)
-      for (int x = region.x0; x < region.x1; ++x)
-        dst[index(x, y)] =
-            e[static_cast<std::size_t>(y - window.y0) * static_cast<std::size_t>(ww) + static_cast<std::size_t>(x - window.x0)];
-  }
+  inflation_.update(obstacle_, w, h, rc, affected, expanded_obstacle_);
+  inflation_.update(li_blocked_, w, h, rc, affected, expanded_li_);
 }
 
 std::vector<std::uint8_t> liu_obstacle_mask(const TerrainAnalysis& analysis, const LiuCostParams& thresholds) {

@@ -23,6 +23,7 @@
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/map/elevation_map.hpp"
+#include "starnav/map/mask_inflation.hpp"
 #include "starnav/terrain/liu_cost.hpp"
 
 namespace starnav {
@@ -66,14 +67,6 @@ inline constexpr int kDiagonalSideA[kMoveCount] = {-1, -1, -1, -1, 0, 2, 2, 0};
 inline constexpr int kDiagonalSideB[kMoveCount] = {-1, -1, -1, -1, 1, 1, 3, 3};
 // The move index of (dx, dy) in {-1, 0, 1}^2 \ {(0, 0)}, or -1.
 int move_index(int dx, int dy);
-
-// A rectangle of cells [x0, x1) x [y0, y1).
-struct CellRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  bool empty() const { return x1 <= x0 || y1 <= y0; }
-  // Grown by `margin` cells on every side and clipped to a width x height map.
-  CellRect grown(int margin, int width, int height) const;
-};
 
 // h and a of one move.
 struct MoveTerrain {
@@ -157,13 +150,8 @@ class TerrainAnalysis {
   std::vector<std::uint8_t> li_blocked_;
   std::vector<std::uint8_t> expanded_obstacle_;
   std::vector<std::uint8_t> expanded_li_;
+  IncrementalInflation inflation_;  // scratch of the windowed expansion update
 };
-
-// Every cell whose centre is within `radius_cells` (cell units, inclusive up to rounding) of a
-// non-zero cell of `mask`, computed with the exact Euclidean distance transform. radius 0
-// returns the mask (as 0/1).
-std::vector<std::uint8_t> expand_mask(const std::vector<std::uint8_t>& mask, int width, int height,
-                                      double radius_cells);
 
 // The Liu obstacle mask of `analysis` for other thresholds than its own (same definition).
 std::vector<std::uint8_t> liu_obstacle_mask(const TerrainAnalysis& analysis, const LiuCostParams& thresholds);

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "starnav/core/error.hpp"
-#include "starnav/nav/navigation_pictures.hpp"
-#include "starnav/nav/navigation_run.hpp"
+#include "starnav/harness/navigation_pictures.hpp"
+#include "starnav/harness/navigation_run.hpp"
 #include "starnav/nav/node_height_map.hpp"
 #include "starnav/sim/obstacles.hpp"
 #include "starnav/sim/scenario.hpp"

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
-#include "starnav/nav/navigation_run.hpp"
+#include "starnav/harness/navigation_run.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/nav/node_height_map.hpp"
 #include "starnav/sim/obstacles.hpp"

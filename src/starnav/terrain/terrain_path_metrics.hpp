@@ -13,7 +13,7 @@
 // to the next one; at the ends the direction of the first / last move). The heights under its
 // four corners are interpolated bilinearly between cell centres (clamped to the outermost cell
 // centres at the map border), and the least-squares plane through them gives, in the robot's
-// heading frame, slopes px = dz/dx_forward and py = dz/dy_left:
+// heading frame, slopes px = dz/dx_forward and py = dz/dy_left (core/plane_fit.hpp):
 //   pitch = -atan(px)                 (REP-103: positive pitch is nose down),
 //   roll  = atan2(py, sqrt(1 + px^2)) (positive roll: left side up),
 //   tilt  = atan(sqrt(px^2 + py^2))   (angle between the robot's z axis and the vertical),
@@ -27,21 +27,10 @@
 #include <vector>
 
 #include "starnav/core/grid_geometry.hpp"
+#include "starnav/core/plane_fit.hpp"
 #include "starnav/terrain/terrain_analysis.hpp"
 
 namespace starnav {
-
-struct Footprint {
-  double length_m = 0.6;  // along the heading
-  double width_m = 0.4;   // across it
-};
-
-struct Attitude {
-  double roll = 0.0;   // rad
-  double pitch = 0.0;  // rad
-  double tilt = 0.0;   // rad, >= 0
-  bool valid = false;  // false when a corner height is unknown
-};
 
 struct AttitudeSample {
   double s_m = 0.0;      // horizontal distance along the path from the start
@@ -70,23 +59,6 @@ struct TerrainPathMetrics {
   double tilt_mean_deg = 0.0;
   double tilt_max_deg = 0.0;
 };
-
-// Least-squares plane z = z0 + px x + py y through points (x, y, z): centred normal equations,
-// exact (to rounding) when the points lie on a plane. `valid` is false for fewer than 3 points or
-// points whose (x, y) are collinear. rms_residual: RMS of the points' heights about the plane.
-struct PlaneFit {
-  double z0 = 0.0;
-  double px = 0.0;
-  double py = 0.0;
-  double rms_residual = 0.0;
-  bool valid = false;
-  double height(double x, double y) const { return z0 + px * x + py * y; }
-};
-PlaneFit fit_plane(std::span<const Vec3> points);
-
-// Roll, pitch and tilt of a body on a plane whose slopes in the body's heading frame are
-// px = dz/dx_forward and py = dz/dy_left (the equations above).
-Attitude attitude_from_slopes(double px, double py);
 
 // Height at a world point, bilinear between cell centres over the observed cells among the
 // four (weights renormalised); clamped to the outermost centres at the border. False when none

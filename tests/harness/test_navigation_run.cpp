@@ -8,7 +8,7 @@
 #include <string>
 
 #include "starnav/core/error.hpp"
-#include "starnav/nav/navigation_run.hpp"
+#include "starnav/harness/navigation_run.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/sim/scenario.hpp"
 
@@ -50,7 +50,7 @@ TEST(NavigationRun, E3BothMotionModesReachTheGoalAndDStarLiteMatchesAStarAtEvery
     EXPECT_TRUE(m.costs_match) << mode;
     EXPECT_GE(m.replans, 1) << mode;
     EXPECT_EQ(checked, m.plans) << mode;
-    EXPECT_LE(m.goal_distance_m, spec.navigation->goal_tolerance_m + 1e-9);
+    EXPECT_LE(m.goal_distance_m, run.navigator().config().goal_tolerance_m + 1e-9);
     // Both modes track their paths closely on flat ground (docs/navigation.md).
     EXPECT_LT(m.deviation_max_m, 0.1) << mode;
   }
@@ -185,12 +185,29 @@ sensors:
   lidar: {}
 sim: {dt_s: 0.01, duration_s: 30.0}
 )";
-  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  planner: dijkstra\n", "navigation.planner");
   expect_scenario_error(head + "navigation:\n  goal_tolerance_m: 0.2\n", "navigation.goal");
   expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0}\n", "navigation.goal.y_m");
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: [1, 2]\n", "navigation.map");
+  // The components' declared parameters judge the rest when the run is set up.
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  planner: nonesuch\n", "navigation.planner", true);
   expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: {resolution_m: -1}\n",
-                        "navigation.map.resolution_m");
-  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  speed: 3\n", "navigation.speed");
+                        "navigation.map.resolution_m", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  speed: 3\n", "navigation.speed", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  follower: {cruise_speed_mps: 0}\n",
+                        "navigation.follower.cruise_speed_mps", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  follower: {min_speed_mps: 0.5}\n",
+                        "navigation.follower.min_speed_mps", true);  // above cruise_speed_mps: a cross-check
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  controller: straight_to_goal\n"
+                               "  follower: {look_ahead_m: 0.4}\n",
+                        "navigation.follower.look_ahead_m", true);  // the follower's section, another controller
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: {hit_gain: 1.5}\n",
+                        "navigation.map.hit_gain", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: {max_slope_deg: 90}\n",
+                        "navigation.map.max_slope_deg", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\nlocalization: {localizer: amcl9}\n",
+                        "localization.localizer", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\nlocalization: {ground_truth: {sigma_xy_m: -1}}\n",
+                        "localization.ground_truth.sigma_xy_m", true);
   expect_scenario_error(head + "commands:\n  - {duration_s: 1, vx_mps: 0.1}\nnavigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n",
                         "commands");
   expect_scenario_error(head + "motion_mode: sideways\nnavigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n", "motion_mode");

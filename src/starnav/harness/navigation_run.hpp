@@ -1,7 +1,9 @@
 #pragma once
-// A navigation scenario run: the simulator (ground truth, LiDAR) drives a Navigator (map, plans,
-// follower) through Simulation's hooks, and the recorder writes what the run did
-// (docs/navigation.md, "Running navigation scenarios").
+// A navigation scenario run: the simulator drives the localization chain (wheel odometry from the
+// encoders, the localizer fed by odometry, IMU, scans and, in simulation, ground truth) and a
+// Navigator (map, planner, controller) through Simulation's sensor hooks; the navigator reads its
+// pose from the localizer. The recorder writes what the run did (docs/navigation.md, "Running
+// navigation scenarios").
 //
 //   ScenarioSpec spec = load_scenario("scenarios/e4_dynamic_dead_end.yaml");
 //   NavigationRun run(spec);
@@ -16,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "starnav/estimate/localizer.hpp"
+#include "starnav/estimate/wheel_odometry.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "starnav/sim/simulation.hpp"
@@ -24,11 +28,40 @@ namespace starnav {
 
 struct NavigationOptions {
   std::optional<std::string> motion_mode;  // overrides the scenario's motion_mode
-  std::optional<std::string> planner;      // overrides navigation.planner ("astar" | "dstar_lite")
-  bool compare_astar = false;              // dstar_lite: A* from scratch beside every plan
+  std::optional<std::string> planner;      // overrides navigation.planner (a registry name)
+  std::optional<std::string> controller;   // overrides navigation.controller
+  bool compare_astar = false;              // incremental planners: A* from scratch beside every plan
   bool record_steps = true;                // keep the per-cycle records for steps.jsonl
   bool step_all_hits = false;              // steps.jsonl: every return, not only the obstacle hits
 };
+
+// The navigation section's own parameters (docs/parameters.md); the planner and controller
+// sections belong to the chosen components.
+struct NavigationSettings {
+  std::string planner = "astar";
+  std::string controller = "path_follower";
+  double goal_tolerance_m = 0.15;
+  double resolution_m = 0.1;
+  std::string extent = "world";
+  double paper_min_size_m = 4.0;
+  std::string map_mode = "auto";
+  NodeMapParams map;
+  double no_return_clear_m = 0.0;
+};
+const ParamTable<NavigationSettings>& navigation_params();
+
+// The localization chain of a scenario (section `localization`): the odometry source (wheel:
+// from the encoders, the default when the robot has them; none) and the localizer the
+// navigation loop reads its pose from (default ground_truth), with its settings.
+struct LocalizationConfig {
+  std::string odometry = "none";
+  ComponentChoice localizer{"ground_truth", {}, "localization.localizer", 0, {}};
+};
+LocalizationConfig localization_config(const ScenarioSpec& spec);
+
+// Checks a navigation scenario's settings against its components' declared parameters without
+// building its world (the errors of NavigationRun's set-up that need no terrain).
+void check_navigation_scenario(const ScenarioSpec& spec);
 
 // The navigator's configuration for a scenario: the map grid (world bounds or the paper's
 // extent), node-map parameters (defaults from the robot: max_step from robot.max_step_m,
@@ -65,7 +98,7 @@ struct NavigationMetrics {
   std::int64_t collisions = 0;
   double deviation_mean_m = 0.0, deviation_max_m = 0.0;  // robot to the path it was following, every step
   double goal_distance_m = 0.0;  // at the end
-  std::string planner, motion_mode;
+  std::string planner, controller, motion_mode;
 };
 
 class NavigationRun {
@@ -84,6 +117,10 @@ class NavigationRun {
   const Simulation& simulation() const { return *sim_; }
   Navigator& navigator() { return *nav_; }
   const Navigator& navigator() const { return *nav_; }
+  const Localizer& localizer() const { return *localizer_; }
+  const LocalizationConfig& localization() const { return localization_; }
+  // Wheel odometry from the encoder hook (odometry: wheel), else null.
+  const WheelOdometry* odometry() const { return odometry_.get(); }
   const std::vector<NavStepRecord>& steps() const { return steps_; }
   NavigationMetrics metrics() const;
   double setup_s() const { return setup_s_; }
@@ -94,6 +131,11 @@ class NavigationRun {
   NavigationOptions options_;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<Navigator> nav_;
+  LocalizationConfig localization_;
+  std::unique_ptr<Localizer> localizer_;
+  std::unique_ptr<RobotModel> odometry_model_;
+  std::unique_ptr<WheelOdometry> odometry_;
+  OdometrySample last_odometry_;
   std::vector<NavStepRecord> steps_;
   double deviation_sum_ = 0.0, deviation_max_ = 0.0;
   std::int64_t deviation_n_ = 0;
@@ -102,13 +144,13 @@ class NavigationRun {
 
 // Deterministic records in `dir` (besides Simulation's trajectory.csv, events.csv and sensor CSVs):
 //   paths.csv     plan_id,t_s,x_m,y_m        the follower's points of every plan
-//   replans.csv   plan_id,t_s,cause,status,expanded,cost_m,time_ms[,astar_status,astar_expanded,astar_cost_m,
+//   replans.csv   plan_id,t_s,cause,status,expanded,cost_m[,astar_status,astar_expanded,astar_cost_m,
 //                 astar_backward_expanded,astar_backward_cost_m]
 //   steps.jsonl   one object per sensor cycle (docs/navigation.md)
 //   map.yaml + map.pgm   the final occupancy (ROS map_server; unknown -1)
 //   metrics.json  NavigationMetrics plus the simulator's metrics under "sim"
-//   timing.json   wall-clock figures incl. real_time_factor (the only non-deterministic file
-//                 besides replans.csv's time_ms column)
+//   timing.json   wall-clock figures incl. real_time_factor and each plan's search time
+//                 (plan_ms, by plan_id): the only non-deterministic file
 // Throws Error naming the file when one cannot be written.
 void write_navigation_records(const NavigationRun& run, const std::string& dir);
 std::string navigation_metrics_json(const NavigationRun& run);

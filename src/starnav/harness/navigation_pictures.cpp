@@ -1,4 +1,6 @@
-#include "starnav/nav/navigation_pictures.hpp"
+#include "starnav/harness/navigation_pictures.hpp"
+
+#include "starnav/io/file_bytes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -112,12 +114,6 @@ viz::MapPicture base_picture(const NodeHeightMap& map, viz::PictureOptions opts)
     pic.add_cells({}, grey_of(kLow), 1.0, "observed");
   }
   return pic;
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
 }
 
 // Errors raised while drawing (bad coordinates, too large a picture) name the file too.

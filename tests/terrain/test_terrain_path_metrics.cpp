@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "starnav/core/error.hpp"
-#include "starnav/terrain/path_metrics.hpp"
+#include "starnav/terrain/terrain_path_metrics.hpp"
 #include "terrain_test_util.hpp"
 
 namespace {

@@ -1,0 +1,81 @@
+#pragma once
+// The local-controller role: at every control step, from the robot's pose and velocity, the
+// local obstacle map, the robot's footprint and limits and the global path, a body twist
+// (vx, vy, yaw rate in base_link) and a status. The path follower of Li et al. 2019 is one;
+// a DWA controller is another. A controller is built by name from the component registry
+// (registry/components.hpp) with its declared parameters; it knows nothing of the simulator.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "starnav/core/component.hpp"
+#include "starnav/core/geometry.hpp"
+#include "starnav/core/plane_fit.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+#include "starnav/robot/robot_model.hpp"
+
+namespace starnav {
+
+enum class ControlStatus : std::uint8_t {
+  Idle,        // no path: zero twist
+  Tracking,    // moving (or turning) toward the path's end
+  Arrived,     // at the path's end: zero twist until a new path is set
+  CannotReach, // the path's end cannot be reached from here (stopped): the navigator replans
+  Blocked,     // no command is safe (e.g. every DWA sample collides): zero twist, recovery needed
+};
+const char* control_status_name(ControlStatus s);  // "idle", "tracking", "arrived", "cannot_reach", "blocked"
+
+// The robot as a controller sees it: its outline in base_link (core/plane_fit.hpp's Footprint)
+// and its limits.
+struct VelocityLimits {
+  double max_vx_mps = 0.5;
+  double max_vy_mps = 0.0;  // 0: cannot translate sideways
+  double max_yaw_rate_radps = 1.0;
+};
+
+// The robot of `config`: its body box and the speeds its wheels allow.
+Footprint footprint_of(const RobotConfig& config);
+VelocityLimits velocity_limits_of(const RobotConfig& config);
+
+struct ControlInput {
+  double t_s = 0.0;
+  Pose2 pose;                               // map frame (from the localizer)
+  BodyTwist velocity;                       // current body twist (odometry or estimate)
+  const OccupancyGrid* local_map = nullptr; // obstacles as sensed (inflated for planning); may be null
+  Footprint footprint;
+  VelocityLimits limits;
+  Vec2 goal = Vec2::Zero();
+};
+
+struct ControlOutput {
+  BodyTwist twist;  // base_link
+  ControlStatus status = ControlStatus::Idle;
+};
+
+class LocalController {
+ public:
+  virtual ~LocalController() = default;
+  virtual std::string_view name() const = 0;
+  // A new global path (world x, y), starting near the robot. Throws Error (field "path") for an
+  // empty path or a non-finite point.
+  virtual void set_path(std::span<const Vec2> points) = 0;
+  virtual void clear() = 0;
+  virtual bool has_path() const = 0;
+  // The path being followed (for deviation metrics and pictures).
+  virtual const std::vector<Vec2>& path() const = 0;
+  // One control step. Deterministic: a function of the path, the parameters and the inputs.
+  virtual ControlOutput compute(const ControlInput& input) = 0;
+  // The grid path's vertices this controller wants: true when it cannot turn on the spot and
+  // needs line-of-sight smoothed paths instead of 45-degree grid corners.
+  virtual bool wants_smoothed_path() const { return false; }
+};
+
+// What a controller is built from: the robot, and the scenario file its settings came from.
+struct LocalControllerContext {
+  RobotConfig robot;
+  std::string file;
+};
+using LocalControllerDef = ComponentDef<LocalController, LocalControllerContext>;
+
+}  // namespace starnav

@@ -1,0 +1,22 @@
+#include "starnav/core/component.hpp"
+
+#include <algorithm>
+
+namespace starnav {
+
+const char* role_name(Role r) {
+  switch (r) {
+    case Role::GlobalPlanner: return "global_planner";
+    case Role::LocalController: return "local_controller";
+    case Role::Localizer: return "localizer";
+    case Role::Slam: return "slam";
+    case Role::ScanMatcher: return "scan_matcher";
+  }
+  return "unknown";
+}
+
+bool ComponentInfo::has(const std::string& capability) const {
+  return std::find(capabilities.begin(), capabilities.end(), capability) != capabilities.end();
+}
+
+}  // namespace starnav

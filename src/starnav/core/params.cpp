@@ -1,0 +1,160 @@
+#include "starnav/core/params.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <system_error>
+
+#include "starnav/core/error.hpp"
+
+namespace starnav {
+
+const char* param_type_name(ParamType t) {
+  switch (t) {
+    case ParamType::Real: return "real";
+    case ParamType::Integer: return "integer";
+    case ParamType::Boolean: return "boolean";
+    case ParamType::Choice: return "choice";
+  }
+  return "unknown";
+}
+
+bool ParamRange::contains(double v) const {
+  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+  return true;
+}
+
+std::string ParamRange::text() const {
+  const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (!has_lo && !has_hi) return "any";
+  if (!has_hi) return std::string(lo_open ? "> " : ">= ") + format_param_real(lo);
+  if (!has_lo) return std::string(hi_open ? "< " : "<= ") + format_param_real(hi);
+  return std::string(lo_open ? "(" : "[") + format_param_real(lo) + ", " + format_param_real(hi) + (hi_open ? ")" : "]");
+}
+
+ParamRange any_value() { return {}; }
+ParamRange positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
+ParamRange non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+ParamRange closed(double lo, double hi) { return {lo, hi, false, false}; }
+ParamRange open(double lo, double hi) { return {lo, hi, true, true}; }
+
+std::string ParamSpec::range_text() const {
+  switch (type) {
+    case ParamType::Boolean: return "true | false";
+    case ParamType::Choice: {
+      std::string s;
+      for (const auto& c : choices) s += (s.empty() ? "" : " | ") + c;
+      return s;
+    }
+    default: return range.text();
+  }
+}
+
+namespace {
+
+[[noreturn]] void bad_value(const ParamSetting& v, const std::string& message) {
+  throw Error(message, v.file, v.line, v.field.empty() ? v.key : v.field);
+}
+
+std::string quoted(const std::string& text) { return "'" + one_line(text, 60) + "'"; }
+
+}  // namespace
+
+double parse_param_real(const ParamSetting& v) {
+  const std::string& s = v.value;
+  double x = 0.0;
+  const char* begin = s.data();
+  const char* end = s.data() + s.size();
+  if (begin != end && *begin == '+') ++begin;
+  const auto r = std::from_chars(begin, end, x);
+  if (s.empty() || r.ec != std::errc() || r.ptr != end) bad_value(v, "expected a number, found " + quoted(s));
+  if (!std::isfinite(x)) bad_value(v, "must be a finite number, found " + quoted(s));
+  return x;
+}
+
+long long parse_param_integer(const ParamSetting& v) {
+  const std::string& s = v.value;
+  long long x = 0;
+  const char* begin = s.data();
+  const char* end = s.data() + s.size();
+  if (begin != end && *begin == '+') ++begin;
+  const auto r = std::from_chars(begin, end, x);
+  if (s.empty() || r.ec != std::errc() || r.ptr != end) bad_value(v, "expected an integer, found " + quoted(s));
+  return x;
+}
+
+bool parse_param_boolean(const ParamSetting& v) {
+  if (v.value == "true") return true;
+  if (v.value == "false") return false;
+  bad_value(v, "expected true or false, found " + quoted(v.value));
+}
+
+std::string format_param_real(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string format_param_scaled(double stored, double scale) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.12g", stored / scale);
+  double back = 0.0;
+  const auto r = std::from_chars(buf, buf + std::strlen(buf), back);
+  if (r.ec == std::errc() && back * scale == stored) return buf;
+  return format_param_real(stored / scale);
+}
+
+void param_check_range(const ParamSetting& v, const ParamRange& r, double x) {
+  if (!r.contains(x)) bad_value(v, "must be " + (r.text().front() == '[' || r.text().front() == '(' ? "in " + r.text() : r.text()) +
+                                       ", found " + quoted(v.value));
+}
+
+void param_check_choice(const ParamSetting& v, const std::vector<std::string>& choices) {
+  std::string known;
+  for (const auto& c : choices) {
+    if (c == v.value) return;
+    known += (known.empty() ? "" : ", ") + c;
+  }
+  bad_value(v, "unknown value " + quoted(v.value) + " (" + known + ")");
+}
+
+void param_unknown_key(const ParamSetting& v, const std::vector<std::string>& known) {
+  std::string list;
+  for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+  bad_value(v, "unknown key '" + one_line(v.key, 60) + "'" + (list.empty() ? " (this section takes no parameters)" : " (known: " + list + ")"));
+}
+
+void rethrow_at_setting(const Error& e, std::span<const ParamSetting> settings, const std::string& file) {
+  const std::string& f = e.field();
+  for (auto it = settings.rbegin(); it != settings.rend(); ++it) {
+    const std::string& k = it->key;
+    const bool match = f == k || (f.size() > k.size() && f.compare(f.size() - k.size(), k.size(), k) == 0 &&
+                                  f[f.size() - k.size() - 1] == '.');
+    if (match) throw Error(e.message(), it->file, it->line, it->field.empty() ? k : it->field);
+  }
+  if (e.file().empty() && !file.empty()) throw Error(e.message(), file, e.line(), e.field());
+  throw e;
+}
+
+std::string params_markdown_table(const std::vector<ParamSpec>& specs, const std::string& section) {
+  // A cell's text with its pipes escaped (choices are written "a | b").
+  const auto cell = [](std::string t) {
+    std::string out;
+    for (char c : t) {
+      if (c == '|') out += '\\';
+      out += c;
+    }
+    return out;
+  };
+  std::string s = "| key | type | default | range | unit | meaning |\n|---|---|---|---|---|---|\n";
+  for (const ParamSpec& p : specs) {
+    const std::string key = section.empty() ? p.key : section + "." + p.key;
+    s += "| `" + key + "` | " + param_type_name(p.type) + " | " + (p.default_value.empty() ? "\"\"" : "`" + p.default_value + "`") +
+         " | " + cell(p.range_text()) + " | " + p.unit + " | " + cell(p.doc) + " |\n";
+  }
+  return s;
+}
+
+}  // namespace starnav

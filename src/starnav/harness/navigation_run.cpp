@@ -1,0 +1,568 @@
+#include "starnav/harness/navigation_run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "starnav/control/path_follower.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/io/file_bytes.hpp"
+#include "starnav/io/ros_map.hpp"
+#include "starnav/core/angle.hpp"
+#include "starnav/registry/components.hpp"
+
+namespace starnav {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+[[noreturn]] void fail_at(const ScenarioSpec& spec, const ScenarioSource& src, const std::string& message) {
+  throw Error(message, spec.file, src.line, src.field);
+}
+
+// The map grid: the world's terrain, or the box around start, goal and the obstacles (extent
+// world); the paper's 1.5 x |goal - start| per axis around their midpoint (extent paper).
+GridGeometry map_geometry(const ScenarioSpec& spec, const WorldDescription& world, const NavigationSettings& n) {
+  const Vec2 start = spec.start.translation();
+  const Vec2 goal = spec.navigation->goal;
+  Vec2 lo, hi;
+  if (n.extent == "paper") {
+    const Vec2 mid = 0.5 * (start + goal);
+    const Vec2 half = (0.75 * (goal - start).cwiseAbs()).cwiseMax(Vec2::Constant(0.5 * n.paper_min_size_m));
+    lo = mid - half;
+    hi = mid + half;
+  } else if (world.terrain) {
+    const GridGeometry& g = world.terrain->geometry();
+    lo = g.origin.translation();
+    hi = lo + Vec2(g.width_m(), g.height_m());
+  } else {
+    lo = start.cwiseMin(goal);
+    hi = start.cwiseMax(goal);
+    for (const Obstacle& o : world.obstacles) {
+      const Vec2 a = o.anchor_at(o.appear).head<2>();
+      lo = lo.cwiseMin(a);
+      hi = hi.cwiseMax(a);
+    }
+    lo -= Vec2::Constant(2.0);
+    hi += Vec2::Constant(2.0);
+  }
+  GridGeometry g;
+  g.resolution = n.resolution_m;
+  g.origin = Pose2(lo.x(), lo.y(), 0.0);
+  const double w = std::ceil((hi.x() - lo.x()) / n.resolution_m - 1e-9);
+  const double h = std::ceil((hi.y() - lo.y()) / n.resolution_m - 1e-9);
+  if (!(w >= 1.0 && h >= 1.0) || w * h > 1e8)
+    fail_at(spec, spec.navigation->source, "the navigation map would have " + std::to_string(w) + " x " + std::to_string(h) +
+                                             " cells (at most 1e8; raise map.resolution_m)");
+  g.width = static_cast<int>(w);
+  g.height = static_cast<int>(h);
+  return g;
+}
+
+// The settings of `section` (keys starting "section."), the prefix removed.
+std::vector<ParamSetting> settings_under(std::vector<ParamSetting>& rest, const std::string& section) {
+  std::vector<ParamSetting> mine, others;
+  const std::string prefix = section + ".";
+  for (ParamSetting& v : rest) {
+    if (v.key.rfind(prefix, 0) == 0) {
+      v.key = v.key.substr(prefix.size());
+      mine.push_back(std::move(v));
+    } else {
+      others.push_back(std::move(v));
+    }
+  }
+  rest = std::move(others);
+  return mine;
+}
+
+// A setting left over after every component took its own: a component section of a component
+// the scenario did not choose, or an unknown key of the section itself.
+template <class Config>
+[[noreturn]] void refuse_leftover(const ParamSetting& v, const ParamTable<Config>& table, const std::vector<ComponentInfo>& others,
+                                  const std::string& role_key, const std::string& chosen) {
+  const std::string head = v.key.substr(0, v.key.find('.'));
+  for (const ComponentInfo& c : others)
+    if (c.section == head && v.key != head)
+      throw Error("parameters of " + c.name + ", but " + role_key + " is " + chosen, v.file, v.line, v.field);
+  param_unknown_key(v, table.keys());
+}
+
+ComponentChoice choice_of(const std::vector<ParamSetting>& settings, const std::string& key, std::string fallback,
+                          const std::string& section_field, const ScenarioSpec& spec) {
+  ComponentChoice c{std::move(fallback), {}, section_field + "." + key, 0, spec.file};
+  for (const ParamSetting& v : settings)
+    if (v.key == key) {
+      c.name = v.value;
+      c.line = v.line;
+      c.field = v.field;
+    }
+  return c;
+}
+
+}  // namespace
+
+const ParamTable<NavigationSettings>& navigation_params() {
+  static const ParamTable<NavigationSettings> table = [] {
+    using C = NavigationSettings;
+    ParamTable<C> t;
+    const auto name_of = [](std::string C::*member) {
+      return [member](C& c, const std::string& v) { c.*member = v; };
+    };
+    const auto get_of = [](std::string C::*member) { return [member](const C& c) { return c.*member; }; };
+    std::vector<std::string> occupancy_planners;
+    for (const GlobalPlannerDef& d : global_planners())
+      if (!d.info.has("needs_elevation")) occupancy_planners.push_back(d.info.name);
+    t.choice("planner", occupancy_planners, name_of(&C::planner), get_of(&C::planner),
+             "the global planner (registry name; it plans on the node map's occupancy)", false);
+    t.choice("controller", component_names(Role::LocalController), name_of(&C::controller), get_of(&C::controller),
+             "the local controller (registry name)", false);
+    t.real("goal_tolerance_m", &C::goal_tolerance_m, positive(), "m", "arrived within this distance of the goal");
+    t.real("map.resolution_m", &C::resolution_m, positive(), "m", "cell size of the navigation map");
+    t.choice("map.extent", {"world", "paper"}, name_of(&C::extent), get_of(&C::extent),
+             "world: the world's bounds; paper: 1.5 x |goal - start| per axis around their midpoint");
+    t.real("map.paper_min_size_m", &C::paper_min_size_m, positive(), "m", "extent paper: the smallest side");
+    t.choice("map.mode", {"auto", "nodes_3d", "lidar_2d"}, name_of(&C::map_mode), get_of(&C::map_mode),
+             "auto: nodes_3d with a 3D LiDAR, lidar_2d with a 2D one");
+    t.real("map.barrier_distance_m", [](C& c) -> double& { return c.map.barrier_distance_m; }, non_negative(), "m",
+           "obstacle expansion radius");
+    t.default_rule("map.barrier_distance_m", "the body's circumscribed radius");
+    t.real("map.max_step_m", [](C& c) -> double& { return c.map.li.max_step_m; }, positive(), "m",
+           "largest height spread of a walkable cell");
+    t.default_rule("map.max_step_m", "robot.max_step_m");
+    t.real("map.max_slope_deg", [](C& c) -> double& { return c.map.li.max_slope_rad; }, open(0.0, 90.0), "deg",
+           "steepest walkable slope between neighbouring cells", kPi / 180.0);
+    t.real("map.clear_margin_m", [](C& c) -> double& { return c.map.clear_margin_m; }, non_negative(), "m",
+           "a beam contradicts a cell only when it passes this far below the cell's max height");
+    t.integer("map.hit_gain", [](C& c) -> int& { return c.map.hit_gain; }, closed(1, 255), "",
+              "evidence gained by a cell hit in a scan");
+    t.integer("map.miss_loss", [](C& c) -> int& { return c.map.miss_loss; }, closed(0, 255), "",
+              "evidence lost by a cell a beam contradicts in a scan");
+    t.integer("map.evidence_max", [](C& c) -> int& { return c.map.evidence_max; }, closed(1, 255), "",
+              "evidence cap: a stale cell clears after evidence_max / miss_loss scans");
+    t.real("map.no_return_clear_m", &C::no_return_clear_m, non_negative(), "m",
+           "beams without a return clear the cells up to this range (0: off)");
+    return t;
+  }();
+  return table;
+}
+
+NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescription& world,
+                                 const NavigationOptions& options) {
+  if (!spec.navigation)
+    throw Error("not a navigation scenario (no navigation section)", spec.file, 0, "navigation");
+  const ScenarioNavigation& n = *spec.navigation;
+  if (!spec.lidar) throw Error("navigation needs sensors.lidar", spec.file, n.source.line, "sensors.lidar");
+  const RobotConfig& rc = spec.vehicle.robot;
+
+  // Defaults that come from the robot, then the scenario's settings.
+  NavigationSettings s;
+  s.map.li.max_step_m = rc.max_step_m;
+  // The robot is a point in the expanded map: the body's circumscribed radius by default.
+  s.map.barrier_distance_m = 0.5 * std::hypot(rc.body_length_m, rc.body_width_m);
+  std::vector<ParamSetting> rest = n.settings;
+  NavigatorConfig c;
+  c.planner = choice_of(rest, "planner", "astar", "navigation", spec);
+  c.controller = choice_of(rest, "controller", "path_follower", "navigation", spec);
+  if (options.planner) c.planner = {*options.planner, {}, "--planner", 0, ""};
+  if (options.controller) c.controller = {*options.controller, {}, "--controller", 0, ""};
+  // Each chosen component takes the settings of its own section.
+  const auto take_section = [&](ComponentChoice& choice, const ComponentInfo& info) {
+    choice.settings = settings_under(rest, info.section);
+  };
+  const auto planner_info = [&]() -> const ComponentInfo& {
+    try {
+      return find_global_planner(c.planner.name, c.planner.field).info;
+    } catch (const Error& e) {
+      throw Error(e.message(), c.planner.file, c.planner.line, c.planner.field);
+    }
+  };
+  const auto controller_info = [&]() -> const ComponentInfo& {
+    try {
+      return find_local_controller(c.controller.name, c.controller.field).info;
+    } catch (const Error& e) {
+      throw Error(e.message(), c.controller.file, c.controller.line, c.controller.field);
+    }
+  };
+  const ComponentInfo& pinfo = planner_info();
+  const ComponentInfo& cinfo = controller_info();
+  take_section(c.planner, pinfo);
+  take_section(c.controller, cinfo);
+  // The top-level motion_mode (and --motion-mode) is the path follower's motion_mode.
+  if (cinfo.name == "path_follower") {
+    if (options.motion_mode) c.controller.settings.push_back({"motion_mode", *options.motion_mode, "", 0, "--motion-mode"});
+    else if (!spec.motion_mode.empty())
+      c.controller.settings.push_back({"motion_mode", spec.motion_mode, spec.file, spec.motion_mode_source.line, "motion_mode"});
+  } else if (options.motion_mode) {
+    throw Error("applies to the path_follower controller only, not " + cinfo.name, "", 0, "--motion-mode");
+  } else if (!spec.motion_mode.empty()) {
+    // A scenario written for the follower, run with another controller from the command line.
+    if (!options.controller)
+      throw Error("motion_mode applies to the path_follower controller only, not " + cinfo.name, spec.file,
+                  spec.motion_mode_source.line, "motion_mode");
+    c.warnings.push_back("motion_mode: ignored (it applies to the path_follower controller, not " + cinfo.name + ")");
+  }
+  std::vector<ParamSetting> own;
+  for (ParamSetting& v : rest) {
+    if (navigation_params().has(v.key)) {
+      own.push_back(std::move(v));
+      continue;
+    }
+    std::vector<ComponentInfo> others;
+    for (const ComponentInfo& i : all_components())
+      if ((i.role == Role::GlobalPlanner || i.role == Role::LocalController) && i.name != pinfo.name && i.name != cinfo.name)
+        others.push_back(i);
+    const bool planner_like = std::any_of(others.begin(), others.end(), [&](const ComponentInfo& i) {
+      return i.role == Role::GlobalPlanner && i.section == v.key.substr(0, v.key.find('.'));
+    });
+    refuse_leftover(v, navigation_params(), others, planner_like ? "navigation.planner" : "navigation.controller",
+                    planner_like ? pinfo.name : cinfo.name);
+  }
+  navigation_params().apply(s, own);
+
+  c.geometry = map_geometry(spec, world, s);
+  NodeMapParams& m = c.map;
+  m = s.map;
+  const bool lidar2d = spec.lidar->config.lines() <= 1;
+  m.mode = s.map_mode == "auto" ? (lidar2d ? NodeMapMode::Lidar2D : NodeMapMode::Nodes3D)
+                                : (s.map_mode == "lidar_2d" ? NodeMapMode::Lidar2D : NodeMapMode::Nodes3D);
+  c.no_return_clear_m = s.no_return_clear_m;
+  c.goal_tolerance_m = s.goal_tolerance_m;
+  c.compare_astar = options.compare_astar && pinfo.has("incremental");
+  try {
+    c.validate();
+  } catch (const Error& e) {
+    rethrow_at_setting(e, own, spec.file);
+  }
+  if (!c.geometry.world_to_cell(n.goal)) fail_at(spec, n.goal_source, "the goal lies outside the navigation map");
+  if (!c.geometry.world_to_cell(spec.start.translation()))
+    fail_at(spec, spec.start_source, "the start lies outside the navigation map");
+  return c;
+}
+
+LocalizationConfig localization_config(const ScenarioSpec& spec) {
+  LocalizationConfig c;
+  // Wheel odometry needs encoders and wheels that carry the body (not an Ackermann robot's steering).
+  const bool wheel_ok = spec.encoders && spec.vehicle.robot.drive != DriveKind::Ackermann;
+  c.odometry = wheel_ok ? "wheel" : "none";
+  c.localizer = {"ground_truth", {}, "localization.localizer", 0, spec.file};
+  if (!spec.localization) return c;
+  std::vector<ParamSetting> rest = spec.localization->settings;
+  c.localizer = choice_of(rest, "localizer", "ground_truth", "localization", spec);
+  const LocalizerDef* def = nullptr;
+  try {
+    def = &find_localizer(c.localizer.name, c.localizer.field);
+  } catch (const Error& e) {
+    throw Error(e.message(), spec.file, c.localizer.line, c.localizer.field);
+  }
+  c.localizer.settings = settings_under(rest, def->info.section);
+  for (const ParamSetting& v : rest) {
+    if (v.key == "localizer") continue;
+    if (v.key == "odometry") {
+      if (v.value != "wheel" && v.value != "none")
+        throw Error("unknown odometry '" + one_line(v.value, 40) + "' (wheel, none; ekf comes with the EKF)", v.file, v.line, v.field);
+      if (v.value == "wheel" && !wheel_ok)
+        throw Error(spec.encoders ? "wheel odometry needs a mecanum or differential robot" : "wheel odometry needs sensors.encoders",
+                    v.file, v.line, v.field);
+      c.odometry = v.value;
+      continue;
+    }
+    const std::string head = v.key.substr(0, v.key.find('.'));
+    for (const ComponentInfo& i : all_components())
+      if (i.role == Role::Localizer && i.section == head && v.key != head)
+        throw Error("parameters of " + i.name + ", but localization.localizer is " + def->info.name, v.file, v.line, v.field);
+    throw Error("unknown key (known: odometry, localizer, " + def->info.section + ".*)", v.file, v.line, v.field);
+  }
+  return c;
+}
+
+void check_navigation_scenario(const ScenarioSpec& spec) {
+  if (!spec.navigation) return;
+  WorldDescription empty;
+  const NavigatorConfig c = navigator_config(spec, empty, {});
+  // Building the components validates their parameters (and the motion mode against the drive).
+  Navigator(c, spec.vehicle.robot, spec.navigation->goal);
+  const LocalizationConfig l = localization_config(spec);
+  find_localizer(l.localizer.name).make({spec.start, spec.seed, spec.file}, l.localizer.settings);
+}
+
+NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& options)
+    : spec_(spec), options_(options) {
+  const auto t0 = Clock::now();
+  if (!spec_.navigation)
+    throw Error("not a navigation scenario (no navigation section)", spec_.file, 0, "navigation");
+  const WorldDescription world = build_world(spec_);
+  const NavigatorConfig config = navigator_config(spec_, world, options_);
+  localization_ = localization_config(spec_);
+  sim_ = std::make_unique<Simulation>(spec_, world);
+  nav_ = std::make_unique<Navigator>(config, spec_.vehicle.robot, spec_.navigation->goal);
+  {
+    const ComponentChoice& lc = localization_.localizer;
+    localizer_ = find_localizer(lc.name, lc.field).make({spec_.start, spec_.seed, spec_.file}, lc.settings);
+  }
+  if (localization_.odometry == "wheel") {
+    odometry_model_ = make_robot_model(spec_.vehicle.robot);
+    odometry_ = std::make_unique<WheelOdometry>(*odometry_model_, spec_.encoders->config.ticks_per_rev, spec_.start);
+    last_odometry_.pose = spec_.start;
+    sim_->on_encoders = [this](const EncoderSample& e) {
+      odometry_->add_ticks(e.ticks);
+      OdometrySample o;
+      o.t_s = e.t_s;
+      o.pose = odometry_->pose();
+      const double dt = o.t_s - last_odometry_.t_s;
+      if (dt > 0.0) {
+        // The body twist over the period, in the body frame at its start.
+        const Vec2 d = Eigen::Rotation2Dd(-last_odometry_.pose.yaw) * (o.pose.translation() - last_odometry_.pose.translation());
+        o.twist = {d.x() / dt, d.y() / dt, wrap_angle(o.pose.yaw - last_odometry_.pose.yaw) / dt};
+      }
+      last_odometry_ = o;
+      localizer_->on_odometry(o);
+    };
+  }
+  sim_->on_imu = [this](const ImuModel::ImuReading& r) { localizer_->on_imu(r); };
+  // The pose the navigator uses: the localizer's, after it has seen the truth (simulation only).
+  const auto localized = [this](double t) {
+    localizer_->on_ground_truth(t, sim_->vehicle().state().pose.to_pose2());
+    return localizer_->estimate().pose;
+  };
+
+  sim_->on_scan = [this, localized](const LidarScan& scan) {
+    const Pose3 pose3 = sim_->vehicle().state().pose;
+    const double t = sim_->time();
+    localizer_->on_scan(scan);
+    const Pose2 pose = localized(t);
+    NavCycle cycle = nav_->on_scan(scan, pose, t);
+    if (options_.record_steps) {
+      NavStepRecord r;
+      r.t_s = t;
+      r.pose = pose3;
+      r.returns = scan.points_world.size();
+      const NodeHeightMap& map = nav_->map();
+      if (options_.step_all_hits) {
+        r.hits = scan.points_world;
+      } else {
+        // One hit per obstacle cell (its highest return this scan), the paper's "laser lines that
+        // have detected obstacles": enough for a viewer at a fraction of the bytes.
+        std::vector<std::pair<std::size_t, Vec3>> top;
+        for (const Vec3& p : scan.points_world) {
+          const auto c = map.geometry().world_to_cell(p.head<2>());
+          if (c && map.raw_blocked(c->x, c->y)) top.emplace_back(map.geometry().index(c->x, c->y), p);
+        }
+        std::stable_sort(top.begin(), top.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (std::size_t i = 0; i < top.size();) {
+          std::size_t j = i;
+          Vec3 best = top[i].second;
+          for (; j < top.size() && top[j].first == top[i].first; ++j)
+            if (top[j].second.z() > best.z()) best = top[j].second;
+          r.hits.push_back(best);
+          i = j;
+        }
+      }
+      const OccupancyGrid& occ = map.occupancy();
+      for (const Cell& c : cycle.update.occupancy_changed) r.changed.emplace_back(c, occ.at(c.x, c.y));
+      r.path_id = nav_->plans().empty() ? 0 : nav_->plans().back().id;
+      r.new_path = cycle.planned;
+      steps_.push_back(std::move(r));
+    }
+    if (nav_->status() == NavStatus::NoPath) sim_->stop();
+  };
+  sim_->command_source = [this, localized](double t) {
+    const Pose2 pose = localized(t);
+    const BodyTwist cmd = nav_->command(pose, t, sim_->vehicle().state().twist);
+    if (nav_->status() == NavStatus::Arrived || nav_->status() == NavStatus::NoPath) {
+      sim_->stop();
+      return BodyTwist{};
+    }
+    if (nav_->status() == NavStatus::Navigating && nav_->controller().has_path()) {
+      // Deviation of the robot itself (ground truth) from the path it follows.
+      const double d = nav_->distance_to_path(sim_->vehicle().state().pose.to_pose2().translation());
+      deviation_sum_ += d;
+      deviation_max_ = std::max(deviation_max_, d);
+      ++deviation_n_;
+    }
+    return cmd;
+  };
+  setup_s_ = seconds_since(t0);
+}
+
+NavigationRun::~NavigationRun() = default;
+
+void NavigationRun::run(const std::function<void(double)>& progress) {
+  const auto t0 = Clock::now();
+  sim_->run(progress);
+  wall_s_ += seconds_since(t0);
+}
+
+NavigationMetrics NavigationRun::metrics() const {
+  NavigationMetrics m;
+  const SimulationMetrics s = sim_->metrics();
+  const Navigator& nav = *nav_;
+  m.success = nav.status() == NavStatus::Arrived;
+  m.outcome = m.success ? "arrived" : nav.status() == NavStatus::NoPath ? "no_path" : "timeout";
+  m.reason = nav.no_path_reason();
+  m.time_to_goal_s = m.success ? nav.arrival_time_s() : -1.0;
+  m.duration_s = s.duration_s;
+  m.distance_m = s.distance_m;
+  m.plans = static_cast<int>(nav.plans().size());
+  m.replans = std::max(0, m.plans - 1);
+  for (std::size_t i = 0; i < nav.plans().size(); ++i) {
+    const NavPlan& p = nav.plans()[i];
+    m.expanded_total += p.expanded;
+    if (i > 0) {
+      m.replan_expanded += p.expanded;
+      m.astar_replan_expanded += p.astar_expanded;
+      m.astar_backward_replan_expanded += p.astar_backward_expanded;
+    }
+    const auto differs = [&](const std::string& status, double cost) {
+      return status != "found" || std::abs(cost - p.cost_m) > 1e-9 * std::max(1.0, p.cost_m);
+    };
+    if (p.compared && p.status == "found" &&
+        (differs(p.astar_status, p.astar_cost_m) || differs(p.astar_backward_status, p.astar_backward_cost_m)))
+      m.costs_match = false;
+  }
+  m.collisions = s.collisions;
+  if (deviation_n_ > 0) {
+    m.deviation_mean_m = deviation_sum_ / static_cast<double>(deviation_n_);
+    m.deviation_max_m = deviation_max_;
+  }
+  m.goal_distance_m = (s.final_state.position.head<2>() - nav.goal()).norm();
+  m.planner = nav.planner_name();
+  m.controller = nav.controller_name();
+  const auto* follower = dynamic_cast<const PathFollowerController*>(&nav.controller());
+  m.motion_mode = follower ? motion_mode_name(follower->follower().mode()) : "none";
+  return m;
+}
+
+std::string navigation_metrics_json(const NavigationRun& run) {
+  const NavigationMetrics m = run.metrics();
+  nlohmann::ordered_json j;
+  j["scenario"] = run.spec().name;
+  j["seed"] = run.spec().seed;
+  j["planner"] = m.planner;
+  j["motion_mode"] = m.motion_mode;
+  // Only when it is not the paper's follower, so the records of the paper's runs keep their bytes.
+  if (m.controller != "path_follower") j["controller"] = m.controller;
+  j["success"] = m.success;
+  j["outcome"] = m.outcome;
+  if (!m.reason.empty()) j["reason"] = m.reason;
+  j["time_to_goal_s"] = m.time_to_goal_s;
+  j["duration_s"] = m.duration_s;
+  j["distance_m"] = m.distance_m;
+  j["goal_distance_m"] = m.goal_distance_m;
+  j["plans"] = m.plans;
+  j["replans"] = m.replans;
+  j["expanded_total"] = m.expanded_total;
+  j["replan_expanded"] = m.replan_expanded;
+  if (run.navigator().config().compare_astar) {
+    j["astar_replan_expanded"] = m.astar_replan_expanded;
+    j["astar_backward_replan_expanded"] = m.astar_backward_replan_expanded;
+    j["costs_match_astar"] = m.costs_match;
+  }
+  j["collisions"] = m.collisions;
+  j["deviation_mean_m"] = m.deviation_mean_m;
+  j["deviation_max_m"] = m.deviation_max_m;
+  const Navigator& nav = run.navigator();
+  j["map"] = {{"width", nav.map().width()},
+              {"height", nav.map().height()},
+              {"resolution_m", nav.map().geometry().resolution},
+              {"barrier_distance_m", nav.config().map.barrier_distance_m}};
+  nlohmann::ordered_json sim = nlohmann::ordered_json::parse(metrics_json(run.simulation()));
+  j["sim"] = sim;
+  return j.dump(2) + "\n";
+}
+
+std::string paths_csv(const NavigationRun& run) {
+  std::string out = "plan_id,t_s,x_m,y_m\n";
+  for (const NavPlan& p : run.navigator().plans())
+    for (const Vec2& v : p.points)
+      out += std::to_string(p.id) + ',' + format_fixed6(p.t_s) + ',' + format_fixed6(v.x()) + ',' + format_fixed6(v.y()) + '\n';
+  return out;
+}
+
+namespace {
+
+std::string replans_csv(const NavigationRun& run) {
+  const bool compare = run.navigator().config().compare_astar;
+  std::string out = "plan_id,t_s,cause,status,expanded,cost_m";
+  if (compare) out += ",astar_status,astar_expanded,astar_cost_m,astar_backward_expanded,astar_backward_cost_m";
+  out += '\n';
+  for (const NavPlan& p : run.navigator().plans()) {
+    out += std::to_string(p.id) + ',' + format_fixed6(p.t_s) + ',' + p.cause + ',' + p.status + ',' +
+           std::to_string(p.expanded) + ',' + format_fixed6(p.cost_m);
+    if (compare)
+      out += ',' + p.astar_status + ',' + std::to_string(p.astar_expanded) + ',' + format_fixed6(p.astar_cost_m) + ',' +
+             std::to_string(p.astar_backward_expanded) + ',' + format_fixed6(p.astar_backward_cost_m);
+    out += '\n';
+  }
+  return out;
+}
+
+// Millimetres for poses and paths, centimetres for LiDAR hits (the map's cells are 5-10 cm):
+// enough for a viewer, a fraction of the bytes of six decimals.
+double mm(double v) { return unsigned_zero(std::round(v * 1000.0) / 1000.0); }
+double cm(double v) { return unsigned_zero(std::round(v * 100.0) / 100.0); }
+
+std::string steps_jsonl(const NavigationRun& run) {
+  std::string out;
+  const auto& plans = run.navigator().plans();
+  for (const NavStepRecord& r : run.steps()) {
+    nlohmann::ordered_json j;
+    j["t_s"] = mm(r.t_s);
+    const Vec3 rpy = r.pose.rpy();
+    j["pose"] = {mm(r.pose.position.x()), mm(r.pose.position.y()), mm(r.pose.position.z()),
+                 mm(rpy.x()),             mm(rpy.y()),             mm(rpy.z())};
+    j["returns"] = r.returns;
+    nlohmann::ordered_json hits = nlohmann::ordered_json::array();
+    for (const Vec3& p : r.hits) hits.push_back({cm(p.x()), cm(p.y()), cm(p.z())});
+    j["hits"] = std::move(hits);
+    nlohmann::ordered_json changed = nlohmann::ordered_json::array();
+    for (const auto& [c, v] : r.changed) changed.push_back({c.x, c.y, static_cast<int>(v)});
+    j["changed"] = std::move(changed);
+    j["path_id"] = r.path_id;
+    if (r.new_path && r.path_id > 0) {
+      nlohmann::ordered_json path = nlohmann::ordered_json::array();
+      for (const Vec2& v : plans[static_cast<std::size_t>(r.path_id - 1)].points) path.push_back({mm(v.x()), mm(v.y())});
+      j["path"] = std::move(path);
+    }
+    out += j.dump() + '\n';
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_navigation_records(const NavigationRun& run, const std::string& dir) {
+  namespace fs = std::filesystem;
+  const fs::path d(dir);
+  write_simulation_records(run.simulation(), dir);  // trajectory.csv, events.csv, sensors; metrics.json replaced below
+  write_file_bytes((d / "metrics.json").string(), navigation_metrics_json(run));
+  write_file_bytes((d / "paths.csv").string(), paths_csv(run));
+  write_file_bytes((d / "replans.csv").string(), replans_csv(run));
+  if (run.options().record_steps) write_file_bytes((d / "steps.jsonl").string(), steps_jsonl(run));
+  write_ros_map(run.navigator().map().occupancy(), (d / "map.yaml").string());
+
+  const SimulationMetrics s = run.simulation().metrics();
+  nlohmann::ordered_json t;
+  t["wall_s"] = run.wall_s();
+  t["setup_s"] = run.setup_s();
+  t["sim_s"] = s.duration_s;
+  t["real_time_factor"] = run.wall_s() > 0.0 ? s.duration_s / run.wall_s() : 0.0;
+  t["steps"] = s.steps;
+  t["lidar_rays"] = s.lidar_rays;
+  double plan_ms = 0.0;
+  nlohmann::ordered_json per_plan = nlohmann::ordered_json::array();
+  for (const NavPlan& p : run.navigator().plans()) {
+    plan_ms += p.time_ms;
+    per_plan.push_back(p.time_ms);
+  }
+  t["planning_ms"] = plan_ms;
+  t["plan_ms"] = std::move(per_plan);  // wall time of each plan's search, by plan_id (replans.csv)
+  write_file_bytes((d / "timing.json").string(), t.dump(2) + "\n");
+}
+
+}  // namespace starnav

@@ -1,0 +1,64 @@
+#pragma once
+// The global-planner role: a path on a map layer from the robot's cell to the goal's cell. The
+// grid planners (A*, JPS, D* Lite, the improved A* of Ou et al. 2022, ...) plan on an occupancy
+// layer; the rough-terrain planners of Liu et al. 2024 on an elevation layer (capability
+// "needs_elevation"). An incremental planner (capability "incremental", D* Lite) keeps its
+// search between calls and is given the cells that changed since the previous call; the others
+// plan from scratch every time. Built by name from the component registry.
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "starnav/core/component.hpp"
+#include "starnav/map/elevation_map.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+#include "starnav/plan/grid_planner.hpp"
+#include "starnav/plan/plan_result.hpp"
+
+namespace starnav {
+
+// The layers a global planner may read; the ones a planner needs must be set.
+struct PlanningLayers {
+  const OccupancyGrid* occupancy = nullptr;
+  const ElevationMap* elevation = nullptr;
+};
+
+class GlobalPlanner {
+ public:
+  virtual ~GlobalPlanner() = default;
+  virtual std::string_view name() const = 0;
+  // Plans on the layers as they are now. `changed`: the occupancy cells that changed since the
+  // previous call, with their new values (an incremental planner repairs its search with them;
+  // the others ignore them). Throws Error when a layer the planner needs is missing.
+  virtual PlanResult plan(const PlanningLayers& layers, Cell start, Cell goal, std::span<const CellChange> changed) = 0;
+};
+
+// What a global planner is built from: the grid search options (connectivity, unknown cells)
+// and the scenario file its settings came from.
+struct GlobalPlannerContext {
+  GridPlannerOptions grid;
+  std::string file;
+};
+using GlobalPlannerDef = ComponentDef<GlobalPlanner, GlobalPlannerContext>;
+
+// A grid planner of make_grid_planner as a GlobalPlanner: a new search per call, or for an
+// incremental planner one search repaired while the goal stays the same.
+class GridGlobalPlanner final : public GlobalPlanner {
+ public:
+  GridGlobalPlanner(std::string name, const GridPlannerOptions& options);
+  std::string_view name() const override { return name_; }
+  PlanResult plan(const PlanningLayers& layers, Cell start, Cell goal, std::span<const CellChange> changed) override;
+
+ private:
+  std::string name_;
+  GridPlannerOptions options_;
+  std::unique_ptr<GridPlanner> planner_;  // kept by incremental planners
+  Cell goal_{};
+};
+
+// The registry entry of grid planner `name` (capabilities from a planner built on a 1 x 1 grid).
+GlobalPlannerDef grid_global_planner(const std::string& name, std::string summary,
+                                     std::vector<std::string> deprecated_aliases = {});
+
+}  // namespace starnav

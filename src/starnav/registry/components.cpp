@@ -1,0 +1,119 @@
+// The registry: one line per component. A component is defined in its own file as a function
+// returning its ComponentDef; its line here names that function (declared and listed by the
+// X-macro below, so a new component touches nothing else).
+#include "starnav/registry/components.hpp"
+
+#include <algorithm>
+
+#include "starnav/core/error.hpp"
+#include "starnav/terrain/rough_terrain_planners.hpp"
+
+namespace starnav {
+
+#define STARNAV_LOCAL_CONTROLLERS(X)                          \
+  X(path_follower_controller)    /* control/path_follower.cpp */ \
+  X(straight_to_goal_controller) /* control/straight_to_goal.cpp */
+
+#define STARNAV_LOCALIZERS(X) \
+  X(ground_truth_localizer) /* estimate/ground_truth_localizer.cpp */
+
+// (Slam and ScanMatcher implementations come with the SLAM issues: STARNAV_SLAM(X), STARNAV_SCAN_MATCHERS(X).)
+
+#define STARNAV_DECLARE_CONTROLLER(f) LocalControllerDef f();
+#define STARNAV_DECLARE_LOCALIZER(f) LocalizerDef f();
+#define STARNAV_LIST(f) f(),
+STARNAV_LOCAL_CONTROLLERS(STARNAV_DECLARE_CONTROLLER)
+STARNAV_LOCALIZERS(STARNAV_DECLARE_LOCALIZER)
+
+const std::vector<GlobalPlannerDef>& global_planners() {
+  static const std::vector<GlobalPlannerDef> all = {
+      grid_global_planner("dijkstra", "Uniform-cost search on the occupancy grid"),
+      grid_global_planner("astar", "A* with the octile heuristic (8-connected, no corner cutting)"),
+      grid_global_planner("wastar", "Weighted A*: f = g + w h"),
+      grid_global_planner("jps", "Jump point search (Harabor and Grastien 2011)"),
+      grid_global_planner("jpsplus", "JPS+ with precomputed jump tables"),
+      grid_global_planner("thetastar", "Theta*: any-angle paths by line of sight"),
+      grid_global_planner("dstar_lite", "D* Lite (Koenig and Likhachev 2002): repairs its search as cells change",
+                          {"dstarlite"}),
+      grid_global_planner("ou2022", "The improved A* of Ou et al. 2022 with the paper's defaults"),
+      rough_terrain_global_planner(RoughTerrainPlannerKind::OA),
+      rough_terrain_global_planner(RoughTerrainPlannerKind::AOEA),
+      rough_terrain_global_planner(RoughTerrainPlannerKind::IA),
+  };
+  return all;
+}
+
+const std::vector<LocalControllerDef>& local_controllers() {
+  static const std::vector<LocalControllerDef> all = {STARNAV_LOCAL_CONTROLLERS(STARNAV_LIST)};
+  return all;
+}
+
+const std::vector<LocalizerDef>& localizers() {
+  static const std::vector<LocalizerDef> all = {STARNAV_LOCALIZERS(STARNAV_LIST)};
+  return all;
+}
+
+const std::vector<SlamDef>& slam_components() {
+  static const std::vector<SlamDef> all = {};
+  return all;
+}
+
+const std::vector<ScanMatcherDef>& scan_matchers() {
+  static const std::vector<ScanMatcherDef> all = {};
+  return all;
+}
+
+namespace {
+
+template <class Def>
+const Def& find_in(const std::vector<Def>& all, const std::string& name, const std::string& field, std::string* warning,
+                   const char* what) {
+  if (warning) warning->clear();
+  for (const Def& d : all) {
+    if (d.info.name == name) return d;
+    const auto& aliases = d.info.deprecated_aliases;
+    if (std::find(aliases.begin(), aliases.end(), name) != aliases.end()) {
+      if (warning) *warning = "'" + name + "' is deprecated; use '" + d.info.name + "'";
+      return d;
+    }
+  }
+  std::string known;
+  for (const Def& d : all) known += (known.empty() ? "" : ", ") + d.info.name;
+  throw Error("unknown " + std::string(what) + " '" + one_line(name, 60) + "' (" + known + ")", {}, 0, field);
+}
+
+template <class Def>
+void append_infos(const std::vector<Def>& all, std::vector<ComponentInfo>& out) {
+  for (const Def& d : all) out.push_back(d.info);
+}
+
+}  // namespace
+
+const GlobalPlannerDef& find_global_planner(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(global_planners(), name, field, warning, "planner");
+}
+const LocalControllerDef& find_local_controller(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(local_controllers(), name, field, warning, "controller");
+}
+const LocalizerDef& find_localizer(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(localizers(), name, field, warning, "localizer");
+}
+
+std::vector<ComponentInfo> all_components() {
+  std::vector<ComponentInfo> out;
+  append_infos(global_planners(), out);
+  append_infos(local_controllers(), out);
+  append_infos(localizers(), out);
+  append_infos(slam_components(), out);
+  append_infos(scan_matchers(), out);
+  return out;
+}
+
+std::vector<std::string> component_names(Role role) {
+  std::vector<std::string> names;
+  for (const ComponentInfo& c : all_components())
+    if (c.role == role) names.push_back(c.name);
+  return names;
+}
+
+}  // namespace starnav

@@ -1,0 +1,131 @@
+// Declared parameters (core/params.hpp): one parser for YAML and --set values, ranges, choices,
+// unknown keys, defaults read back from the configuration, errors naming file, line and key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/params.hpp"
+
+namespace starnav {
+namespace {
+
+struct Inner {
+  int count = 3;
+};
+struct Config {
+  double speed_mps = 0.2;
+  double yaw_rate_radps = 1.0;
+  bool enabled = true;
+  std::string mode = "a";
+  Inner inner;
+};
+
+const ParamTable<Config>& table() {
+  static const ParamTable<Config> t = [] {
+    ParamTable<Config> t;
+    t.real("speed_mps", &Config::speed_mps, positive(), "m/s", "speed");
+    t.real("yaw_rate_degps", &Config::yaw_rate_radps, closed(0.0, 360.0), "deg/s", "yaw rate", kPi / 180.0);
+    t.boolean("enabled", &Config::enabled, "on or off");
+    t.choice("mode", {"a", "b"}, [](Config& c, const std::string& v) { c.mode = v; }, [](const Config& c) { return c.mode; },
+             "mode");
+    t.integer("inner.count", [](Config& c) -> int& { return c.inner.count; }, closed(1, 10), "", "count");
+    return t;
+  }();
+  return t;
+}
+
+ParamSetting at(const std::string& key, const std::string& value) { return {key, value, "s.yaml", 7, "nav." + key}; }
+
+Error error_applying(const ParamSetting& v) {
+  Config c;
+  try {
+    table().apply(c, v);
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "accepted " << v.key << "=" << v.value;
+  return Error("none");
+}
+
+TEST(Params, AppliesValuesThroughTheDeclaredScaleAndReadsDefaultsBack) {
+  Config c;
+  table().apply(c, at("speed_mps", "0.35"));
+  table().apply(c, at("yaw_rate_degps", "90"));
+  table().apply(c, at("enabled", "false"));
+  table().apply(c, at("mode", "b"));
+  table().apply(c, at("inner.count", "+7"));
+  EXPECT_EQ(c.speed_mps, 0.35);
+  EXPECT_EQ(c.yaw_rate_radps, 90.0 * (kPi / 180.0));
+  EXPECT_FALSE(c.enabled);
+  EXPECT_EQ(c.mode, "b");
+  EXPECT_EQ(c.inner.count, 7);
+  const auto specs = table().specs();
+  ASSERT_EQ(specs.size(), 5u);
+  EXPECT_EQ(specs[0].default_value, "0.2");
+  EXPECT_EQ(specs[1].default_value, format_param_real(180.0 / kPi));  // 1 rad/s in deg/s
+  EXPECT_EQ(specs[2].default_value, "true");
+  EXPECT_EQ(specs[3].default_value, "a");
+  EXPECT_EQ(specs[4].default_value, "3");
+  EXPECT_EQ(specs[1].range_text(), "[0, 360]");
+  EXPECT_EQ(specs[3].range_text(), "a | b");
+}
+
+TEST(Params, EveryDefaultReadsBackToTheSameConfiguration) {
+  // Round trip: applying each declared default as text leaves the defaults unchanged.
+  Config c;
+  for (const ParamSpec& s : table().specs()) table().apply(c, at(s.key, s.default_value));
+  EXPECT_EQ(table().specs(c)[0].default_value, "0.2");
+  for (std::size_t i = 0; i < table().specs().size(); ++i)
+    EXPECT_EQ(table().specs(c)[i].default_value, table().specs()[i].default_value) << table().specs()[i].key;
+}
+
+TEST(Params, BadValuesNameTheFileLineAndFullKey) {
+  for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
+           {"speed_mps", "0"}, {"speed_mps", "-1"}, {"speed_mps", "fast"}, {"speed_mps", "nan"}, {"speed_mps", "inf"},
+           {"speed_mps", ""}, {"speed_mps", "1e400"}, {"speed_mps", "0.2m"}, {"yaw_rate_degps", "361"},
+           {"enabled", "yes please"}, {"mode", "c"}, {"inner.count", "1.5"}, {"inner.count", "11"},
+           {"inner.count", "99999999999999999999"}, {"nope", "1"}}) {
+    const Error e = error_applying(at(key, value));
+    EXPECT_EQ(e.file(), "s.yaml") << key << "=" << value;
+    EXPECT_EQ(e.line(), 7) << key << "=" << value;
+    EXPECT_EQ(e.field(), "nav." + key) << key << "=" << value;
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+  }
+  EXPECT_NE(std::string(error_applying(at("nope", "1")).what()).find("known: speed_mps"), std::string::npos);
+  EXPECT_NE(std::string(error_applying(at("speed_mps", "0")).what()).find("> 0"), std::string::npos);
+}
+
+TEST(Params, RangesIncludeOrExcludeTheirEnds) {
+  EXPECT_FALSE(positive().contains(0.0));
+  EXPECT_TRUE(positive().contains(1e-300));
+  EXPECT_TRUE(non_negative().contains(0.0));
+  EXPECT_FALSE(open(0.0, 90.0).contains(90.0));
+  EXPECT_TRUE(closed(0.0, 90.0).contains(90.0));
+  EXPECT_FALSE(closed(0.0, 90.0).contains(std::nan("")));
+  EXPECT_EQ(open(0.0, 90.0).text(), "(0, 90)");
+  EXPECT_EQ(non_negative().text(), ">= 0");
+  EXPECT_EQ(any_value().text(), "any");
+}
+
+TEST(Params, RethrowAtSettingFindsTheSettingOfAValidationError) {
+  const std::vector<ParamSetting> given = {at("speed_mps", "0.1"), at("inner.count", "2")};
+  try {
+    rethrow_at_setting(Error("must not exceed", "", 0, "follower.speed_mps"), given, "s.yaml");
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "nav.speed_mps");
+    EXPECT_EQ(e.line(), 7);
+  }
+  try {
+    rethrow_at_setting(Error("bad", "", 0, "other"), given, "s.yaml");
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "other");
+    EXPECT_EQ(e.file(), "s.yaml");
+  }
+}
+
+}  // namespace
+}  // namespace starnav
