@@ -68,6 +68,7 @@ expect=(
   "gdal=$want_gdal"
   "grid: 4x3 free=10 occupied=1 unknown=1 cell(1,2)->(1.75, 3.25)"
   "movingai: 4x3 free=10 occupied=2 cell(2,1)='T'->(2.50, 1.50)"
+  "plan: astar found=1 smoothed=1 clearance_min=0.22 m"
   "errors: 3 of 3"
   "consumer: ok"
 )

@@ -21,7 +21,6 @@
 // --hy-m ... --unobserved); the occupancy planners and their flags (--weight ... --start-heading-deg)
 // are refused there, and the Liu flags on occupancy maps.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -41,6 +40,7 @@
 #include "starnav/registry/components.hpp"
 #include "starnav/plan/inflation.hpp"
 #include "starnav/plan/path_metrics.hpp"
+#include "starnav/plan/plan_pipeline.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav::cli {
@@ -169,7 +169,9 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   const Cell start = endpoint_cell(o.start, "--start", in_cells, geometry);
   const Cell goal = endpoint_cell(o.goal, "--goal", in_cells, geometry);
 
-  GridPlannerOptions options;
+  PlanRequest rq;
+  rq.planner = o.planner;
+  GridPlannerOptions& options = rq.options;
   options.connectivity = o.connectivity;
   options.unknown_is_free = o.unknown == "free";
   options.thresholds = loaded.thresholds();
@@ -183,18 +185,13 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   if (o.turn_cost_opt->count()) options.ou2022.turn_cost = o.turn_cost;
   options.ou2022.turn_exact = o.turn_exact;
   if (o.adaptive_weight_opt->count()) options.ou2022.adaptive_weight = o.adaptive_weight;
-  const bool gradient = o.smooth_opt->count() && o.smooth == "gradient";
-  if (o.smooth_opt->count()) {
-    if (o.smooth == "none") options.ou2022.smoothing = PathSmoothing::None;
-    else if (o.smooth == "los" || gradient) options.ou2022.smoothing = PathSmoothing::LineOfSight;
-    else throw Error("expected none, los or gradient, got '" + o.smooth + "'", {}, 0, "--smooth");
-  }
-  GradientSmoothingOptions gradient_options;
+  if (o.smooth_opt->count()) rq.smoothing = parse_plan_smoothing(o.smooth, "--smooth");
+  const bool gradient = rq.smoothing == PlanSmoothing::Gradient;
   if (o.smooth_clearance_opt->count()) {
     if (!gradient) throw Error("only with --smooth gradient", {}, 0, "--smooth-clearance");
-    gradient_options.min_clearance_m = o.smooth_clearance;
+    rq.gradient.min_clearance_m = o.smooth_clearance;
     try {
-      validate_gradient_smoothing(gradient_options);
+      validate_gradient_smoothing(rq.gradient);
     } catch (const Error& e) {
       throw Error(e.message(), {}, 0, "--smooth-clearance");
     }
@@ -204,9 +201,12 @@ void run_plan(const PlanOptions& o, Context& ctx) {
     // World yaw -> the grid's cell axes (index grids: already in cell axes).
     options.ou2022.start_heading_rad = deg_to_rad(o.start_heading_deg) - (index_grid ? 0.0 : geometry.origin.yaw);
   }
-  std::unique_ptr<GridPlanner> planner;
+  rq.limits.max_expansions = static_cast<std::uint64_t>(o.max_expansions);
+  rq.limits.time_budget_s = o.time_budget_s;
+  rq.keep_inflated = !o.svg.empty();  // the picture shows the inflation
+  PlanOutcome outcome;
   try {
-    planner = make_grid_planner(o.planner, grid, options);
+    outcome = plan_on_grid(grid, start, goal, rq);
   } catch (const Error& e) {
     // Name the flag the user typed.
     const std::string flag = e.field() == "connectivity" ? "--connectivity"
@@ -224,32 +224,14 @@ void run_plan(const PlanOptions& o, Context& ctx) {
                                                          : e.field();
     throw Error(e.message(), {}, 0, flag);
   }
-  SearchLimits limits;
-  limits.max_expansions = static_cast<std::uint64_t>(o.max_expansions);
-  limits.time_budget_s = o.time_budget_s;
-  const PlanResult r = planner->plan(start, goal, limits);
-  // The inflated map, once, when the smoother or the picture needs it. Its clearance is the
-  // distance transform the metrics use (the original map's obstacles, as the planner sees them).
-  std::optional<InflatedMap> inflated;
-  if ((gradient && r.found()) || (!o.svg.empty() && options.ou2022.inflation.hard()))
-    inflated = inflate_obstacles(grid, options.thresholds, options.unknown_is_free, options.ou2022.inflation);
-  const ClearanceField clearance = inflated ? ClearanceField(geometry, inflated->clearance_m)
-                                            : ClearanceField::of_grid(grid, options.thresholds, !options.unknown_is_free);
-  // --smooth gradient: the line-of-sight path smoothed on the inflated map; the path reported
-  // (JSON path, --out, the picture, the metrics) is then the smoothed one.
-  std::optional<GradientSmoothingResult> smoothed;
-  double smoothing_ms = 0.0;  // the smoother alone (the inflation for it excluded)
-  if (gradient && r.found()) {
-    const GridSearchMap blocked(grid.width(), grid.height(), inflated->blocked);
-    const auto t0 = std::chrono::steady_clock::now();
-    smoothed = smooth_path_gradient(r.path_world, blocked, geometry, &clearance, gradient_options);
-    smoothing_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  }
-  const std::vector<Vec2>& final_points = smoothed ? smoothed->points : r.path_world;
-  const PathMetrics metrics = compute_path_metrics(final_points, &clearance);
+  const GridPlanner* planner = outcome.planner.get();
+  const PlanResult& r = outcome.result;
+  const std::optional<InflatedMap>& inflated = outcome.inflated;
+  const std::optional<GradientSmoothingResult>& smoothed = outcome.smoothed;
+  const double smoothing_ms = outcome.smoothing_ms;
+  const PathMetrics& metrics = outcome.metrics;
   const std::vector<Cell>& unsmoothed = planner->unsmoothed_path();
-  const PathMetrics unsmoothed_metrics =
-      compute_path_metrics(cell_centres(unsmoothed, geometry), &clearance);
+  const PathMetrics& unsmoothed_metrics = outcome.unsmoothed_metrics;
 
   // Points in the map's units: cells on index grids, metres (cell centres, any-angle vertices)
   // on metric maps.

@@ -23,9 +23,6 @@ void check_finite(double v, const char* field) {
 void check_finite(const Vec3& v, const char* field) {
   if (!v.allFinite()) throw Error("must be finite", {}, 0, field);
 }
-void check_positive(double v, const char* field) {
-  if (!std::isfinite(v) || !(v > 0.0)) throw Error("must be a positive number, got " + std::to_string(v), {}, 0, field);
-}
 
 // Picks the reported crossing from a solid's entry/exit interval along the ray.
 bool finish(double t_enter, const Vec3& n_enter, double t_exit, const Vec3& n_exit, double max_range,
@@ -220,28 +217,28 @@ void validate(const Primitive& prim) {
         using T = std::decay_t<decltype(p)>;
         if constexpr (std::is_same_v<T, Box>) {
           check_finite(p.center, "center");
-          check_positive(p.size.x(), "size");
-          check_positive(p.size.y(), "size");
-          check_positive(p.size.z(), "size");
+          require_positive(p.size.x(), "size");
+          require_positive(p.size.y(), "size");
+          require_positive(p.size.z(), "size");
           check_finite(p.roll, "roll");
           check_finite(p.pitch, "pitch");
           check_finite(p.yaw, "yaw");
         } else if constexpr (std::is_same_v<T, Cylinder>) {
           check_finite(p.base, "base");
-          check_positive(p.radius, "radius");
-          check_positive(p.height, "height");
+          require_positive(p.radius, "radius");
+          require_positive(p.height, "height");
         } else if constexpr (std::is_same_v<T, Prism>) {
           check_finite(p.base, "base");
           check_finite(p.yaw, "yaw");
-          check_positive(p.base_width, "base_width");
-          check_positive(p.height, "height");
-          check_positive(p.length, "length");
+          require_positive(p.base_width, "base_width");
+          require_positive(p.height, "height");
+          require_positive(p.length, "length");
           check_finite(p.apex_offset, "apex_offset");
           if (std::abs(p.apex_offset) > 0.5 * p.base_width)
             throw Error("apex must lie over the base (|apex_offset| <= base_width/2)", {}, 0, "apex_offset");
         } else {
           check_finite(p.center, "center");
-          check_positive(p.radius, "radius");
+          require_positive(p.radius, "radius");
         }
       },
       prim);

@@ -4,26 +4,17 @@
 
 namespace starnav {
 
-namespace {
-void check_positive(double v, const char* field) {
-  if (!std::isfinite(v) || !(v > 0.0)) throw Error("must be a finite number > 0", {}, 0, field);
-}
-void check_non_negative(double v, const char* field) {
-  if (!std::isfinite(v) || v < 0.0) throw Error("must be a finite number >= 0", {}, 0, field);
-}
-}  // namespace
-
 void LiuCostParams::validate() const {
-  check_positive(h_y, "h_y");
-  check_positive(a_y, "a_y");
+  require_positive(h_y, "h_y");
+  require_positive(a_y, "a_y");
   if (a_y >= 1.5707963267948966) throw Error("must be below pi/2", {}, 0, "a_y");
-  check_positive(s_y, "s_y");
-  check_non_negative(w_s, "w_s");
-  check_non_negative(w_e, "w_e");
-  check_non_negative(w_r, "w_r");
-  check_non_negative(w1, "w1");
-  check_non_negative(w2, "w2");
-  check_non_negative(unobserved_g, "unobserved_g");
+  require_positive(s_y, "s_y");
+  require_non_negative(w_s, "w_s");
+  require_non_negative(w_e, "w_e");
+  require_non_negative(w_r, "w_r");
+  require_non_negative(w1, "w1");
+  require_non_negative(w2, "w2");
+  require_non_negative(unobserved_g, "unobserved_g");
   if (std::abs(w_s + w_e + w_r - 1.0) > 1e-6)
     throw Error("w_s + w_e + w_r must be 1, got " + std::to_string(w_s + w_e + w_r), {}, 0, "weights");
 }

@@ -14,12 +14,6 @@ namespace starnav {
 
 namespace {
 
-void check_positive(double v, const char* field) {
-  if (!std::isfinite(v) || !(v > 0.0)) throw Error("must be a finite number > 0", {}, 0, field);
-}
-void check_non_negative(double v, const char* field) {
-  if (!std::isfinite(v) || v < 0.0) throw Error("must be a finite number >= 0", {}, 0, field);
-}
 
 // Truncated Gaussian blur (radius ceil(4 sigma)) along one axis of a row-major w x h field, the
 // kernel renormalised where it is cut by the border. `sq` receives, per position along the
@@ -93,8 +87,8 @@ ElevationMap map_from_heights(const GridGeometry& g, const std::vector<double>& 
 
 void validate_feature(const TerrainFeature& f) {
   if (!std::isfinite(f.centre.x()) || !std::isfinite(f.centre.y())) throw Error("must be finite", {}, 0, "centre");
-  check_positive(f.radius_m, "radius_m");
-  check_positive(f.depth_m, "depth_m");
+  require_positive(f.radius_m, "radius_m");
+  require_positive(f.depth_m, "depth_m");
 }
 
 constexpr int kBlockRows = 8;   // rows per block of the directional synthesis
@@ -220,16 +214,16 @@ void add_terrain_feature(ElevationMap& map, const TerrainFeature& f) {
 
 void HillsOptions::validate() const {
   terrain_geometry(width_m, height_m, resolution, origin);
-  check_non_negative(amplitude, "amplitude");
-  check_non_negative(hills_per_100m2, "hills_per_100m2");
-  check_non_negative(hill_height_min_m, "hill_height_min_m");
-  check_non_negative(hill_height_max_m, "hill_height_max_m");
+  require_non_negative(amplitude, "amplitude");
+  require_non_negative(hills_per_100m2, "hills_per_100m2");
+  require_non_negative(hill_height_min_m, "hill_height_min_m");
+  require_non_negative(hill_height_max_m, "hill_height_max_m");
   if (hill_height_max_m < hill_height_min_m) throw Error("must be >= hill_height_min_m", {}, 0, "hill_height_max_m");
-  check_positive(hill_sigma_min_m, "hill_sigma_min_m");
-  check_positive(hill_sigma_max_m, "hill_sigma_max_m");
+  require_positive(hill_sigma_min_m, "hill_sigma_min_m");
+  require_positive(hill_sigma_max_m, "hill_sigma_max_m");
   if (hill_sigma_max_m < hill_sigma_min_m) throw Error("must be >= hill_sigma_min_m", {}, 0, "hill_sigma_max_m");
-  check_non_negative(roughness_m, "roughness_m");
-  check_non_negative(roughness_correlation_m, "roughness_correlation_m");
+  require_non_negative(roughness_m, "roughness_m");
+  require_non_negative(roughness_correlation_m, "roughness_correlation_m");
   for (const auto& f : features) validate_feature(f);
 }
 
@@ -308,15 +302,15 @@ double road_class_gd_n0(char road_class, const std::string& field) {
 void RoadOptions::validate() const {
   terrain_geometry(width_m, height_m, resolution, origin);
   if (gd_n0 == 0.0) road_class_gd_n0(road_class);
-  else check_positive(gd_n0, "gd_n0");
-  check_positive(n0, "n0");
-  check_positive(n1, "n1");
-  check_positive(n2, "n2");
+  else require_positive(gd_n0, "gd_n0");
+  require_positive(n0, "n0");
+  require_positive(n1, "n1");
+  require_positive(n2, "n2");
   if (!(n2 > n1)) throw Error("must be greater than n1", {}, 0, "n2");
-  check_positive(waviness, "waviness");
+  require_positive(waviness, "waviness");
   if (intervals < 1 || intervals > 100000) throw Error("must be 1..100000", {}, 0, "intervals");
   if (directions < 1 || directions > 10000) throw Error("must be 1..10000", {}, 0, "directions");
-  check_non_negative(blur_sigma_cells, "blur_sigma_cells");
+  require_non_negative(blur_sigma_cells, "blur_sigma_cells");
   for (const auto& f : features) validate_feature(f);
 }
 

@@ -103,9 +103,6 @@ double nice_floor(double x) {
 void check_finite(const Vec2& p, const char* field) {
   if (!p.allFinite()) throw Error("coordinates must be finite", {}, 0, field);
 }
-void check_positive(double v, const char* field) {
-  if (!(v > 0.0) || !std::isfinite(v)) throw Error("must be positive and finite", {}, 0, field);
-}
 void check_opacity(double v, const char* field) {
   if (!(v >= 0.0 && v <= 1.0)) throw Error("opacity must be in [0, 1]", {}, 0, field);
 }
@@ -458,7 +455,7 @@ MapPicture::MapPicture(const GridGeometry& geometry, PictureOptions options)
 namespace {
 
 void check_line_style(const LineStyle& s) {
-  check_positive(s.width_px, "width_px");
+  require_positive(s.width_px, "width_px");
   check_opacity(s.opacity, "opacity");
 }
 
@@ -472,7 +469,7 @@ void MapPicture::add_polyline(std::vector<Vec2> points, const LineStyle& style, 
 
 void MapPicture::add_points(std::vector<Vec2> points, const MarkerStyle& style, std::string label) {
   for (const Vec2& p : points) check_finite(p, "points");
-  check_positive(style.radius_px, "radius_px");
+  require_positive(style.radius_px, "radius_px");
   if (!(style.outline_px >= 0.0) || !std::isfinite(style.outline_px))
     throw Error("outline width must be >= 0 and finite", {}, 0, "outline_px");
   check_opacity(style.opacity, "opacity");
@@ -512,7 +509,7 @@ void MapPicture::add_cells(const std::vector<Cell>& cells, Rgba colour, double o
 void MapPicture::add_circle(const Vec2& centre, double radius_m, const LineStyle& stroke, std::optional<Rgba> fill,
                             std::string label) {
   check_finite(centre, "centre");
-  check_positive(radius_m, "radius");
+  require_positive(radius_m, "radius");
   check_line_style(stroke);
   layers_.emplace_back(Circle{centre, radius_m, stroke, fill, std::move(label)});
 }
@@ -520,14 +517,14 @@ void MapPicture::add_circle(const Vec2& centre, double radius_m, const LineStyle
 void MapPicture::add_pose(const Pose2& pose, double length_m, const LineStyle& style, std::string label) {
   if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.yaw))
     throw Error("pose must be finite", {}, 0, "pose");
-  check_positive(length_m, "length");
+  require_positive(length_m, "length");
   check_line_style(style);
   layers_.emplace_back(Arrow{pose, length_m, style, std::move(label)});
 }
 
 void MapPicture::add_text(const Vec2& at, std::string text, const TextStyle& style) {
   check_finite(at, "position");
-  check_positive(style.size_px, "size_px");
+  require_positive(style.size_px, "size_px");
   layers_.emplace_back(Text{at, std::move(text), style});
 }
 
