@@ -79,31 +79,6 @@ std::string format_number(double v) {
   return s.str();
 }
 
-std::string format_fixed(double v, int precision) {
-  if (!std::isfinite(v)) return std::isnan(v) ? "-" : (v > 0 ? "inf" : "-inf");
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << v;
-  return s.str();
-}
-
-SampleStats sample_stats(std::vector<double> values) {
-  SampleStats s;
-  s.n = values.size();
-  if (values.empty()) return s;
-  double sum = 0.0;
-  for (const double x : values) sum += x;
-  s.mean = sum / static_cast<double>(s.n);
-  double squares = 0.0;
-  for (const double x : values) squares += (x - s.mean) * (x - s.mean);
-  s.sd = s.n > 1 ? std::sqrt(squares / static_cast<double>(s.n - 1)) : 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t mid = s.n / 2;
-  s.median = s.n % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
-  s.min = values.front();
-  s.max = values.back();
-  return s;
-}
-
 ProgressBar::ProgressBar(std::string label, std::size_t total, bool quiet)
     : label_(std::move(label)), total_(total), enabled_(!quiet), tty_(!quiet && ::isatty(2) == 1) {}
 

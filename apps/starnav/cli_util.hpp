@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/experiment/statistics.hpp"
 #include "starnav/io/map_file.hpp"
 
 namespace starnav::cli {
@@ -29,18 +31,8 @@ MapFormat output_map_format(const std::string& path, bool elevation);
 // True for a .png picture, false for .svg; throws Error naming `flag` for anything else.
 bool picture_is_png(const std::string& path, const std::string& flag);
 
-// A number with a fixed count of decimals; "-" for NaN, "inf" / "-inf" for infinities.
-std::string format_fixed(double v, int precision);
 // Up to 10 significant digits, shortest form ("0.5", "12.25"): numbers in one-line summaries.
 std::string format_number(double v);
-
-// Summary of a sample for the bench reports: median (the mean of the middle two for an even
-// count), mean, standard deviation (n - 1; 0 for one value), min and max; all 0 when empty.
-struct SampleStats {
-  std::size_t n = 0;
-  double median = 0.0, mean = 0.0, sd = 0.0, min = 0.0, max = 0.0;
-};
-SampleStats sample_stats(std::vector<double> values);
 
 // Progress of a long run on stderr: a live bar when stderr is a terminal, otherwise a line at
 // every tenth of the work (readable in CI logs); nothing when quiet.

@@ -1,9 +1,10 @@
-// starnav params: every component and parameter, generated from their declarations
-// (docs/parameters.md is `starnav params --markdown`).
+// starnav params and starnav metrics: the reference pages generated from the declarations
+// (docs/parameters.md is `starnav params --markdown`, docs/metrics.md `starnav metrics --markdown`).
 #include <iostream>
 #include <memory>
 
 #include "commands.hpp"
+#include "starnav/experiment/metrics.hpp"
 #include "starnav/harness/parameter_docs.hpp"
 
 namespace starnav::cli {
@@ -21,6 +22,14 @@ void register_params_command(CLI::App& app, Context& ctx) {
     if (o->json) std::cout << parameters_json();
     else if (o->markdown) std::cout << parameters_markdown();
     else std::cout << component_help();
+    ctx.exit_code = 0;
+  });
+
+  auto metrics_markdown_only = std::make_shared<bool>(false);
+  auto* metrics = app.add_subcommand("metrics", "list every metric the bench commands report, with its unit and meaning");
+  metrics->add_flag("--markdown", *metrics_markdown_only, "print docs/metrics.md (the default output too)");
+  metrics->callback([&ctx, metrics_markdown_only] {
+    std::cout << metrics_markdown();
     ctx.exit_code = 0;
   });
 }

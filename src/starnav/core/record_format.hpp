@@ -1,6 +1,7 @@
 #pragma once
 // Number and field formats of the deterministic records (CSV, JSON) the simulator and the
 // navigation stack write: fixed decimals, so the same run gives the same bytes.
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -13,6 +14,14 @@ inline std::string format_fixed6(double v) {
   std::string s(buf, static_cast<std::size_t>(n));
   if (s == "-0.000000") s = "0.000000";
   return s;
+}
+
+// A number with a fixed count of decimals for tables; "-" for NaN, "inf" / "-inf" for infinities.
+inline std::string format_fixed(double v, int precision) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "-" : (v > 0 ? "inf" : "-inf");
+  char buf[512];
+  const int n = std::snprintf(buf, sizeof buf, "%.*f", precision, v);
+  return n > 0 && static_cast<std::size_t>(n) < sizeof buf ? std::string(buf, static_cast<std::size_t>(n)) : std::string("-");
 }
 
 // A CSV field, quoted when it holds a comma, a quote or a line break (line breaks become spaces).
