@@ -15,6 +15,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/experiment/metrics.hpp"
+#include "starnav/experiment/movingai_experiment.hpp"
 #include "starnav/experiment/navigation_experiment.hpp"
 #include "starnav/experiment/runner.hpp"
 #include "starnav/experiment/statistics.hpp"
@@ -206,6 +207,40 @@ TEST(NavExperiment, RunsBothPlannersPerSeedDeterministicallyAndNamesEveryMetric)
   const std::string csv = nav_runs_csv(a);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
   EXPECT_NE(nav_experiment_table(a).find("plan costs: every compared plan"), std::string::npos);
+}
+
+
+TEST(MovingAiExperiment, ChecksEveryAnswerAgainstTheScenarioAndNamesEveryMetric) {
+  const test::ScratchDir dir;
+  // 5 x 3, open: from (0,0) to (4,2) is 2 diagonals + 2 straight = 4.82843; one line is wrong on
+  // purpose (3.0): an admissible planner cannot match it, so it counts as inexact.
+  test::write_text(dir.file("open.map"), "type octile\nheight 3\nwidth 5\nmap\n.....\n.....\n.....\n");
+  test::write_text(dir.file("open.map.scen"),
+                   "version 1\n"
+                   "0\topen.map\t5\t3\t0\t0\t4\t2\t4.82843\n"
+                   "0\topen.map\t5\t3\t4\t0\t0\t0\t4\n"
+                   "0\topen.map\t5\t3\t1\t1\t3\t1\t3.0\n");
+  MovingAiConfig c;
+  c.pairs = find_movingai_pairs(dir.path().string());
+  c.planners = movingai_planners({"astar", "dijkstra", "astar"});
+  ASSERT_EQ(c.planners.size(), 2u);
+  c.csv_rows = true;
+  const MovingAiResult r = run_movingai_experiment(c);
+  ASSERT_EQ(r.totals.size(), 2u);
+  for (const MovingAiTally& t : r.totals) {
+    EXPECT_EQ(t.instances, 3u);
+    EXPECT_EQ(t.solved, 3u);
+    EXPECT_EQ(t.exact, 2u) << t.planner;
+    EXPECT_NEAR(t.max_abs_error, 1.0, 1e-9);  // the wrong line: cost 2 against 3
+    EXPECT_EQ(t.shorter, 1u);
+  }
+  EXPECT_EQ(movingai_exit_code(r), 1);
+  EXPECT_EQ(std::count(r.csv.begin(), r.csv.end(), '\n'), 7);  // header + 3 x 2
+  const auto j = nlohmann::ordered_json::parse(movingai_json(r));
+  for (const auto& row : j["planners"])
+    for (auto it = row.begin(); it != row.end(); ++it)
+      if (it.value().is_number() && it.key() != "maps") EXPECT_NE(find_metric("movingai", it.key()), nullptr) << it.key();
+  EXPECT_THROW(movingai_planners({"ia"}), Error);
 }
 
 }  // namespace

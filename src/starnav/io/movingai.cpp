@@ -16,9 +16,9 @@ namespace {
 
 // Splits text into lines on LF, dropping one trailing CR per line (CRLF files). A final line
 // without a newline is kept; the empty piece after a final newline is not a line.
-class LineReader {
+class MovingAiLines {
  public:
-  explicit LineReader(std::string_view text) : text_(text) {}
+  explicit MovingAiLines(std::string_view text) : text_(text) {}
 
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
@@ -40,13 +40,13 @@ class LineReader {
 
 bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
-std::string_view trim(std::string_view s) {
+std::string_view trim_blanks(std::string_view s) {
   while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
   while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
   return s;
 }
 
-bool blank_line(std::string_view line) { return trim(line).empty(); }
+bool blank_line(std::string_view line) { return trim_blanks(line).empty(); }
 
 std::string printable(std::string_view s, std::size_t max_chars = 40) {
   std::string out;
@@ -74,15 +74,15 @@ bool parse_non_negative_int(std::string_view text, int& value) {
 
 // "keyword value" with one or more blanks between; false when the keyword differs.
 bool split_header(std::string_view line, std::string_view keyword, std::string_view& value) {
-  line = trim(line);
+  line = trim_blanks(line);
   if (line.substr(0, keyword.size()) != keyword) return false;
   const std::string_view rest = line.substr(keyword.size());
   if (rest.empty() || !is_blank(rest.front())) return false;
-  value = trim(rest);
+  value = trim_blanks(rest);
   return true;
 }
 
-int header_dimension(LineReader& lines, std::string_view keyword, const std::string& source) {
+int header_dimension(MovingAiLines& lines, std::string_view keyword, const std::string& source) {
   const std::string field(keyword);
   std::string_view line;
   if (!lines.next(line))
@@ -178,7 +178,7 @@ MovingAiMap MovingAiMap::from_occupancy(const OccupancyGrid& grid, const Occupan
 }
 
 MovingAiMap parse_movingai_map(std::string_view text, const std::string& source) {
-  LineReader lines(text);
+  MovingAiLines lines(text);
   std::string_view line;
   MovingAiMap map;
 
@@ -199,7 +199,7 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
                 source, height_line, "height");
 
   if (!lines.next(line)) throw Error("file ends before the 'map' line", source, lines.line_number() + 1, "map");
-  if (trim(line) != "map")
+  if (trim_blanks(line) != "map")
     throw Error("expected 'map', found '" + printable(line) + "'", source, lines.line_number(), "map");
 
   // Grows with the rows actually present, so a tiny file claiming a huge map allocates little.
@@ -261,7 +261,7 @@ void write_movingai_map(const MovingAiMap& map, const std::string& path) {
 // .scen
 
 MovingAiScenario parse_movingai_scenario(std::string_view text, const std::string& source) {
-  LineReader lines(text);
+  MovingAiLines lines(text);
   std::string_view line;
   MovingAiScenario scen;
 
