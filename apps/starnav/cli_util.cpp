@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <utility>
@@ -53,6 +54,14 @@ void check_output_path(const std::string& path, bool force, const std::string& f
   if (fs::exists(path) && !force) throw Error("exists already (use --force to overwrite)", path, 0, flag);
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty() && !fs::is_directory(parent)) throw Error("folder does not exist", path, 0, flag);
+}
+
+void write_text_file(const std::string& path, const std::string& text, const std::string& flag) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw Error("cannot write", path, 0, flag);
+  out << text;
+  out.flush();
+  if (!out) throw Error("write failed", path, 0, flag);
 }
 
 MapFormat output_map_format(const std::string& path, bool elevation) {

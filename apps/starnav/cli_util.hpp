@@ -23,6 +23,8 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
 
 // Throws Error when `path` exists and `force` is false, or its folder does not exist.
 void check_output_path(const std::string& path, bool force, const std::string& flag);
+// Writes `text` to `path`; an Error naming the file and `flag` when it cannot.
+void write_text_file(const std::string& path, const std::string& text, const std::string& flag);
 
 // The format to write for an output file name; .yaml means an elevation sidecar for elevation
 // maps and a map_server map for occupancy grids.

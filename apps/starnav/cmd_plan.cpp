@@ -20,28 +20,25 @@
 // On an elevation map plan runs OA*, AOEA* or IA* of Liu et al. 2024 (cmd_plan_terrain.cpp, flags
 // --hy-m ... --unobserved); the occupancy planners and their flags (--weight ... --start-heading-deg)
 // are refused there, and the Liu flags on occupancy maps.
-#include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <limits>
-#include <optional>
-#include <nlohmann/json.hpp>
-#include <sstream>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "cli_util.hpp"
 #include "cmd_plan_terrain.hpp"
 #include "commands.hpp"
+#include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/experiment/plan_report.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/plan/gradient_smoothing.hpp"
 #include "starnav/plan/grid_planner.hpp"
-#include "starnav/registry/components.hpp"
 #include "starnav/plan/inflation.hpp"
-#include "starnav/plan/path_metrics.hpp"
 #include "starnav/plan/plan_pipeline.hpp"
-#include "starnav/viz/map_picture.hpp"
+#include "starnav/registry/components.hpp"
 
 namespace starnav::cli {
 
@@ -86,20 +83,6 @@ struct PlanOptions {
   CLI::Option* planner_opt = nullptr;
   std::vector<CLI::Option*> occupancy_only;  // flags of the occupancy planners
 };
-
-// The path metrics as JSON (non-finite clearances, e.g. on a map without obstacles, are null).
-nlohmann::ordered_json metrics_json(const PathMetrics& m) {
-  nlohmann::ordered_json j;
-  j["length"] = m.length;
-  j["vertices"] = m.vertices;
-  j["turning_points"] = m.turning_points;
-  j["turn_total_rad"] = m.turn_total_rad;
-  j["turn_max_rad"] = m.turn_max_rad;
-  j["clearance_min"] = std::isfinite(m.clearance_min) ? nlohmann::ordered_json(m.clearance_min) : nullptr;
-  j["clearance_mean"] = std::isfinite(m.clearance_mean) ? nlohmann::ordered_json(m.clearance_mean) : nullptr;
-  j["smoothness"] = m.smoothness;
-  return j;
-}
 
 // A query endpoint as a cell. In cell mode X,Y must be integers; in metric mode a world point
 // outside the map gives a cell outside it (a result, not an error).
@@ -224,152 +207,14 @@ void run_plan(const PlanOptions& o, Context& ctx) {
                                                          : e.field();
     throw Error(e.message(), {}, 0, flag);
   }
-  const GridPlanner* planner = outcome.planner.get();
+  const PlanReportContext report{&grid, start, goal, index_grid, o.expanded};
   const PlanResult& r = outcome.result;
-  const std::optional<InflatedMap>& inflated = outcome.inflated;
-  const std::optional<GradientSmoothingResult>& smoothed = outcome.smoothed;
-  const double smoothing_ms = outcome.smoothing_ms;
-  const PathMetrics& metrics = outcome.metrics;
-  const std::vector<Cell>& unsmoothed = planner->unsmoothed_path();
-  const PathMetrics& unsmoothed_metrics = outcome.unsmoothed_metrics;
-
-  // Points in the map's units: cells on index grids, metres (cell centres, any-angle vertices)
-  // on metric maps.
-  nlohmann::ordered_json path = nlohmann::ordered_json::array(), path_cells = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < r.path_cells.size(); ++i) {
-    path_cells.push_back({r.path_cells[i].x, r.path_cells[i].y});
-    if (index_grid) path.push_back({r.path_cells[i].x, r.path_cells[i].y});
-    else path.push_back({r.path_world[i].x(), r.path_world[i].y()});
-  }
-  // Smoothed points in the map's units; on index grids in cells, a cell's centre at its indices.
-  auto map_units = [&](const Vec2& w) { return index_grid ? Vec2(w - Vec2(0.5, 0.5)) : w; };
-  nlohmann::ordered_json smoothed_path = nlohmann::ordered_json::array();
-  if (smoothed)
-    for (const Vec2& w : smoothed->points) smoothed_path.push_back({map_units(w).x(), map_units(w).y()});
-
-  if (!o.out.empty() && r.found()) {
-    std::ofstream out(o.out, std::ios::binary);
-    if (!out) throw Error("cannot write", o.out, 0, "--out");
-    out << std::setprecision(10);
-    if (smoothed) {
-      out << (index_grid ? "x_cell,y_cell\n" : "x_m,y_m\n");
-      for (const Vec2& w : smoothed->points) out << map_units(w).x() << "," << map_units(w).y() << "\n";
-    } else if (index_grid) {
-      out << "x_cell,y_cell\n";
-      for (const Cell& c : r.path_cells) out << c.x << "," << c.y << "\n";
-    } else {
-      out << "x_m,y_m,ix,iy\n";
-      for (std::size_t i = 0; i < r.path_cells.size(); ++i)
-        out << r.path_world[i].x() << "," << r.path_world[i].y() << "," << r.path_cells[i].x << ","
-            << r.path_cells[i].y << "\n";
-    }
-    if (!out) throw Error("write failed", o.out, 0, "--out");
-  }
-
-  if (!o.svg.empty()) {
-    // The map, the expanded cells (--expanded) and the path; world coordinates (cell centres
-    // on index grids).
-    viz::PictureOptions picture_options;
-    picture_options.title =
-        std::string(planner->name()) + ": " + (r.found() ? "cost " + format_number(r.cost) : plan_status_reason(r.status));
-    viz::MapPicture picture(grid, picture_options);
-    if (options.ou2022.inflation.hard()) {
-      // The cells blocked by hard inflation alone.
-      std::vector<Cell> cells;
-      for (std::size_t i = 0; i < inflated->blocked.size(); ++i)
-        if (inflated->blocked[i] && inflated->clearance_m[i] > 0.0) cells.push_back(geometry.cell_of_index(i));
-      picture.add_cells(cells, viz::parse_colour("orange"), 0.35, "inflation");
-    }
-    if (o.expanded) picture.add_cells(planner->trace(), viz::parse_colour("sky"), 0.45, "expanded");
-    auto point_of = [&](const Cell& c) { return index_grid ? Vec2(c.x + 0.5, c.y + 0.5) : geometry.cell_center(c); };
-    if (r.found() && !unsmoothed.empty()) {
-      std::vector<Vec2> points;
-      for (const Cell& c : unsmoothed) points.push_back(point_of(c));
-      viz::LineStyle line;
-      line.colour = viz::categorical_colour(0);
-      line.width_px = 1.5;
-      line.dashed = true;
-      picture.add_polyline(points, line, "before smoothing");
-    }
-    if (r.found()) {
-      std::vector<Vec2> points;
-      for (std::size_t i = 0; i < r.path_cells.size(); ++i)
-        points.push_back(index_grid ? point_of(r.path_cells[i]) : r.path_world[i]);
-      viz::LineStyle line;
-      line.colour = viz::categorical_colour(0);
-      line.width_px = smoothed ? 1.2 : 2.5;
-      picture.add_polyline(points, line, smoothed ? "line of sight" : "path");
-      if (smoothed) {
-        line.colour = viz::categorical_colour(3);
-        line.width_px = 2.5;
-        picture.add_polyline(smoothed->points, line, "path (gradient smoothing)");
-      }
-    }
-    viz::MarkerStyle marker;
-    marker.radius_px = 4.5;
-    marker.fill = viz::categorical_colour(2);
-    if (geometry.contains(start)) picture.add_points({point_of(start)}, marker, "start");
-    marker.fill = viz::categorical_colour(1);
-    if (geometry.contains(goal)) picture.add_points({point_of(goal)}, marker, "goal");
-    picture.write_svg(o.svg);
-  }
-
+  if (!o.out.empty() && r.found()) write_text_file(o.out, plan_path_csv(outcome, report), "--out");
+  if (!o.svg.empty()) write_plan_picture(outcome, report, rq.options, o.svg);
   if (o.json) {
-    nlohmann::ordered_json j;
-    j["planner"] = std::string(planner->name());
-    j["admissible"] = planner->admissible();
-    j["found"] = r.found();
-    if (!r.found()) j["reason"] = plan_status_reason(r.status);
-    j["cost"] = r.found() ? nlohmann::ordered_json(r.cost) : nlohmann::ordered_json(nullptr);
-    j["length"] = r.found() ? nlohmann::ordered_json(r.length) : nlohmann::ordered_json(nullptr);
-    j["units"] = index_grid ? "cells" : "m";
-    j["expanded"] = r.expanded;
-    j["generated"] = r.generated;
-    j["path"] = path;
-    j["path_cells"] = path_cells;
-    if (smoothed) {
-      j["smoothed_path"] = smoothed_path;
-      j["smoothing"] = {{"method", "gradient"},
-                        {"iterations", smoothed->iterations},
-                        {"energy_input", smoothed->energy_input},
-                        {"energy_output", smoothed->energy_output},
-                        {"time_ms", smoothing_ms}};
-    }
-    if (r.found()) {
-      j["metrics"] = metrics_json(metrics);
-      if (!unsmoothed.empty()) j["metrics_before_smoothing"] = metrics_json(unsmoothed_metrics);
-    }
-    if (o.expanded) {
-      nlohmann::ordered_json cells = nlohmann::ordered_json::array();
-      for (const Cell& c : planner->trace()) cells.push_back({c.x, c.y});
-      j["expanded_cells"] = cells;
-    }
-    j["time_ms"] = r.time_ms;
-    std::cout << j.dump() << "\n";
+    std::cout << plan_json(outcome, report);
   } else {
-    const char* unit = index_grid ? "cells" : "m";
-    std::cout << "planner:    " << planner->name() << (planner->admissible() ? "" : " (inadmissible)") << "\n";
-    if (r.found()) {
-      std::cout << "found:      yes, " << r.path_cells.size() << " points\n";
-      std::cout << "cost:       " << format_number(r.cost) << "\n";
-      std::cout << "length:     " << format_number(r.length) << " " << unit << "\n";
-      if (smoothed)
-        std::cout << "gradient:   " << smoothed->points.size() << " points, " << format_number(metrics.length) << " " << unit
-                  << " long, energy " << format_number(smoothed->energy_input) << " -> " << format_number(smoothed->energy_output)
-                  << " in " << smoothed->iterations << " sweeps\n";
-      if (!unsmoothed.empty())
-        std::cout << "smoothing:  " << unsmoothed_metrics.vertices << " -> " << metrics.vertices << " vertices, "
-                  << unsmoothed_metrics.turning_points << " -> " << metrics.turning_points << " turning points\n";
-      else std::cout << "turns:      " << metrics.turning_points << " turning points\n";
-      std::cout << "turning:    " << format_number(metrics.turn_total_rad) << " rad total, " << format_number(metrics.turn_max_rad)
-                << " rad max\n";
-      std::cout << "clearance:  " << format_number(metrics.clearance_min) << " min, " << format_number(metrics.clearance_mean)
-                << " mean (" << unit << ")\n";
-    } else {
-      std::cout << "found:      no (" << plan_status_reason(r.status) << ")\n";
-    }
-    std::cout << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
-    std::cout << "time:       " << format_number(r.time_ms) << " ms\n";
+    std::cout << plan_text(outcome, report);
     if (!o.out.empty() && r.found()) std::cout << "wrote " << o.out << "\n";
     if (!o.svg.empty()) std::cout << "wrote " << o.svg << "\n";
   }

@@ -202,7 +202,9 @@ TEST(NavExperiment, RunsBothPlannersPerSeedDeterministicallyAndNamesEveryMetric)
   // Every number a run reports is a named metric (the seed aside).
   for (const auto& run : ja["runs"])
     for (auto it = run.begin(); it != run.end(); ++it)
-      if (it.value().is_number() && it.key() != "seed") EXPECT_NE(find_metric("nav", it.key()), nullptr) << it.key();
+      if (it.value().is_number() && it.key() != "seed") {
+        EXPECT_NE(find_metric("nav", it.key()), nullptr) << it.key();
+      }
   // The CSV has a header and one row per run.
   const std::string csv = nav_runs_csv(a);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
@@ -239,7 +241,9 @@ TEST(MovingAiExperiment, ChecksEveryAnswerAgainstTheScenarioAndNamesEveryMetric)
   const auto j = nlohmann::ordered_json::parse(movingai_json(r));
   for (const auto& row : j["planners"])
     for (auto it = row.begin(); it != row.end(); ++it)
-      if (it.value().is_number() && it.key() != "maps") EXPECT_NE(find_metric("movingai", it.key()), nullptr) << it.key();
+      if (it.value().is_number() && it.key() != "maps") {
+        EXPECT_NE(find_metric("movingai", it.key()), nullptr) << it.key();
+      }
   EXPECT_THROW(movingai_planners({"ia"}), Error);
 }
 

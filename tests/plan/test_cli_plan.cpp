@@ -65,7 +65,9 @@ TEST(CliPlan, EveryPlannerAgreesOnTheCost) {
     const auto j = parse_json(r.out);
     // The old spelling dstarlite runs D* Lite under its registry name, with a warning.
     EXPECT_EQ(j["planner"], std::string(planner) == "dstarlite" ? "dstar_lite" : planner);
-    if (std::string(planner) == "dstarlite") EXPECT_NE(r.err.find("deprecated; use 'dstar_lite'"), std::string::npos) << r.err;
+    if (std::string(planner) == "dstarlite") {
+      EXPECT_NE(r.err.find("deprecated; use 'dstar_lite'"), std::string::npos) << r.err;
+    }
     if (std::string(planner) == "thetastar") EXPECT_LE(j["cost"].get<double>(), ref["cost"].get<double>() + 1e-9);
     else EXPECT_NEAR(j["cost"].get<double>(), ref["cost"].get<double>(), 1e-9) << planner;
   }

@@ -77,11 +77,15 @@ std::string summary_markdown(const std::vector<VariantSummary>& summaries, const
     s += "| " + metric_names[k] + " |";
     for (const VariantSummary& v : summaries) {
       const SampleStats& st = v.metrics.at(k);
-      s += st.n == 0 ? std::string(" - |")
-                     : " " + number(st.median) + " [" + number(st.q25) + " .. " + number(st.q75) + "] (" +
-                           std::to_string(st.n) + ") |";
+      // append() rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on those.
+      if (st.n == 0) {
+        s.append(" - |");
+      } else {
+        s.append(" ").append(number(st.median)).append(" [").append(number(st.q25)).append(" .. ");
+        s.append(number(st.q75)).append("] (").append(std::to_string(st.n)).append(") |");
+      }
     }
-    for (const auto& r : ratios) s += " " + number(r.at(k)) + " |";
+    for (const auto& r : ratios) s.append(" ").append(number(r.at(k))).append(" |");
     s += "\n";
   }
   return s;

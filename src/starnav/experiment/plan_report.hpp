@@ -1,0 +1,28 @@
+#pragma once
+// How `starnav plan` reports a query on an occupancy map, as library calls: the JSON object, the
+// text summary, the path as CSV and the picture (map, inflation, expanded cells, the path before
+// and after smoothing, start and goal). Points are in the map's units: cells on index grids
+// (MovingAI), metres on metric maps.
+#include <string>
+
+#include "starnav/map/occupancy_grid.hpp"
+#include "starnav/plan/plan_pipeline.hpp"
+
+namespace starnav {
+
+struct PlanReportContext {
+  const OccupancyGrid* grid = nullptr;
+  Cell start{}, goal{};
+  bool index_grid = false;  // MovingAI or y_down: report cells
+  bool expanded = false;    // the planner recorded its expanded cells (record_trace)
+};
+
+std::string plan_json(const PlanOutcome& outcome, const PlanReportContext& c);  // one line
+std::string plan_text(const PlanOutcome& outcome, const PlanReportContext& c);
+// The reported path: the smoothed points, or the cells (index grids), or metres and cells.
+std::string plan_path_csv(const PlanOutcome& outcome, const PlanReportContext& c);
+// SVG or PNG by extension; throws Error naming the file when it cannot be written.
+void write_plan_picture(const PlanOutcome& outcome, const PlanReportContext& c, const GridPlannerOptions& options,
+                        const std::string& path);
+
+}  // namespace starnav
