@@ -83,11 +83,16 @@ std::string parameters_markdown() {
       s += "### `" + c.name + "`\n\n" + c.summary + ".";
       if (!c.capabilities.empty()) s += " Capabilities: " + join(c.capabilities) + ".";
       if (!c.deprecated_aliases.empty()) s += " Deprecated alias: " + join(c.deprecated_aliases) + ".";
+      // An elevation planner is not a navigation planner (navigation plans on its occupancy map).
+      const bool elevation = c.has("needs_elevation");
+      if (elevation)
+        s += " Plans on elevation maps: `starnav plan --planner " + c.name +
+             "` (its flags --robot-radius-m and --unobserved set two of these); navigation refuses it.";
       s += "\n\n";
       if (c.params.empty()) {
         s += "No parameters.\n\n";
       } else {
-        s += params_markdown_table(c.params, scenario_prefix(role) + "." + c.section) + "\n";
+        s += params_markdown_table(c.params, elevation ? std::string() : scenario_prefix(role) + "." + c.section) + "\n";
       }
     }
   }
@@ -118,9 +123,13 @@ std::string parameters_json() {
 std::string component_help() {
   std::string s = "Components (docs/parameters.md; `starnav params` lists every parameter):\n";
   for (Role role : {Role::GlobalPlanner, Role::LocalController, Role::Localizer}) {
-    s += std::string("  ") + role_key(role) + ": " + join(component_names(role)) + "\n";
+    // Navigation plans on an occupancy map: the elevation planners are `starnav plan`'s only.
+    std::vector<std::string> names;
     for (const ComponentInfo& c : all_components())
-      if (c.role == role && !c.params.empty()) {
+      if (c.role == role && !c.has("needs_elevation")) names.push_back(c.name);
+    s += std::string("  ") + role_key(role) + ": " + join(names) + "\n";
+    for (const ComponentInfo& c : all_components())
+      if (c.role == role && !c.params.empty() && !c.has("needs_elevation")) {
         std::vector<std::string> keys;
         for (const ParamSpec& p : c.params) keys.push_back(p.key);
         s += "    " + scenario_prefix(role) + "." + c.section + ".{" + join(keys) + "}\n";
