@@ -82,12 +82,6 @@ bool picture_is_png(const std::string& path, const std::string& flag) {
   throw Error("picture must end in .svg or .png", path, 0, flag);
 }
 
-std::string format_number(double v) {
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
-
 ProgressBar::ProgressBar(std::string label, std::size_t total, bool quiet)
     : label_(std::move(label)), total_(total), enabled_(!quiet), tty_(!quiet && ::isatty(2) == 1) {}
 

@@ -33,8 +33,6 @@ MapFormat output_map_format(const std::string& path, bool elevation);
 // True for a .png picture, false for .svg; throws Error naming `flag` for anything else.
 bool picture_is_png(const std::string& path, const std::string& flag);
 
-// Up to 10 significant digits, shortest form ("0.5", "12.25"): numbers in one-line summaries.
-std::string format_number(double v);
 
 // Progress of a long run on stderr: a live bar when stderr is a terminal, otherwise a line at
 // every tenth of the work (readable in CI logs); nothing when quiet.

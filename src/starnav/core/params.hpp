@@ -72,6 +72,11 @@ std::string format_param_real(double v);  // shortest text that reads back the s
 // shortest exact text.
 std::string format_param_scaled(double stored, double scale);
 
+// The checks every ParamTable applies (params.cpp); errors name the setting's file, line and key.
+void param_check_range(const ParamSetting& v, const ParamRange& r, double x);
+void param_check_choice(const ParamSetting& v, const std::vector<std::string>& choices);
+[[noreturn]] void param_unknown_key(const ParamSetting& v, const std::vector<std::string>& known);
+
 // The parameters of one configuration struct.
 template <class Config>
 class ParamTable {
@@ -83,7 +88,7 @@ class ParamTable {
     add(std::move(s),
         [access, scale, range](Config& c, const ParamSetting& v) {
           const double x = parse_param_real(v);
-          check_range(v, range, x);
+          param_check_range(v, range, x);
           ref(c, access) = x * scale;
         },
         [access, scale](const Config& c) { return format_param_scaled(cref(c, access), scale); });
@@ -96,7 +101,7 @@ class ParamTable {
     add(std::move(s),
         [access, range](Config& c, const ParamSetting& v) {
           const long long x = parse_param_integer(v);
-          check_range(v, range, static_cast<double>(x));
+          param_check_range(v, range, static_cast<double>(x));
           ref(c, access) = static_cast<std::remove_reference_t<decltype(ref(c, access))>>(x);
         },
         [access](const Config& c) { return std::to_string(cref(c, access)); });
@@ -119,7 +124,7 @@ class ParamTable {
     ParamSpec s{std::move(key), ParamType::Choice, {}, {}, choices, "", std::move(doc)};
     add(std::move(s),
         [choices, set, strict](Config& c, const ParamSetting& v) {
-          if (strict) check_choice(v, choices);
+          if (strict) param_check_choice(v, choices);
           set(c, v.value);
         },
         std::move(get));
@@ -153,7 +158,7 @@ class ParamTable {
   void apply(Config& c, const ParamSetting& v) const {
     for (const Entry& e : entries_)
       if (e.spec.key == v.key) return e.set(c, v);
-    unknown_key(v, keys());
+    param_unknown_key(v, keys());
   }
   void apply(Config& c, std::span<const ParamSetting> settings) const {
     for (const ParamSetting& v : settings) apply(c, v);
@@ -188,28 +193,8 @@ class ParamTable {
 
   std::vector<Entry> entries_;
 
-  static void check_range(const ParamSetting& v, const ParamRange& r, double x);
-  static void check_choice(const ParamSetting& v, const std::vector<std::string>& choices);
-  [[noreturn]] static void unknown_key(const ParamSetting& v, const std::vector<std::string>& known);
 };
 
-// Shared by every ParamTable instantiation (params.cpp).
-void param_check_range(const ParamSetting& v, const ParamRange& r, double x);
-void param_check_choice(const ParamSetting& v, const std::vector<std::string>& choices);
-[[noreturn]] void param_unknown_key(const ParamSetting& v, const std::vector<std::string>& known);
-
-template <class Config>
-void ParamTable<Config>::check_range(const ParamSetting& v, const ParamRange& r, double x) {
-  param_check_range(v, r, x);
-}
-template <class Config>
-void ParamTable<Config>::check_choice(const ParamSetting& v, const std::vector<std::string>& choices) {
-  param_check_choice(v, choices);
-}
-template <class Config>
-void ParamTable<Config>::unknown_key(const ParamSetting& v, const std::vector<std::string>& known) {
-  param_unknown_key(v, known);
-}
 
 // Re-attributes an Error from a configuration's validate() (whose field is "key" or ends in
 // ".key") to the setting that gave that key, so the message names the file, line and full key.

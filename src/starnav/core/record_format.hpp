@@ -3,6 +3,8 @@
 // navigation stack write: fixed decimals, so the same run gives the same bytes.
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
+#include <sstream>
 #include <string>
 
 namespace starnav {
@@ -22,6 +24,13 @@ inline std::string format_fixed(double v, int precision) {
   char buf[512];
   const int n = std::snprintf(buf, sizeof buf, "%.*f", precision, v);
   return n > 0 && static_cast<std::size_t>(n) < sizeof buf ? std::string(buf, static_cast<std::size_t>(n)) : std::string("-");
+}
+
+// Up to 10 significant digits, shortest form ("0.5", "12.25", "inf"): numbers in one-line summaries.
+inline std::string format_number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
 }
 
 // A CSV field, quoted when it holds a comma, a quote or a line break (line breaks become spaces).

@@ -52,12 +52,6 @@ nlohmann::ordered_json tally_json(const MovingAiTally& t, const std::string* map
   return j;
 }
 
-std::string format_number(double v, int precision) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << v;
-  return s.str();
-}
-
 void print_table(std::ostream& out, const std::vector<nlohmann::ordered_json>& rows, bool with_map) {
   struct Col {
     const char* title;
@@ -79,13 +73,13 @@ void print_table(std::ostream& out, const std::vector<nlohmann::ordered_json>& r
     cell(std::to_string(r["instances"].get<std::size_t>()));
     cell(std::to_string(r["solved"].get<std::size_t>()));
     cell(std::to_string(r["exact"].get<std::size_t>()));
-    cell(format_number(r["max_abs_error"].get<double>(), 4));
-    cell(format_number(r["max_suboptimality"].get<double>(), 4));
-    cell(format_number(r["median_time_us"].get<double>(), 1));
-    cell(format_number(r["mean_time_us"].get<double>(), 1));
+    cell(format_fixed(r["max_abs_error"].get<double>(), 4));
+    cell(format_fixed(r["max_suboptimality"].get<double>(), 4));
+    cell(format_fixed(r["median_time_us"].get<double>(), 1));
+    cell(format_fixed(r["mean_time_us"].get<double>(), 1));
     cell(std::to_string(r["total_expanded"].get<std::uint64_t>()));
-    cell(format_number(r["expansions_per_s"].get<double>() / 1e6, 2));
-    cell(format_number(r["preprocess_ms"].get<double>(), 1));
+    cell(format_fixed(r["expansions_per_s"].get<double>() / 1e6, 2));
+    cell(format_fixed(r["preprocess_ms"].get<double>(), 1));
     out << "\n";
   }
 }
@@ -336,7 +330,7 @@ std::string movingai_report(const MovingAiResult& result, bool with_per_map) {
     else
       out << t.planner << " (not admissible): " << off << " of " << t.instances
           << " answers differ from the 8-connected optimum (" << t.shorter
-          << " shorter, e.g. any-angle paths; max suboptimality " << format_number(t.max_suboptimality, 4) << ")\n";
+          << " shorter, e.g. any-angle paths; max suboptimality " << format_fixed(t.max_suboptimality, 4) << ")\n";
   }
   return out.str();
 }

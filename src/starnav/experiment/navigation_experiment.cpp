@@ -358,11 +358,10 @@ NavExperimentResult run_nav_experiment(const NavExperimentConfig& config, const 
     options.record_steps = false;
     return Setup{std::make_unique<NavigationRun>(spec, options)};
   };
-  const auto run = [&](Setup& setup, const TrialKey& key) {
+  const auto run = [&](Setup& setup, const TrialKey&) {
     NavigationRun& r = *setup.run;
     r.run();
-    NavRunRecord rec;
-    rec.planner = grid.variants[key.variant].name;
+    NavRunRecord rec;  // its planner is named below, failed trials included
     rec.m = r.metrics();
     rec.wall_s = r.wall_s();
     rec.real_time_factor = rec.wall_s > 0.0 ? rec.m.duration_s / rec.wall_s : 0.0;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav {
@@ -25,12 +26,6 @@ nlohmann::ordered_json metrics_json(const PathMetrics& m) {
   j["clearance_mean"] = std::isfinite(m.clearance_mean) ? nlohmann::ordered_json(m.clearance_mean) : nullptr;
   j["smoothness"] = m.smoothness;
   return j;
-}
-
-std::string format_number(double v) {
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <utility>
 
 #include "starnav/core/error.hpp"
 
@@ -81,12 +83,15 @@ bool MapLayers::set_cell(const std::string& name, Cell cell, std::int8_t value) 
 }
 
 void MapLayers::rebuild_masks(const CellRect& r) {
+  // The obstacle layers' cells, looked up by name once rather than per cell.
+  std::vector<std::span<const std::int8_t>> sources;
+  for (const std::string& name : obstacle_layers_) sources.push_back(std::as_const(*find(name)).grid.data());
   for (int y = r.y0; y < r.y1; ++y)
     for (int x = r.x0; x < r.x1; ++x) {
       const std::size_t i = geometry_.index(x, y);
       std::uint8_t occupied = 0, observed = 0;
-      for (const std::string& name : obstacle_layers_) {
-        const CellState s = thresholds_.classify(find(name)->grid.data()[i]);
+      for (const std::span<const std::int8_t>& cells : sources) {
+        const CellState s = thresholds_.classify(cells[i]);
         occupied |= s == CellState::Occupied ? 1 : 0;
         observed |= s != CellState::Unknown ? 1 : 0;
       }

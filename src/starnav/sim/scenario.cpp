@@ -180,6 +180,7 @@ class Fields {
     return v ? deg_to_rad(v->number()) : def_rad;
   }
   std::string path(const char* key) const { return field_.empty() ? std::string(key) : field_ + "." + key; }
+  bool taken(const std::string& key) const { return used_.count(key) > 0; }
   // Every key, in document order.
   std::vector<std::string> keys() const {
     std::vector<std::string> k;
@@ -719,16 +720,22 @@ ParamSetting setting_of(const Value& e, const std::string& key, const Doc& doc) 
   return {key, e.node().Scalar(), doc.file, e.line(), e.line() > 0 ? e.field() : e.field() + " (--set)"};
 }
 
-// Every value under `v` as a setting with its dotted key (relative to `prefix`) and line; the
-// navigation stack checks them against its components' declared parameters.
-void collect_settings(const Value& v, const Doc& doc, const std::string& prefix, std::vector<ParamSetting>& out) {
-  Fields f = fields_of(v, doc);
+// Every value of `f` not taken yet, as a setting with its dotted key (relative to `prefix`) and
+// line, sections recursively; the navigation stack checks them against its components' declared
+// parameters.
+void collect_settings(Fields& f, const Doc& doc, const std::string& prefix, std::vector<ParamSetting>& out) {
   for (const std::string& k : f.keys()) {
+    if (f.taken(k)) continue;
     const Value e = *f.take(k.c_str());
     const std::string key = prefix.empty() ? k : prefix + "." + k;
-    if (e.node().IsMap()) collect_settings(e, doc, key, out);
-    else if (e.node().IsScalar()) out.push_back(setting_of(e, key, doc));
-    else e.fail("expected a value or a section of values, found " + node_kind(e.node()));
+    if (e.node().IsMap()) {
+      Fields section = fields_of(e, doc);
+      collect_settings(section, doc, key, out);
+    } else if (e.node().IsScalar()) {
+      out.push_back(setting_of(e, key, doc));
+    } else {
+      e.fail("expected a value or a section of values, found " + node_kind(e.node()));
+    }
   }
 }
 
@@ -743,13 +750,7 @@ ScenarioNavigation parse_navigation(const Value& v, const Doc& doc) {
     n.goal = Vec2(gf.required("x_m").number(), gf.required("y_m").number());
     gf.finish("x_m, y_m");
   }
-  for (const std::string& k : f.keys()) {
-    if (k == "goal") continue;
-    const Value e = *f.take(k.c_str());
-    if (e.node().IsMap()) collect_settings(e, doc, k, n.settings);
-    else if (e.node().IsScalar()) n.settings.push_back(setting_of(e, k, doc));
-    else e.fail("expected a value or a section of values, found " + node_kind(e.node()));
-  }
+  collect_settings(f, doc, "", n.settings);  // everything but the goal
   return n;
 }
 
@@ -757,7 +758,8 @@ ScenarioSettings parse_settings_section(const Value& v, const Doc& doc) {
   ScenarioSettings out;
   out.source = {v.line(), v.field()};
   if (!v.node().IsMap()) v.fail("expected a section (key: value lines), found " + node_kind(v.node()));
-  collect_settings(v, doc, "", out.settings);
+  Fields f = fields_of(v, doc);
+  collect_settings(f, doc, "", out.settings);
   return out;
 }
 
