@@ -1,672 +1,73 @@
 // starnav bench ablation: the path-planning experiment of Ou et al. 2022 (paper 4.2, Table 2 and
-// Fig. 15; docs/papers/ou2022.md, spec ou2022_improved_astar.md section 5).
+// Fig. 15; docs/papers/ou2022.md). The experiment is experiment/ablation_experiment.hpp; this file
+// parses the flags, reports progress and writes the files.
 //
 //   starnav bench ablation --map FILE (--queries FILE | --random N [--seed S]) [--out DIR]
 //                          [--inflate R] [--turn-cost K] [--min-dist C] [--max-dist C]
 //                          [--repeat R] [--no-exact] [--svg-limit N] [--force] [--quiet]
 //
-// Every variant runs on the same queries, on the same map, with the same heuristic per table:
-// one table per heuristic (Manhattan as the paper, octile) and per map (the original map and,
-// with --inflate R > 0, the inflated one). Rows:
-//   A*                      plain A*
-//   A* + turn_w             the paper's steering cost (cell states)
-//   A* + turn_w + W         ... and the adaptive heuristic weight (1 + d/D)
-//   A* + turn_w + W + LOS   ... and line-of-sight smoothing: the paper's full method on the
-//                           inflated map (inflation + smoothing + turn_w + W)
-//   A* + turn_w (exact)     beyond the paper: (cell, incoming direction) states (--no-exact: off)
-//   JPS, JPS + LOS          jump point search (octile heuristic in every table: JPS has no other)
-// Per query: search time (ms: the least thread CPU time of --repeat runs of the query, which
-// filters out the disturbances of a shared machine; the median wall time is in the JSON), expansions, Tir and Enr (% less time and
-// fewer expansions than A* on the same table; positive = improvement), cost, and the path
-// metrics (plan/path_metrics.hpp; clearance against the original map's obstacles), plus the
-// vertices and turning points after line-of-sight smoothing of that variant's path. Averages are
-// over the queries every variant of the table solved; Tir and Enr are averaged per query as the
-// paper does (its 13 % and 11 % are the means of its three queries).
-//
-// Query coordinates are cells (MovingAI: column, row from the top; map_server maps: ix, iy from
-// the bottom). --queries reads a MovingAI .scen or a CSV with header start_x,start_y,goal_x,goal_y.
-// --random draws N queries whose start and goal are free on the inflated map, at a Euclidean
-// distance of --min-dist..--max-dist cells (default 40..60, the paper's), that A* solves on the
-// inflated map; the draw depends only on the map, the options and the seed.
-//
 // Output (with --out DIR; the Markdown summary is always printed): DIR/ablation.md (summary and
 // per-query tables), DIR/ablation.json, DIR/queries.csv (the queries, reusable with --queries)
-// and DIR/svg/query_NNN.svg (the map around the query, the inflation and the paths of A*, A* +
-// turn_w + W, the full method and JPS + LOS overlaid, as the paper's Fig. 15).
+// and DIR/svg/query_NNN.svg (the paper's Fig. 15).
 #include <algorithm>
-#include <cmath>
-#include <ctime>
-#include <limits>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <vector>
 
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/core/rng.hpp"
-#include "starnav/io/map_file.hpp"
-#include "starnav/io/movingai.hpp"
-#include "starnav/plan/grid_planner.hpp"
-#include "starnav/plan/inflation.hpp"
-#include "starnav/plan/ou2022.hpp"
-#include "starnav/plan/path_metrics.hpp"
-#include "starnav/plan/path_smoothing.hpp"
-#include "starnav/viz/map_picture.hpp"
+#include "starnav/experiment/ablation_experiment.hpp"
 
 namespace starnav::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
-using json = nlohmann::ordered_json;
 
 struct AblationOptions {
-  std::string map;
-  std::string queries;
+  AblationConfig config;
   int random = 0;
-  std::uint64_t seed = 0;
-  std::string out;
-  double inflate = 0.0;
-  double turn_cost = 1.0;
-  double min_dist = 40.0;
-  double max_dist = 60.0;
-  int repeat = 5;
   bool no_exact = false;
+  std::string out;
   int svg_limit = -1;
   bool force = false;
   bool quiet = false;
   CLI::Option* random_opt = nullptr;
 };
 
-struct Query {
-  Cell start, goal;
-};
-
-struct Variant {
-  std::string name;
-  bool jps = false;
-  double turn_cost = 0.0;
-  bool adaptive = false;
-  bool exact = false;
-  bool smooth = false;
-};
-
-struct Run {
-  bool found = false;
-  std::string reason;
-  double time_ms = 0.0;  // least thread CPU time of the repeats
-  double wall_ms = 0.0;  // median wall time of the repeats (PlanResult::time_ms)
-  std::uint64_t expanded = 0;
-  std::uint64_t generated = 0;
-  double cost = 0.0;
-  PathMetrics metrics;
-  std::size_t vertices_los = 0;
-  std::size_t turning_points_los = 0;
-  std::vector<Cell> path;
-};
-
-struct Table {
-  std::string heuristic;  // manhattan, octile
-  bool inflated = false;
-  std::vector<Variant> variants;
-  std::vector<std::vector<Run>> runs;  // [variant][query]
-};
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// CPU time of the calling thread: a shared machine's other processes disturb it less than wall
-// time (the same measure as bench/bench_search_core.cpp).
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
-
-json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-std::vector<Variant> variants_for(const AblationOptions& o) {
-  const double k = o.turn_cost;
-  std::vector<Variant> v = {
-      {"A*", false, 0.0, false, false, false},
-      {"A* + turn_w", false, k, false, false, false},
-      {"A* + turn_w + W", false, k, true, false, false},
-      {"A* + turn_w + W + LOS", false, k, true, false, true},
-  };
-  if (!o.no_exact) v.push_back({"A* + turn_w (exact)", false, k, false, true, false});
-  v.push_back({"JPS", true, 0.0, false, false, false});
-  v.push_back({"JPS + LOS", true, 0.0, false, false, true});
-  return v;
-}
-
-std::unique_ptr<GridPlanner> make_variant(const Variant& v, const std::string& heuristic, double inflate,
-                                          const OccupancyGrid& grid, const OccupancyThresholds& thresholds) {
-  GridPlannerOptions options;
-  options.thresholds = thresholds;
-  options.ou2022.inflation.radius_m = inflate;
-  if (v.smooth) options.ou2022.smoothing = PathSmoothing::LineOfSight;
-  if (v.jps) return make_grid_planner("jps", grid, options);
-  options.heuristic = heuristic;
-  options.ou2022.turn_cost = v.turn_cost;
-  options.ou2022.adaptive_weight = v.adaptive;
-  options.ou2022.turn_exact = v.exact;
-  options.ou2022.smoothing = v.smooth ? PathSmoothing::LineOfSight : PathSmoothing::None;
-  // Every A* row through the same planner class, so that only the features differ.
-  return std::make_unique<ImprovedAStarPlanner>(grid, options, false);
-}
-
-// ---- Queries ------------------------------------------------------------------------------------
-
-std::vector<Query> read_queries(const std::string& path) {
-  std::vector<Query> out;
-  if (path.size() > 5 && path.substr(path.size() - 5) == ".scen") {
-    for (const ScenarioEntry& e : read_movingai_scenario(path).entries)
-      out.push_back({{e.start_x, e.start_y}, {e.goal_x, e.goal_y}});
-    return out;
-  }
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read", path, 0, "--queries");
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    if (line_no == 1 && line.find_first_of("0123456789") != 0 && line[0] != '-') {
-      if (line != "start_x,start_y,goal_x,goal_y")
-        throw Error("expected the header start_x,start_y,goal_x,goal_y", path, line_no);
-      continue;
-    }
-    std::istringstream s(line);
-    long long v[4];
-    char comma = 0;
-    bool ok = static_cast<bool>(s >> v[0]);
-    for (int i = 1; ok && i < 4; ++i) ok = (s >> comma) && comma == ',' && (s >> v[i]);
-    std::string rest;
-    if (!ok || (s >> rest)) throw Error("expected four integers start_x,start_y,goal_x,goal_y", path, line_no);
-    for (long long x : v)
-      if (x < -1000000000LL || x > 1000000000LL) throw Error("cell index out of range", path, line_no);
-    out.push_back({{static_cast<int>(v[0]), static_cast<int>(v[1])}, {static_cast<int>(v[2]), static_cast<int>(v[3])}});
-  }
-  if (out.empty()) throw Error("no queries", path, 0, "--queries");
-  return out;
-}
-
-std::vector<Query> random_queries(const AblationOptions& o, const OccupancyGrid& grid, const GridSearchMap& inflated) {
-  std::vector<Cell> free;
-  for (int y = 0; y < grid.height(); ++y)
-    for (int x = 0; x < grid.width(); ++x)
-      if (inflated.passable(x, y)) free.push_back({x, y});
-  if (free.empty()) throw Error("no free cell (after inflation) to draw queries from", o.map, 0, "--random");
-  // Connected components of the inflated map under the planners' moves (8-connected, no corner
-  // cutting): a query is solvable when its start and goal share one.
-  std::vector<std::uint32_t> component(inflated.state_count(), 0);
-  {
-    std::uint32_t label = 0;
-    std::vector<std::uint32_t> stack;
-    for (const Cell& c : free) {
-      const std::uint32_t s0 = inflated.state(c);
-      if (component[s0]) continue;
-      component[s0] = ++label;
-      stack.push_back(s0);
-      while (!stack.empty()) {
-        const std::uint32_t u = stack.back();
-        stack.pop_back();
-        for_each_grid_move<8>(inflated, u, [&](std::uint32_t v, int, bool) {
-          if (!component[v]) {
-            component[v] = label;
-            stack.push_back(v);
-          }
-        });
-      }
-    }
-  }
-  Rng rng(o.seed);
-  std::vector<Query> out;
-  const std::uint64_t max_attempts = static_cast<std::uint64_t>(o.random) * 100000 + 1000000;
-  const int reach = static_cast<int>(std::ceil(o.max_dist));
-  for (std::uint64_t attempt = 0; attempt < max_attempts && static_cast<int>(out.size()) < o.random; ++attempt) {
-    const Cell s = free[static_cast<std::size_t>(rng.uniform_int(0, static_cast<std::int64_t>(free.size()) - 1))];
-    const int dx = static_cast<int>(rng.uniform_int(-reach, reach)), dy = static_cast<int>(rng.uniform_int(-reach, reach));
-    const double d = std::sqrt(static_cast<double>(dx) * dx + static_cast<double>(dy) * dy);
-    if (d < o.min_dist || d > o.max_dist) continue;
-    const Cell g{s.x + dx, s.y + dy};
-    if (!inflated.passable(g.x, g.y)) continue;
-    if (component[inflated.state(s)] != component[inflated.state(g)]) continue;
-    out.push_back({s, g});
-  }
-  if (static_cast<int>(out.size()) < o.random)
-    throw Error("found only " + std::to_string(out.size()) + " of " + std::to_string(o.random) +
-                    " solvable queries at distance " + format_fixed(o.min_dist, 0) + ".." + format_fixed(o.max_dist, 0) + " cells",
-                o.map, 0, "--random");
-  return out;
-}
-
-// ---- Running --------------------------------------------------------------------------------------
-
-Run run_query(GridPlanner& planner, const Query& q, int repeat, const GridSearchMap& los_map,
-              const GridGeometry& geometry, const ClearanceField& clearance) {
-  Run run;
-  std::vector<double> walls;
-  PlanResult r;
-  run.time_ms = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < repeat; ++i) {
-    const double t0 = thread_cpu_ms();
-    r = planner.plan(q.start, q.goal);
-    run.time_ms = std::min(run.time_ms, thread_cpu_ms() - t0);
-    walls.push_back(r.time_ms);
-  }
-  run.wall_ms = median(walls);
-  run.found = r.found();
-  run.expanded = r.expanded;
-  run.generated = r.generated;
-  if (!run.found) {
-    run.reason = plan_status_reason(r.status);
-    return run;
-  }
-  run.cost = r.cost;
-  run.path = r.path_cells;
-  run.metrics = compute_path_metrics(r.path_world, &clearance);
-  const std::vector<Cell> los = remove_redundant_nodes(los_map, r.path_cells);
-  const PathMetrics los_metrics = compute_path_metrics(cell_centres(los, geometry));
-  run.vertices_los = los_metrics.vertices;
-  run.turning_points_los = los_metrics.turning_points;
-  return run;
-}
-
-double improvement_percent(double base, double value) { return base > 0 ? 100.0 * (base - value) / base : 0.0; }
-
-// Means over the queries every variant solved.
-struct Summary {
-  std::size_t solved = 0;  // by this variant
-  std::size_t common = 0;  // by every variant of the table
-  double time_ms = 0, expanded = 0, tir = 0, enr = 0, tir_total = 0, enr_total = 0, cost = 0, length = 0,
-         vertices = 0, turning_points = 0, vertices_los = 0, turning_points_los = 0, turn_total = 0, turn_max = 0,
-         clearance_min = 0, clearance_mean = 0, smoothness = 0;
-};
-
-std::vector<Summary> summarise(const Table& t, std::size_t queries) {
-  std::vector<bool> common(queries, true);
-  for (const auto& runs : t.runs)
-    for (std::size_t q = 0; q < queries; ++q) common[q] = common[q] && runs[q].found;
-  std::vector<Summary> out(t.variants.size());
-  double base_time = 0, base_expanded = 0;
-  for (std::size_t v = 0; v < t.variants.size(); ++v) {
-    Summary& s = out[v];
-    for (std::size_t q = 0; q < queries; ++q) {
-      const Run& r = t.runs[v][q];
-      s.solved += r.found;
-      if (!common[q]) continue;
-      const Run& a = t.runs[0][q];
-      ++s.common;
-      s.time_ms += r.time_ms;
-      s.expanded += static_cast<double>(r.expanded);
-      s.tir += improvement_percent(a.time_ms, r.time_ms);
-      s.enr += improvement_percent(static_cast<double>(a.expanded), static_cast<double>(r.expanded));
-      s.cost += r.cost;
-      s.length += r.metrics.length;
-      s.vertices += static_cast<double>(r.metrics.vertices);
-      s.turning_points += static_cast<double>(r.metrics.turning_points);
-      s.vertices_los += static_cast<double>(r.vertices_los);
-      s.turning_points_los += static_cast<double>(r.turning_points_los);
-      s.turn_total += r.metrics.turn_total_rad;
-      s.turn_max += r.metrics.turn_max_rad;
-      s.clearance_min += r.metrics.clearance_min;
-      s.clearance_mean += r.metrics.clearance_mean;
-      s.smoothness += r.metrics.smoothness;
-    }
-    if (v == 0) {
-      base_time = s.time_ms;
-      base_expanded = s.expanded;
-    }
-    s.tir_total = improvement_percent(base_time, s.time_ms);
-    s.enr_total = improvement_percent(base_expanded, s.expanded);
-    if (s.common > 0) {
-      const double n = static_cast<double>(s.common);
-      for (double* x : {&s.time_ms, &s.expanded, &s.tir, &s.enr, &s.cost, &s.length, &s.vertices, &s.turning_points,
-                        &s.vertices_los, &s.turning_points_los, &s.turn_total, &s.turn_max, &s.clearance_min,
-                        &s.clearance_mean, &s.smoothness})
-        *x /= n;
-    }
-  }
-  return out;
-}
-
-std::string table_title(const Table& t, double inflate, const std::string& unit) {
-  return std::string(t.heuristic == "manhattan" ? "Manhattan" : "Octile") + " heuristic, " +
-         (t.inflated ? "inflated map (R = " + format_fixed(inflate, 3) + " " + unit + ")" : "original map");
-}
-
-void write_summary_markdown(std::ostream& out, const Table& t, const std::vector<Summary>& s, double inflate,
-                            const std::string& unit, std::size_t queries) {
-  out << "### " << table_title(t, inflate, unit) << "\n\n";
-  out << "Means over the " << (s.empty() ? 0 : s[0].common) << " of " << queries
-      << " queries every variant solved. Tir / Enr: % less time / fewer expansions than A* (mean of the per-query "
-         "figures; in brackets, of the totals). Turning points and vertices of the returned path; LOS: after "
-         "line-of-sight smoothing of that path. Clearance and length in "
-      << unit << ".\n\n";
-  out << "| variant | solved | time (ms) | expansions | Tir (%) | Enr (%) | cost | length | turning points | vertices "
-         "| turning points (LOS) | vertices (LOS) | turn total (rad) | clearance min | clearance mean | smoothness "
-         "|\n";
-  out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (std::size_t v = 0; v < t.variants.size(); ++v) {
-    const Summary& x = s[v];
-    std::string name = t.variants[v].name;
-    if (t.variants[v].jps && t.heuristic != "octile") name += " (octile)";
-    out << "| " << name << " | " << x.solved << " | " << format_fixed(x.time_ms, 4) << " | " << format_fixed(x.expanded, 1) << " | "
-        << format_fixed(x.tir, 2) << " (" << format_fixed(x.tir_total, 2) << ") | " << format_fixed(x.enr, 2) << " (" << format_fixed(x.enr_total, 2)
-        << ") | " << format_fixed(x.cost, 3) << " | " << format_fixed(x.length, 3) << " | " << format_fixed(x.turning_points, 2) << " | "
-        << format_fixed(x.vertices, 2) << " | " << format_fixed(x.turning_points_los, 2) << " | " << format_fixed(x.vertices_los, 2) << " | "
-        << format_fixed(x.turn_total, 3) << " | " << format_fixed(x.clearance_min, 3) << " | " << format_fixed(x.clearance_mean, 3) << " | "
-        << format_fixed(x.smoothness, 4) << " |\n";
-  }
-  out << "\n";
-}
-
-void write_per_query_markdown(std::ostream& out, const Table& t, const std::vector<Query>& queries, double inflate,
-                              const std::string& unit) {
-  out << "### Per query: " << table_title(t, inflate, unit) << "\n\n";
-  out << "| query | start | goal | variant | time (ms) | expansions | Tir (%) | Enr (%) | length | turning points | "
-         "vertices | vertices (LOS) | clearance min |\n";
-  out << "|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (std::size_t q = 0; q < queries.size(); ++q) {
-    const Run& a = t.runs[0][q];
-    for (std::size_t v = 0; v < t.variants.size(); ++v) {
-      const Run& r = t.runs[v][q];
-      out << "| " << q << " | (" << queries[q].start.x << ", " << queries[q].start.y << ") | (" << queries[q].goal.x
-          << ", " << queries[q].goal.y << ") | " << t.variants[v].name << " | ";
-      if (!r.found) {
-        out << "- | " << r.expanded << " | - | - | " << r.reason << " | - | - | - | - |\n";
-        continue;
-      }
-      const bool cmp = a.found;
-      out << format_fixed(r.time_ms, 4) << " | " << r.expanded << " | "
-          << (cmp ? format_fixed(improvement_percent(a.time_ms, r.time_ms), 2) : "-") << " | "
-          << (cmp ? format_fixed(improvement_percent(static_cast<double>(a.expanded), static_cast<double>(r.expanded)), 2) : "-")
-          << " | " << format_fixed(r.metrics.length, 3) << " | " << r.metrics.turning_points << " | " << r.metrics.vertices
-          << " | " << r.vertices_los << " | " << format_fixed(r.metrics.clearance_min, 3) << " |\n";
-    }
-  }
-  out << "\n";
-}
-
-json table_json(const Table& t, const std::vector<Summary>& s, const std::vector<Query>& queries) {
-  json j;
-  j["heuristic"] = t.heuristic;
-  j["map"] = t.inflated ? "inflated" : "original";
-  json variants = json::array();
-  for (std::size_t v = 0; v < t.variants.size(); ++v) {
-    const Summary& x = s[v];
-    json m;
-    m["variant"] = t.variants[v].name;
-    m["heuristic"] = t.variants[v].jps ? "octile" : t.heuristic;
-    m["solved"] = x.solved;
-    m["common"] = x.common;
-    m["time_ms"] = x.time_ms;
-    m["expanded"] = x.expanded;
-    m["tir_percent"] = x.tir;
-    m["enr_percent"] = x.enr;
-    m["tir_total_percent"] = x.tir_total;
-    m["enr_total_percent"] = x.enr_total;
-    m["cost"] = x.cost;
-    m["length"] = x.length;
-    m["turning_points"] = x.turning_points;
-    m["vertices"] = x.vertices;
-    m["turning_points_los"] = x.turning_points_los;
-    m["vertices_los"] = x.vertices_los;
-    m["turn_total_rad"] = x.turn_total;
-    m["turn_max_rad"] = x.turn_max;
-    m["clearance_min"] = number_or_null(x.clearance_min);
-    m["clearance_mean"] = number_or_null(x.clearance_mean);
-    m["smoothness"] = x.smoothness;
-    variants.push_back(m);
-  }
-  j["mean"] = variants;
-  json per = json::array();
-  for (std::size_t q = 0; q < queries.size(); ++q)
-    for (std::size_t v = 0; v < t.variants.size(); ++v) {
-      const Run& r = t.runs[v][q];
-      const Run& a = t.runs[0][q];
-      json e;
-      e["query"] = q;
-      e["variant"] = t.variants[v].name;
-      e["found"] = r.found;
-      if (!r.found) e["reason"] = r.reason;
-      e["time_ms"] = r.time_ms;
-      e["wall_ms"] = r.wall_ms;
-      e["expanded"] = r.expanded;
-      e["generated"] = r.generated;
-      if (r.found && a.found) {
-        e["tir_percent"] = improvement_percent(a.time_ms, r.time_ms);
-        e["enr_percent"] = improvement_percent(static_cast<double>(a.expanded), static_cast<double>(r.expanded));
-      }
-      if (r.found) {
-        e["cost"] = r.cost;
-        e["length"] = r.metrics.length;
-        e["vertices"] = r.metrics.vertices;
-        e["turning_points"] = r.metrics.turning_points;
-        e["vertices_los"] = r.vertices_los;
-        e["turning_points_los"] = r.turning_points_los;
-        e["turn_total_rad"] = r.metrics.turn_total_rad;
-        e["turn_max_rad"] = r.metrics.turn_max_rad;
-        e["clearance_min"] = number_or_null(r.metrics.clearance_min);
-        e["clearance_mean"] = number_or_null(r.metrics.clearance_mean);
-        e["smoothness"] = r.metrics.smoothness;
-      }
-      per.push_back(e);
-    }
-  j["per_query"] = per;
-  return j;
-}
-
-// The paper's Fig. 15: the paths of one query overlaid on the map, cropped to the query's
-// surroundings (the paths' bounding box with a margin) so that short paths on large maps stay
-// legible. The crop keeps world coordinates: its origin is the world pose of its first cell.
-void write_query_svg(const std::string& path, const OccupancyGrid& grid, const OccupancyThresholds& thresholds,
-                     const std::vector<std::uint8_t>& inflated, const Query& q, std::size_t index, const std::vector<std::pair<std::string, const Run*>>& paths) {
-  const GridGeometry& g = grid.geometry();
-  int x0 = std::min(q.start.x, q.goal.x), x1 = std::max(q.start.x, q.goal.x);
-  int y0 = std::min(q.start.y, q.goal.y), y1 = std::max(q.start.y, q.goal.y);
-  for (const auto& [label, run] : paths)
-    if (run && run->found)
-      for (const Cell& c : run->path) {
-        x0 = std::min(x0, c.x), x1 = std::max(x1, c.x);
-        y0 = std::min(y0, c.y), y1 = std::max(y1, c.y);
-      }
-  const int margin = std::max(8, std::max(x1 - x0, y1 - y0) / 4);
-  x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
-  x1 = std::min(g.width - 1, x1 + margin), y1 = std::min(g.height - 1, y1 + margin);
-  GridGeometry cg = g;
-  cg.width = x1 - x0 + 1;
-  cg.height = y1 - y0 + 1;
-  const Vec2 corner = g.grid_to_world(Vec2(x0 * g.resolution, y0 * g.resolution));
-  cg.origin = Pose2(corner.x(), corner.y(), g.origin.yaw);
-  OccupancyGrid crop(cg);
-  std::vector<Cell> inflated_cells;
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
-      crop(x - x0, y - y0) = grid(x, y);
-      const std::size_t i = g.index(x, y);
-      if (inflated[i] && grid.state(x, y, thresholds) == CellState::Free) inflated_cells.push_back({x - x0, y - y0});
-    }
-
-  viz::PictureOptions po;
-  po.title = "query " + std::to_string(index) + ": (" + std::to_string(q.start.x) + ", " + std::to_string(q.start.y) +
-             ") to (" + std::to_string(q.goal.x) + ", " + std::to_string(q.goal.y) + ")";
-  viz::MapPicture picture(crop, po);
-  if (!inflated_cells.empty()) picture.add_cells(inflated_cells, viz::parse_colour("orange"), 0.3, "inflation");
-  const double widths[] = {3.5, 2.5, 2.0, 1.5};
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    if (!paths[i].second || !paths[i].second->found) continue;
-    viz::LineStyle line;
-    line.colour = viz::categorical_colour(i);
-    line.width_px = widths[std::min<std::size_t>(i, 3)];
-    line.dashed = i == 3;
-    picture.add_polyline(cell_centres(paths[i].second->path, g), line, paths[i].first);
-  }
-  viz::MarkerStyle marker;
-  marker.radius_px = 4.5;
-  marker.fill = viz::categorical_colour(4);
-  picture.add_points({g.cell_center(q.start)}, marker, "start");
-  marker.fill = viz::categorical_colour(5);
-  picture.add_points({g.cell_center(q.goal)}, marker, "goal");
-  picture.write_svg(path);
-}
-
-void run_bench_ablation(const AblationOptions& o) {
-  const bool from_file = !o.queries.empty();
-  if (from_file == (o.random_opt->count() > 0))
+void run_bench_ablation(AblationOptions& o) {
+  AblationConfig& c = o.config;
+  if (c.queries.empty() == (o.random_opt->count() == 0))
     throw Error("give exactly one of --queries FILE and --random N", {}, 0, "--queries");
-  if (!from_file && o.random <= 0) throw Error("expected a number of queries >= 1", {}, 0, "--random");
-  if (o.repeat < 1) throw Error("expected a number >= 1", {}, 0, "--repeat");
-  if (!(o.min_dist >= 0) || !(o.max_dist >= o.min_dist) || !std::isfinite(o.max_dist))
-    throw Error("expected 0 <= --min-dist <= --max-dist", {}, 0, "--max-dist");
-  if (!std::isfinite(o.inflate) || o.inflate < 0) throw Error("expected a radius >= 0", {}, 0, "--inflate");
-  if (!std::isfinite(o.turn_cost) || o.turn_cost < 0) throw Error("expected a number >= 0", {}, 0, "--turn-cost");
+  if (c.queries.empty() && o.random <= 0) throw Error("expected a number of queries >= 1", {}, 0, "--random");
+  c.random = c.queries.empty() ? static_cast<std::size_t>(o.random) : 0;
+  c.exact_variant = !o.no_exact;
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "ablation.json") && !o.force)
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
   }
-
-  const LoadedMap loaded = load_map(o.map);
-  if (loaded.is_elevation()) throw Error("is an elevation map; the ablation needs an occupancy map", o.map, 0, "--map");
-  const OccupancyGrid& grid = loaded.occupancy();
-  const GridGeometry& geometry = grid.geometry();
-  const OccupancyThresholds thresholds = loaded.thresholds();
-  const bool index_grid = loaded.format == MapFormat::MovingAi || geometry.y_down;
-  const std::string unit = index_grid ? "cells" : "m";
-
-  InflationOptions inflation;
-  inflation.radius_m = o.inflate;
-  const InflatedMap inflated = inflate_obstacles(grid, thresholds, false, inflation);
-  const GridSearchMap inflated_map(grid.width(), grid.height(), inflated.blocked);
-  const GridSearchMap original_map(grid, thresholds, false);
-  const ClearanceField clearance(geometry, inflated.clearance_m);
-
-  std::vector<Query> queries = from_file ? read_queries(o.queries) : random_queries(o, grid, inflated_map);
-
-  std::vector<Table> tables;
-  for (const char* h : {"manhattan", "octile"})
-    for (bool infl : {false, true}) {
-      if (infl && o.inflate <= 0) continue;
-      Table t;
-      t.heuristic = h;
-      t.inflated = infl;
-      t.variants = variants_for(o);
-      tables.push_back(std::move(t));
-    }
-  for (Table& t : tables) {
-    if (!o.quiet) std::cerr << "bench ablation: " << table_title(t, o.inflate, unit) << ", " << queries.size() << " queries\n";
-    const double r = t.inflated ? o.inflate : 0.0;
-    const GridSearchMap& los_map = t.inflated ? inflated_map : original_map;
-    std::vector<std::unique_ptr<GridPlanner>> planners;
-    for (const Variant& v : t.variants) planners.push_back(make_variant(v, t.heuristic, r, grid, thresholds));
-    t.runs.assign(t.variants.size(), std::vector<Run>(queries.size()));
-    for (std::size_t q = 0; q < queries.size(); ++q)
-      for (std::size_t v = 0; v < t.variants.size(); ++v)
-        t.runs[v][q] = run_query(*planners[v], queries[q], o.repeat, los_map, geometry, clearance);
-  }
-
-  // Markdown.
-  std::ostringstream md;
-  md << "## Ablation (Ou et al. 2022, Table 2): " << fs::path(o.map).filename().string() << "\n\n";
-  md << "Map " << o.map << ": " << grid.width() << " x " << grid.height() << " cells"
-     << (index_grid ? "" : ", " + format_fixed(geometry.resolution, 3) + " m/cell") << "; " << inflated.obstacle_cells
-     << " obstacle cells";
-  if (o.inflate > 0)
-    md << ", inflated by R = " << format_fixed(o.inflate, 3) << " " << unit << ": " << inflated.inflated_cells
-       << " more cells blocked";
-  md << ". " << queries.size() << " queries ("
-     << (from_file ? "from " + o.queries
-                   : "random, seed " + std::to_string(o.seed) + ", " + format_fixed(o.min_dist, 0) + ".." + format_fixed(o.max_dist, 0) +
-                         " cells apart")
-     << "), turn cost k_turn = " << format_fixed(o.turn_cost, 3) << ", time = least thread CPU time of " << o.repeat
-     << " runs of each query.\n\n";
-  std::vector<std::vector<Summary>> summaries;
-  for (const Table& t : tables) {
-    summaries.push_back(summarise(t, queries.size()));
-    write_summary_markdown(md, t, summaries.back(), o.inflate, unit, queries.size());
-  }
-  std::cout << md.str();
+  if (!o.quiet)
+    c.on_table = [](const std::string& table, std::size_t queries) {
+      std::cerr << "bench ablation: " << table << ", " << queries << " queries\n";
+    };
+  const AblationResult r = run_ablation_experiment(c);
+  std::cout << ablation_summary_markdown(r);
   if (o.out.empty()) return;
 
   fs::create_directories(fs::path(o.out) / "svg");
-  std::ostringstream full;
-  full << md.str();
-  for (const Table& t : tables) write_per_query_markdown(full, t, queries, o.inflate, unit);
-  auto write_file = [&](const fs::path& p, const std::string& text) {
-    std::ofstream f(p, std::ios::binary);
-    f << text;
-    if (!f) throw Error("cannot write", p.string(), 0, "--out");
-  };
-  write_file(fs::path(o.out) / "ablation.md", full.str());
-
-  std::ostringstream csv;
-  csv << "start_x,start_y,goal_x,goal_y\n";
-  for (const Query& q : queries) csv << q.start.x << "," << q.start.y << "," << q.goal.x << "," << q.goal.y << "\n";
-  write_file(fs::path(o.out) / "queries.csv", csv.str());
-
-  json j;
-  j["benchmark"] = "ablation";
-  j["paper"] = "Ou et al. 2022, Table 2";
-  j["map"] = o.map;
-  j["width"] = grid.width();
-  j["height"] = grid.height();
-  j["resolution"] = geometry.resolution;
-  j["units"] = unit;
-  j["obstacle_cells"] = inflated.obstacle_cells;
-  j["inflate"] = o.inflate;
-  j["inflated_cells"] = inflated.inflated_cells;
-  j["turn_cost"] = o.turn_cost;
-  j["repeat"] = o.repeat;
-  if (!from_file) {
-    j["seed"] = o.seed;
-    j["min_dist_cells"] = o.min_dist;
-    j["max_dist_cells"] = o.max_dist;
-  }
-  json qs = json::array();
-  for (const Query& q : queries) qs.push_back({{"start", {q.start.x, q.start.y}}, {"goal", {q.goal.x, q.goal.y}}});
-  j["queries"] = qs;
-  json ts = json::array();
-  for (std::size_t i = 0; i < tables.size(); ++i) ts.push_back(table_json(tables[i], summaries[i], queries));
-  j["tables"] = ts;
-  write_file(fs::path(o.out) / "ablation.json", j.dump(1) + "\n");
-
-  // Fig. 15: the Manhattan tables' paths (the paper's heuristic): A* on the original map, A* +
-  // turn_w + W and the full method on the inflated one (the original without --inflate), and
-  // JPS + LOS there.
-  const Table* base = nullptr;
-  const Table* infl = nullptr;
-  for (const Table& t : tables)
-    if (t.heuristic == "manhattan") (t.inflated ? infl : base) = &t;
-  if (!infl) infl = base;
-  auto find = [](const Table* t, const std::string& name) -> std::size_t {
-    for (std::size_t v = 0; v < t->variants.size(); ++v)
-      if (t->variants[v].name == name) return v;
-    return 0;
-  };
-  const std::size_t svgs = o.svg_limit < 0 ? queries.size() : std::min<std::size_t>(queries.size(), o.svg_limit);
+  write_text_file((fs::path(o.out) / "ablation.md").string(), ablation_full_markdown(r), "--out");
+  write_text_file((fs::path(o.out) / "queries.csv").string(), ablation_queries_csv(r), "--out");
+  write_text_file((fs::path(o.out) / "ablation.json").string(), ablation_json(r), "--out");
+  const std::size_t svgs = o.svg_limit < 0 ? r.queries.size() : std::min<std::size_t>(r.queries.size(), o.svg_limit);
   for (std::size_t q = 0; q < svgs; ++q) {
     std::ostringstream name;
     name << "query_" << std::setw(3) << std::setfill('0') << q << ".svg";
-    write_query_svg((fs::path(o.out) / "svg" / name.str()).string(), grid, thresholds, inflated.blocked, queries[q], q,
-                    {{o.inflate > 0 ? "A* (original map)" : "A*", &base->runs[0][q]},
-                     {o.inflate > 0 ? "A* + turn_w + W (inflated map)" : "A* + turn_w + W",
-                      &infl->runs[find(infl, "A* + turn_w + W")][q]},
-                     {o.inflate > 0 ? "full method (inflation + LOS + turn_w + W)" : "A* + turn_w + W + LOS",
-                      &infl->runs[find(infl, "A* + turn_w + W + LOS")][q]},
-                     {o.inflate > 0 ? "JPS + LOS (inflated map)" : "JPS + LOS", &infl->runs[find(infl, "JPS + LOS")][q]}});
+    write_ablation_query_svg(r, q, (fs::path(o.out) / "svg" / name.str()).string());
   }
   if (!o.quiet) std::cerr << "bench ablation: wrote " << o.out << "/ablation.md, ablation.json, queries.csv, " << svgs << " SVGs\n";
 }
@@ -681,16 +82,16 @@ void register_bench_ablation(CLI::App& app, Context& ctx) {
       "Ou et al. 2022 (Table 2, Fig. 15): A*, A* + turn_w, A* + turn_w + W, + LOS smoothing (the full method on the\n"
       "inflated map), the exact steering variant, JPS and JPS + LOS on the same queries; time, expansions, Tir and\n"
       "Enr (% better than A*) and path metrics, per heuristic (manhattan, octile) and map (original, inflated).");
-  cmd->add_option("--map", o->map, "occupancy map (MovingAI .map, map_server .yaml)")->required();
-  cmd->add_option("--queries", o->queries,
+  cmd->add_option("--map", o->config.map, "occupancy map (MovingAI .map, map_server .yaml)")->required();
+  cmd->add_option("--queries", o->config.queries,
                   "queries in cells: a MovingAI .scen or a CSV with header start_x,start_y,goal_x,goal_y");
   o->random_opt = cmd->add_option("--random", o->random, "draw N random queries instead");
-  cmd->add_option("--seed", o->seed, "seed of --random (default 0)");
-  cmd->add_option("--min-dist", o->min_dist, "--random: least start-goal distance in cells (default 40)");
-  cmd->add_option("--max-dist", o->max_dist, "--random: largest start-goal distance in cells (default 60)");
-  cmd->add_option("--inflate", o->inflate, "hard inflation radius R (metres; cells on MovingAI maps; default 0)");
-  cmd->add_option("--turn-cost", o->turn_cost, "steering cost k_turn (default 1, the paper's k = 10)");
-  cmd->add_option("--repeat", o->repeat, "runs per query and variant; the time is their median (default 5)");
+  cmd->add_option("--seed", o->config.seed, "seed of --random (default 0)");
+  cmd->add_option("--min-dist", o->config.min_dist, "--random: least start-goal distance in cells (default 40)");
+  cmd->add_option("--max-dist", o->config.max_dist, "--random: largest start-goal distance in cells (default 60)");
+  cmd->add_option("--inflate", o->config.inflate, "hard inflation radius R (metres; cells on MovingAI maps; default 0)");
+  cmd->add_option("--turn-cost", o->config.turn_cost, "steering cost k_turn (default 1, the paper's k = 10)");
+  cmd->add_option("--repeat", o->config.repeat, "runs per query and variant; the time is their least thread CPU time (default 5)");
   cmd->add_flag("--no-exact", o->no_exact, "leave out the exact (cell, direction) steering variant");
   cmd->add_option("--svg-limit", o->svg_limit, "write SVGs for the first N queries only (default all)");
   cmd->add_option("--out", o->out, "directory for ablation.md, ablation.json, queries.csv and svg/");
