@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -19,7 +20,6 @@
 
 namespace starnav::cli {
 
-namespace {
 bool parse_double(const std::string& s, double& out) {
   if (s.empty()) return false;
   const char* begin = s.c_str();
@@ -28,7 +28,6 @@ bool parse_double(const std::string& s, double& out) {
   out = std::strtod(begin, &end);
   return errno == 0 && end == begin + s.size() && std::isfinite(out);
 }
-}  // namespace
 
 std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const std::string& what) {
   if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
@@ -46,6 +45,28 @@ Vec2 parse_xy(const std::string& text, const std::string& flag) {
       !parse_double(text.substr(comma + 1), y))
     throw Error("expected X,Y (two numbers), got '" + text + "'", {}, 0, flag);
   return {x, y};
+}
+
+Cell parse_endpoint_cell(const std::string& text, const std::string& flag, bool in_cells, const GridGeometry& g) {
+  const Vec2 p = parse_xy(text, flag);
+  if (in_cells) {
+    const double lim = static_cast<double>(std::numeric_limits<int>::max());
+    if (p.x() != std::floor(p.x()) || p.y() != std::floor(p.y()) || std::abs(p.x()) > lim || std::abs(p.y()) > lim)
+      throw Error("expected cell indices X,Y (two integers), got '" + text + "'", {}, 0, flag);
+    return {static_cast<int>(p.x()), static_cast<int>(p.y())};
+  }
+  const Vec2 c = g.world_to_cell_continuous(p);
+  const double lim = 1e9;
+  if (std::abs(c.x()) > lim || std::abs(c.y()) > lim) return {-1, -1};  // far outside the map
+  return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
+}
+
+void rethrow_with_flag(const Error& e, const std::vector<std::pair<std::string, std::string>>& renamed) {
+  for (const auto& [field, flag] : renamed)
+    if (e.field() == field) throw Error(e.message(), {}, 0, flag);
+  std::string flag = "--" + e.field();
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  throw Error(e.message(), {}, 0, flag);
 }
 
 void check_output_path(const std::string& path, bool force, const std::string& flag) {

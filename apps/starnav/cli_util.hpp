@@ -5,17 +5,31 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/record_format.hpp"
-#include "starnav/experiment/statistics.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/grid_geometry.hpp"
 #include "starnav/io/map_file.hpp"
 
 namespace starnav::cli {
 
+// Parses one finite number (the whole of `s`); false otherwise.
+bool parse_double(const std::string& s, double& out);
+
 // Parses "X,Y" (two finite numbers); throws Error naming `flag` otherwise.
 Vec2 parse_xy(const std::string& text, const std::string& flag);
+
+// A query endpoint "X,Y" as a cell: with `in_cells` X,Y must be integers (cell indices);
+// otherwise a point in the map frame, and a point outside the map gives a cell outside it (a
+// result, not an error).
+Cell parse_endpoint_cell(const std::string& text, const std::string& flag, bool in_cells, const GridGeometry& g);
+
+// The library Error `e` again, its field renamed to the flag the user typed: "a_b" -> "--a-b",
+// or as `renamed` says.
+[[noreturn]] void rethrow_with_flag(const Error& e, const std::vector<std::pair<std::string, std::string>>& renamed = {});
 
 // Parses a non-negative integer written in decimal digits only (no sign); throws Error naming
 // `flag`: "expected <what>, got '...'" or out of range above 2^64 - 1.

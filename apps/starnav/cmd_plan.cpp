@@ -7,11 +7,9 @@
 //                [--turn-cost K] [--turn-exact] [--adaptive-weight] [--smooth none|los|gradient]
 //                [--smooth-clearance M] [--start-heading-deg A]
 //
-// The second group are the features of Ou et al. 2022 (docs/papers/ou2022.md, plan/ou2022_options.hpp): all of
-// them with --planner astar and ou2022 (whose defaults are the paper's), hard inflation and
-// smoothing with the others; --json adds the path metrics (plan/path_metrics.hpp) under `metrics`.
-// --smooth gradient goes beyond the paper: line of sight, then the gradient smoother of
-// plan/gradient_smoothing.hpp on the inflated map (--smooth-clearance: the clearance to keep).
+// The second group are the features of Ou et al. 2022 (docs/papers/ou2022.md): all of them with
+// --planner astar and ou2022, hard inflation and smoothing with the others. The query runs as one
+// library call, plan_on_grid (plan/plan_pipeline.hpp); its reports are experiment/plan_report.hpp.
 //
 // Coordinates are cells on MovingAI maps (x column, y row from the top, as in .scen files) and
 // metres in the map frame on metric maps (--cells: cell indices there too). Exit 0 when a path is
@@ -48,9 +46,7 @@ struct PlanOptions {
   std::string map;
   std::string start;
   std::string goal;
-  std::string planner = "astar";
-  double weight = 1.0;
-  int connectivity = 8;
+  PlanRequest request;  // the flags bound to the library's options directly where they can be
   std::string unknown = "blocked";
   bool cells = false;
   bool json = false;
@@ -60,15 +56,9 @@ struct PlanOptions {
   bool force = false;
   double max_expansions = 0;
   double time_budget_s = 0;
-  // Ou et al. 2022. Options whose absence means "the planner's default" are read
-  // through their CLI::Option (count() == 0: not given).
-  std::string heuristic;
-  double inflate = 0.0;
-  double inflate_cost_radius = 0.0;
-  double inflate_cost = InflationOptions{}.cost_scale;
-  double inflate_cost_weight = InflationOptions{}.cost_weight;
+  // Ou et al. 2022. Options whose absence means "the planner's default" are read through their
+  // CLI::Option (count() == 0: not given).
   double turn_cost = 1.0;
-  bool turn_exact = false;
   bool adaptive_weight = false;
   std::string smooth;
   double smooth_clearance = 0.0;
@@ -78,27 +68,10 @@ struct PlanOptions {
   CLI::Option* smooth_opt = nullptr;
   CLI::Option* smooth_clearance_opt = nullptr;
   CLI::Option* start_heading_opt = nullptr;
-  // Elevation maps (docs/terrain.md).
-  TerrainPlanFlags terrain;
+  TerrainPlanFlags terrain;  // elevation maps (docs/terrain.md)
   CLI::Option* planner_opt = nullptr;
   std::vector<CLI::Option*> occupancy_only;  // flags of the occupancy planners
 };
-
-// A query endpoint as a cell. In cell mode X,Y must be integers; in metric mode a world point
-// outside the map gives a cell outside it (a result, not an error).
-Cell endpoint_cell(const std::string& text, const std::string& flag, bool in_cells, const GridGeometry& g) {
-  const Vec2 p = parse_xy(text, flag);
-  if (in_cells) {
-    const double lim = static_cast<double>(std::numeric_limits<int>::max());
-    if (p.x() != std::floor(p.x()) || p.y() != std::floor(p.y()) || std::abs(p.x()) > lim || std::abs(p.y()) > lim)
-      throw Error("expected cell indices X,Y (two integers), got '" + text + "'", {}, 0, flag);
-    return {static_cast<int>(p.x()), static_cast<int>(p.y())};
-  }
-  const Vec2 c = g.world_to_cell_continuous(p);
-  const double lim = 1e9;
-  if (std::abs(c.x()) > lim || std::abs(c.y()) > lim) return {-1, -1};  // far outside the map
-  return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
-}
 
 // Elevation maps: the Liu 2024 planners (cmd_plan_terrain.cpp).
 void run_plan_elevation(const PlanOptions& o, const LoadedMap& loaded, Context& ctx) {
@@ -108,9 +81,9 @@ void run_plan_elevation(const PlanOptions& o, const LoadedMap& loaded, Context& 
   TerrainPlanRequest rq;
   rq.map_path = o.map;
   rq.map = &loaded.elevation();
-  rq.start = endpoint_cell(o.start, "--start", o.cells, loaded.geometry());
-  rq.goal = endpoint_cell(o.goal, "--goal", o.cells, loaded.geometry());
-  if (o.planner_opt->count() > 0) rq.planner = o.planner;
+  rq.start = parse_endpoint_cell(o.start, "--start", o.cells, loaded.geometry());
+  rq.goal = parse_endpoint_cell(o.goal, "--goal", o.cells, loaded.geometry());
+  if (o.planner_opt->count() > 0) rq.planner = o.request.planner;
   rq.json = o.json;
   rq.out = o.out;
   rq.svg = o.svg;
@@ -120,7 +93,7 @@ void run_plan_elevation(const PlanOptions& o, const LoadedMap& loaded, Context& 
   run_plan_terrain(rq, o.terrain, ctx);
 }
 
-void run_plan(const PlanOptions& o, Context& ctx) {
+void run_plan(PlanOptions& o, Context& ctx) {
   if (!(o.max_expansions >= 0) || o.max_expansions != std::floor(o.max_expansions))
     throw Error("expected a whole number >= 0", {}, 0, "--max-expansions");
   if (!(o.time_budget_s >= 0) || !std::isfinite(o.time_budget_s))
@@ -137,36 +110,27 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   {
     // The registry says which map a planner needs; an old spelling works with a warning.
     std::string warning;
-    const GlobalPlannerDef& def = find_global_planner(o.planner, "--planner", &warning);
+    const GlobalPlannerDef& def = find_global_planner(o.request.planner, "--planner", &warning);
     if (!warning.empty()) std::cerr << "starnav: warning: --planner: " << warning << "\n";
     if (def.info.has("needs_elevation"))
-      throw Error("'" + o.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
+      throw Error("'" + o.request.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
   }
   if (o.unknown != "free" && o.unknown != "blocked")
     throw Error("expected free or blocked, got '" + o.unknown + "'", {}, 0, "--unknown");
-  if (o.weight != 1.0 && o.planner != "wastar") throw Error("only --planner wastar takes a weight", {}, 0, "--weight");
+  PlanRequest& rq = o.request;
+  GridPlannerOptions& options = rq.options;
+  if (options.weight != 1.0 && rq.planner != "wastar") throw Error("only --planner wastar takes a weight", {}, 0, "--weight");
   const OccupancyGrid& grid = loaded.occupancy();
   const GridGeometry& geometry = grid.geometry();
   const bool index_grid = loaded.format == MapFormat::MovingAi || geometry.y_down;
   const bool in_cells = index_grid || o.cells;
-  const Cell start = endpoint_cell(o.start, "--start", in_cells, geometry);
-  const Cell goal = endpoint_cell(o.goal, "--goal", in_cells, geometry);
+  const Cell start = parse_endpoint_cell(o.start, "--start", in_cells, geometry);
+  const Cell goal = parse_endpoint_cell(o.goal, "--goal", in_cells, geometry);
 
-  PlanRequest rq;
-  rq.planner = o.planner;
-  GridPlannerOptions& options = rq.options;
-  options.connectivity = o.connectivity;
   options.unknown_is_free = o.unknown == "free";
   options.thresholds = loaded.thresholds();
-  options.weight = o.weight;
   options.record_trace = o.expanded;
-  options.heuristic = o.heuristic;
-  options.ou2022.inflation.radius_m = o.inflate;
-  options.ou2022.inflation.cost_radius_m = o.inflate_cost_radius;
-  options.ou2022.inflation.cost_scale = o.inflate_cost;
-  options.ou2022.inflation.cost_weight = o.inflate_cost_weight;
   if (o.turn_cost_opt->count()) options.ou2022.turn_cost = o.turn_cost;
-  options.ou2022.turn_exact = o.turn_exact;
   if (o.adaptive_weight_opt->count()) options.ou2022.adaptive_weight = o.adaptive_weight;
   if (o.smooth_opt->count()) rq.smoothing = parse_plan_smoothing(o.smooth, "--smooth");
   const bool gradient = rq.smoothing == PlanSmoothing::Gradient;
@@ -191,21 +155,7 @@ void run_plan(const PlanOptions& o, Context& ctx) {
   try {
     outcome = plan_on_grid(grid, start, goal, rq);
   } catch (const Error& e) {
-    // Name the flag the user typed.
-    const std::string flag = e.field() == "connectivity" ? "--connectivity"
-                             : e.field() == "weight"     ? "--weight"
-                             : e.field() == "planner"    ? "--planner"
-                             : e.field() == "heuristic"  ? "--heuristic"
-                             : e.field() == "inflate"    ? "--inflate"
-                             : e.field() == "inflate_cost_radius" ? "--inflate-cost-radius"
-                             : e.field() == "inflate_cost"        ? "--inflate-cost"
-                             : e.field() == "inflate_cost_weight" ? "--inflate-cost-weight"
-                             : e.field() == "turn_cost"           ? "--turn-cost"
-                             : e.field() == "turn_exact"          ? "--turn-exact"
-                             : e.field() == "adaptive_weight"     ? "--adaptive-weight"
-                             : e.field() == "start_heading"       ? "--start-heading-deg"
-                                                         : e.field();
-    throw Error(e.message(), {}, 0, flag);
+    rethrow_with_flag(e, {{"start_heading", "--start-heading-deg"}});
   }
   const PlanReportContext report{&grid, start, goal, index_grid, o.expanded};
   const PlanResult& r = outcome.result;
@@ -237,10 +187,10 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
     std::string& list = d.info.has("needs_elevation") ? elevation_names : names;
     list += (list.empty() ? "" : "|") + d.info.name;
   }
-  plan->add_option("--planner", o->planner,
+  plan->add_option("--planner", o->request.planner,
                    names + " (default astar); on elevation maps " + elevation_names + " (default ia)");
-  plan->add_option("--weight", o->weight, "wastar: f = g + W*h, W >= 1 (default 1; > 1 is inadmissible)");
-  plan->add_option("--connectivity", o->connectivity, "4 or 8 (default 8, no corner cutting)");
+  plan->add_option("--weight", o->request.options.weight, "wastar: f = g + W*h, W >= 1 (default 1; > 1 is inadmissible)");
+  plan->add_option("--connectivity", o->request.options.connectivity, "4 or 8 (default 8, no corner cutting)");
   plan->add_option("--unknown", o->unknown, "unknown cells are free or blocked (default blocked)");
   plan->add_flag("--cells", o->cells, "--start/--goal are cell indices on metric maps too");
   plan->add_flag("--json", o->json,
@@ -259,20 +209,20 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   plan->add_option("--time-budget", o->time_budget_s, "stop after this many seconds of search (0: no limit)");
   plan->add_flag("--force", o->force, "overwrite existing output files");
   // Ou et al. 2022 (docs/papers/ou2022.md).
-  plan->add_option("--heuristic", o->heuristic,
+  plan->add_option("--heuristic", o->request.options.heuristic,
                    "manhattan|octile|euclidean|zero (default octile on 8-connected grids, manhattan on 4-connected "
                    "ones and for ou2022; manhattan on 8-connected grids is inadmissible)");
-  plan->add_option("--inflate", o->inflate,
+  plan->add_option("--inflate", o->request.options.ou2022.inflation.radius_m,
                    "block every cell within R of an obstacle (metres; cells on MovingAI maps; default 0)");
-  plan->add_option("--inflate-cost-radius", o->inflate_cost_radius,
+  plan->add_option("--inflate-cost-radius", o->request.options.ou2022.inflation.cost_radius_m,
                    "graded cost band from --inflate out to R2 (ROS inflation_radius): moves into a cell at distance "
                    "d cost 1 + W*exp(-SCALE*(d - R)) times more (astar, ou2022)");
-  plan->add_option("--inflate-cost", o->inflate_cost, "SCALE of the band's decay, 1/m (ROS cost_scaling_factor; default 10)");
-  plan->add_option("--inflate-cost-weight", o->inflate_cost_weight, "W, the band's extra cost at the hard edge (default 4)");
+  plan->add_option("--inflate-cost", o->request.options.ou2022.inflation.cost_scale, "SCALE of the band's decay, 1/m (ROS cost_scaling_factor; default 10)");
+  plan->add_option("--inflate-cost-weight", o->request.options.ou2022.inflation.cost_weight, "W, the band's extra cost at the hard edge (default 4)");
   o->turn_cost_opt = plan->add_option("--turn-cost", o->turn_cost,
                                       "steering cost K: a turn of D degrees costs K*D/45 cells (astar, ou2022; ou2022 "
                                       "default 1, the paper's k = 10)");
-  plan->add_flag("--turn-exact", o->turn_exact,
+  plan->add_flag("--turn-exact", o->request.options.ou2022.turn_exact,
                  "search (cell, incoming direction) states: optimal for the turn-inclusive cost (the paper's cell "
                  "states are not)");
   o->adaptive_weight_opt = plan->add_flag("--adaptive-weight,!--no-adaptive-weight", o->adaptive_weight,

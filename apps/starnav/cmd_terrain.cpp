@@ -1,9 +1,7 @@
 // starnav terrain generate: seeded terrains (hills, road-PSD stochastic ground) in every
 // elevation format, with a metadata sidecar FILE.terrain.json (docs/terrain.md).
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -15,6 +13,7 @@
 #include "starnav/core/error.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/terrain/terrain_generator.hpp"
+#include "starnav/terrain/terrain_metadata.hpp"
 
 namespace starnav::cli {
 
@@ -39,17 +38,9 @@ struct TerrainGenerateOptions {
   bool json = false;
 };
 
-bool to_double(const std::string& s, double& out) {
-  if (s.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  out = std::strtod(s.c_str(), &end);
-  return errno == 0 && end == s.c_str() + s.size() && std::isfinite(out);
-}
-
 double parse_number(const std::string& text, const std::string& flag) {
   double v = 0.0;
-  if (!to_double(text, v)) throw Error("expected a number, got '" + text + "'", {}, 0, flag);
+  if (!parse_double(text, v)) throw Error("expected a number, got '" + text + "'", {}, 0, flag);
   return v;
 }
 
@@ -57,16 +48,6 @@ double parse_positive(const std::string& text, const std::string& flag) {
   const double v = parse_number(text, flag);
   if (!(v > 0.0)) throw Error("must be > 0, got '" + text + "'", {}, 0, flag);
   return v;
-}
-
-std::uint64_t parse_seed(const std::string& text, const std::string& flag) {
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
-    throw Error("expected a non-negative integer, got '" + text + "'", {}, 0, flag);
-  errno = 0;
-  char* end = nullptr;
-  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-  if (errno == ERANGE) throw Error("out of range (at most 2^64 - 1), got '" + text + "'", {}, 0, flag);
-  return static_cast<std::uint64_t>(v);
 }
 
 int parse_count(const std::string& text, const std::string& flag, int lo, int hi) {
@@ -86,7 +67,7 @@ std::vector<double> parse_list(const std::string& text, const std::string& flag,
   while (true) {
     const std::size_t comma = text.find(',', pos);
     double v = 0.0;
-    if (!to_double(text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos), v)) {
+    if (!parse_double(text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos), v)) {
       values.clear();
       break;
     }
@@ -110,15 +91,6 @@ TerrainFeature parse_feature(const std::string& text, TerrainFeature::Kind kind,
   return f;
 }
 
-nlohmann::ordered_json feature_json(const TerrainFeature& f) {
-  nlohmann::ordered_json j;
-  j["kind"] = f.kind == TerrainFeature::Kind::Pit ? "pit" : "mound";
-  j["centre_m"] = {f.centre.x(), f.centre.y()};
-  j["radius_m"] = f.radius_m;
-  j[f.kind == TerrainFeature::Kind::Pit ? "depth_m" : "height_m"] = f.depth_m;
-  return j;
-}
-
 void require_kind(bool given, bool allowed, const std::string& flag, const char* kind) {
   if (given && !allowed) throw Error(std::string("only for --kind ") + kind, {}, 0, flag);
 }
@@ -138,7 +110,7 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
   const Vec2 size = parse_xy(o.size_m, "--size-m");
   if (!(size.x() > 0.0) || !(size.y() > 0.0)) throw Error("width and height must be > 0", {}, 0, "--size-m");
   const double resolution = parse_positive(o.resolution, "--resolution");
-  const std::uint64_t seed = parse_seed(o.seed, "--seed");
+  const std::uint64_t seed = parse_unsigned(o.seed, "--seed", "a non-negative integer");
   std::vector<TerrainFeature> features;
   for (const auto& p : o.pits) features.push_back(parse_feature(p, TerrainFeature::Kind::Pit, "--pit"));
   for (const auto& m : o.mounds) features.push_back(parse_feature(m, TerrainFeature::Kind::Mound, "--mound"));
@@ -159,8 +131,6 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
   }
 
   nlohmann::ordered_json meta;
-  meta["kind"] = o.kind;
-  meta["seed"] = seed;
   LoadedMap out;
   out.format = format;
   if (!road) {
@@ -175,12 +145,7 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
     }
     h.features = features;
     out.map = generate_hills(h);
-    meta["amplitude"] = h.amplitude;
-    meta["hills_per_100m2"] = h.hills_per_100m2;
-    meta["hill_height_m"] = {h.hill_height_min_m, h.hill_height_max_m};
-    meta["hill_sigma_m"] = {h.hill_sigma_min_m, h.hill_sigma_max_m};
-    meta["roughness_m"] = h.roughness_m;
-    meta["roughness_correlation_m"] = h.roughness_correlation_m;
+    meta = hills_metadata(h, out.elevation());
   } else {
     RoadOptions r;
     r.width_m = size.x();
@@ -213,41 +178,15 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
       if (e.field() == "size_m") throw Error(e.message(), {}, 0, "--size-m");
       throw;
     }
+    meta = road_metadata(r, t);
     out.map = std::move(t.map);
-    meta["class"] = std::string(1, r.road_class);
-    meta["method"] = road_method_name(r.method);
-    meta["gd_n0_m3"] = t.spectrum.gd_n0;
-    meta["n0_per_m"] = r.n0;
-    meta["waviness"] = r.waviness;
-    meta["band_per_m"] = {r.n1, r.n2};
-    meta["band_used_per_m"] = {t.spectrum.n_low, t.spectrum.n_high};
-    meta["intervals"] = r.intervals;
-    if (r.method == RoadMethod::Directional) meta["directions"] = r.directions;
-    else meta["blur_sigma_cells"] = r.blur_sigma_cells;
-    meta["sigma2_m2"] = t.spectrum.sigma2;
-    meta["sigma_m"] = std::sqrt(t.spectrum.sigma2);
   }
   const ElevationMap& map = out.elevation();
-  meta["width"] = map.width();
-  meta["height"] = map.height();
-  meta["resolution_m"] = map.resolution();
-  meta["size_m"] = {map.geometry().width_m(), map.geometry().height_m()};
-  nlohmann::ordered_json fj = nlohmann::ordered_json::array();
-  for (const auto& f : features) fj.push_back(feature_json(f));
-  meta["features"] = fj;
-  const auto range = map.height_range();
-  meta["z_min_m"] = range ? range->min : 0.0;
-  meta["z_max_m"] = range ? range->max : 0.0;
   meta["file"] = o.out;
   meta["format"] = map_format_name(format);
 
   save_map(out, o.out, format);
-  {
-    std::ofstream f(meta_path, std::ios::binary);
-    if (!f) throw Error("cannot write", meta_path, 0, "--out");
-    f << meta.dump(2) << "\n";
-    if (!f) throw Error("cannot write", meta_path, 0, "--out");
-  }
+  write_text_file(meta_path, meta.dump(2) + "\n", "--out");
   if (o.json) {
     std::cout << meta.dump(2) << "\n";
   } else {
