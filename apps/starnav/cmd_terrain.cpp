@@ -4,7 +4,6 @@
 #include <cstdlib>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -130,7 +129,8 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
     throw Error(e.message(), {}, 0, e.field() == "resolution" ? "--resolution" : "--size-m");
   }
 
-  nlohmann::ordered_json meta;
+  std::string meta;
+  double sigma2 = 0.0;  // road: the heights' variance
   LoadedMap out;
   out.format = format;
   if (!road) {
@@ -145,7 +145,7 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
     }
     h.features = features;
     out.map = generate_hills(h);
-    meta = hills_metadata(h, out.elevation());
+    meta = hills_metadata(h, out.elevation(), o.out, map_format_name(format));
   } else {
     RoadOptions r;
     r.width_m = size.x();
@@ -178,21 +178,20 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
       if (e.field() == "size_m") throw Error(e.message(), {}, 0, "--size-m");
       throw;
     }
-    meta = road_metadata(r, t);
+    meta = road_metadata(r, t, o.out, map_format_name(format));
+    sigma2 = t.spectrum.sigma2;
     out.map = std::move(t.map);
   }
   const ElevationMap& map = out.elevation();
-  meta["file"] = o.out;
-  meta["format"] = map_format_name(format);
 
   save_map(out, o.out, format);
-  write_text_file(meta_path, meta.dump(2) + "\n", "--out");
+  write_text_file(meta_path, meta, "--out");
   if (o.json) {
-    std::cout << meta.dump(2) << "\n";
+    std::cout << meta;
   } else {
     std::cout << "wrote " << o.out << " (" << map_format_name(format) << ", " << map.width() << " x " << map.height()
               << " cells)";
-    if (road) std::cout << ", sigma^2 = " << meta["sigma2_m2"].get<double>() << " m^2";
+    if (road) std::cout << ", sigma^2 = " << sigma2 << " m^2";
     std::cout << "; metadata " << meta_path << "\n";
   }
 }

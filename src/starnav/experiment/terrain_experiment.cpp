@@ -12,6 +12,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
+#include "starnav/experiment/detail/terrain_json.hpp"
 #include "starnav/experiment/runner.hpp"
 #include "starnav/experiment/statistics.hpp"
 #include "starnav/experiment/terrain_report.hpp"
@@ -269,7 +270,7 @@ json run_json(const TerrainRun& r) {
   if (!r.found) j["reason"] = r.reason;
   j["cost"] = r.found ? json(r.cost) : json(nullptr);
   j["length_2d_m"] = r.found ? json(r.length_2d_m) : json(nullptr);
-  add_terrain_metrics_json(j, r.found ? &r.metrics : nullptr);
+  detail::add_terrain_metrics_json(j, r.found ? &r.metrics : nullptr);
   j["path_nodes"] = r.path.size();
   j["expanded"] = r.expanded;
   j["generated"] = r.generated;
@@ -498,7 +499,7 @@ TerrainReport terrain_report(const TerrainExperimentResult& res) {
   j["height"] = first.height();
   j["resolution"] = first.resolution();
   j["endpoints"] = given ? "given" : (from_map ? "auto" : "paper");
-  j["options"] = terrain_options_json(options);
+  j["options"] = detail::terrain_options_json(options);
   j["footprint_m"] = {Footprint{}.length_m, Footprint{}.width_m};
   j["terrains"] = res.terrains.size();
   j["terrains_all_found"] = n_common;

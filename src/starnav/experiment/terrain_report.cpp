@@ -2,14 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 
 #include "starnav/core/angle.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/experiment/detail/terrain_json.hpp"
 #include "starnav/viz/map_picture.hpp"
 #include "starnav/viz/plot_svg.hpp"
 
 namespace starnav {
 
 using json = nlohmann::ordered_json;
+
+namespace detail {
 
 json terrain_options_json(const RoughTerrainPlannerOptions& o) {
   json j;
@@ -57,6 +64,122 @@ void add_terrain_metrics_json(json& j, const TerrainPathMetrics* m) {
   j["moves_measured"] = m->moves_measured;
   j["cells_measured"] = m->cells_measured;
   j["attitude_nodes"] = m->attitude_nodes;
+}
+
+}  // namespace detail
+
+TerrainPlanOutcome plan_on_terrain(const ElevationMap& map, Cell start, Cell goal, RoughTerrainPlannerKind kind,
+                                   const RoughTerrainPlannerOptions& options, const SearchLimits& limits) {
+  TerrainPlanOutcome o;
+  o.kind = kind;
+  o.options = options;
+  RoughTerrainPlanner planner(kind, map, options);
+  o.planner = std::string(planner.name());
+  o.admissible = planner.admissible();
+  o.result = planner.plan(start, goal, limits);
+  o.reopened = planner.reopened();
+  o.trace = planner.trace();
+  o.blocked = planner.blocked_mask();
+  const TerrainAnalysis& analysis = planner.analysis();
+  if (o.result.found()) o.metrics = terrain_path_metrics(analysis, o.result.path_cells);
+  for (const Cell& c : o.result.path_cells)
+    o.path_z.push_back(analysis.observed(c.x, c.y) ? analysis.z(c.x, c.y) : std::numeric_limits<double>::quiet_NaN());
+  return o;
+}
+
+std::string terrain_plan_json(const TerrainPlanOutcome& o) {
+  const PlanResult& r = o.result;
+  const bool ia = o.kind == RoughTerrainPlannerKind::IA;
+  json j;
+  j["planner"] = o.planner;
+  j["admissible"] = o.admissible;
+  if (ia) j["heuristic"] = liu_heuristic_name(o.options.heuristic);
+  j["found"] = r.found();
+  if (!r.found()) j["reason"] = plan_status_reason(r.status);
+  j["cost"] = r.found() ? json(r.cost) : json(nullptr);
+  j["length"] = r.found() ? json(r.length) : json(nullptr);
+  j["units"] = "m";
+  j["expanded"] = r.expanded;
+  j["generated"] = r.generated;
+  if (ia) j["reopened"] = o.reopened;
+  json path = json::array(), path_cells = json::array();
+  for (std::size_t i = 0; i < r.path_cells.size(); ++i) {
+    path_cells.push_back({r.path_cells[i].x, r.path_cells[i].y});
+    path.push_back({r.path_world[i].x(), r.path_world[i].y()});
+  }
+  j["path"] = path;
+  j["path_cells"] = path_cells;
+  detail::add_terrain_metrics_json(j, r.found() ? &o.metrics : nullptr);
+  j["options"] = detail::terrain_options_json(o.options);
+  if (o.options.record_trace) {
+    json cells = json::array();
+    for (const Cell& c : o.trace) cells.push_back({c.x, c.y});
+    j["expanded_cells"] = cells;
+  }
+  j["time_ms"] = r.time_ms;
+  return j.dump() + "\n";
+}
+
+std::string terrain_plan_text(const TerrainPlanOutcome& o) {
+  const PlanResult& r = o.result;
+  const TerrainPathMetrics& m = o.metrics;
+  const bool ia = o.kind == RoughTerrainPlannerKind::IA;
+  std::ostringstream out;
+  out << "planner:    " << o.planner << (o.admissible ? "" : " (inadmissible)");
+  if (ia)
+    out << ", " << liu_heuristic_name(o.options.heuristic) << " H"
+        << (o.options.cost.cost_per_metre ? ", g per metre" : ", g per move");
+  out << "\n";
+  if (r.found()) {
+    out << "found:      yes, " << r.path_cells.size() << " points\n";
+    out << "cost:       " << format_number(r.cost) << "\n";
+    out << "length:     " << format_number(r.length) << " m horizontal, lv " << format_number(m.lv_m) << " m\n";
+    out << "terrain:    av " << format_number(m.av_rad) << " rad, hv " << format_number(m.hv_m) << " m, Sv "
+        << format_number(m.sv_m2) << " m^2\n";
+    out << "attitude:   roll " << format_number(m.roll_mean_deg) << " / " << format_number(m.roll_max_deg)
+        << " deg, pitch " << format_number(m.pitch_mean_deg) << " / " << format_number(m.pitch_max_deg)
+        << " deg, tilt " << format_number(m.tilt_mean_deg) << " / " << format_number(m.tilt_max_deg)
+        << " deg (|mean| / max)\n";
+  } else {
+    out << "found:      no (" << plan_status_reason(r.status) << ")\n";
+  }
+  out << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
+  if (ia && o.reopened > 0) out << "reopened:   " << o.reopened << "\n";
+  out << "time:       " << format_number(r.time_ms) << " ms\n";
+  return out.str();
+}
+
+std::string terrain_plan_path_csv(const TerrainPlanOutcome& o) {
+  const PlanResult& r = o.result;
+  std::ostringstream out;
+  out << std::setprecision(10) << "x_m,y_m,z_m,ix,iy\n";
+  for (std::size_t i = 0; i < r.path_cells.size(); ++i) {
+    const Cell c = r.path_cells[i];
+    out << r.path_world[i].x() << "," << r.path_world[i].y() << ",";
+    if (!std::isnan(o.path_z[i])) out << o.path_z[i];
+    out << "," << c.x << "," << c.y << "\n";
+  }
+  return out.str();
+}
+
+void write_terrain_plan_picture(const TerrainPlanOutcome& o, const ElevationMap& map, Cell start, Cell goal,
+                                const std::string& path) {
+  const PlanResult& r = o.result;
+  const bool expanded = o.options.record_trace;
+  std::vector<Cell> shaded;
+  if (expanded) {
+    shaded = o.trace;
+  } else if (o.kind != RoughTerrainPlannerKind::IA) {
+    for (std::size_t i = 0; i < o.blocked.size(); ++i)
+      if (o.blocked[i]) shaded.push_back(map.geometry().cell_of_index(i));
+  }
+  const std::string title = o.planner + ": " +
+                            (r.found() ? "lv " + format_number(o.metrics.lv_m) + " m, cost " + format_number(r.cost)
+                                       : plan_status_reason(r.status));
+  // Expanded cells (when asked) take the place of the obstacle band: one translucent layer.
+  write_terrain_paths_svg(path, map, title, {{o.planner, r.found() ? &r.path_cells : nullptr}}, shaded,
+                          expanded ? "expanded" : (o.kind == RoughTerrainPlannerKind::OA ? "blocked" : "obstacles"), start,
+                          goal);
 }
 
 void write_terrain_paths_svg(const std::string& path, const ElevationMap& map, const std::string& title,

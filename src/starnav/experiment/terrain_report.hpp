@@ -1,27 +1,50 @@
 #pragma once
-// How the rough-terrain planners of Liu et al. 2024 are reported (docs/terrain.md): their options
-// and a path's metrics as JSON, and the pictures (the terrain with paths, the paper's Fig. 6; an
-// attitude angle along paths, its Fig. 8). `starnav plan` on elevation maps and `starnav bench
-// terrain` both write them.
-#include <nlohmann/json.hpp>
+// How the rough-terrain planners of Liu et al. 2024 are reported (docs/terrain.md): one query as
+// one library call (plan_on_terrain) and its JSON, text, path CSV and picture, which `starnav plan`
+// on an elevation map prints; and the pictures `starnav bench terrain` draws too (the terrain with
+// paths, the paper's Fig. 6; an attitude angle along paths, its Fig. 8).
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "starnav/map/elevation_map.hpp"
+#include "starnav/plan/plan_result.hpp"
 #include "starnav/terrain/rough_terrain_planners.hpp"
 #include "starnav/terrain/terrain_path_metrics.hpp"
 
 namespace starnav {
 
-// The options as JSON: thresholds, weights, heuristic, cost_per_metre, robot radius, unobserved.
-nlohmann::ordered_json terrain_options_json(const RoughTerrainPlannerOptions& o);
+// One query of a rough-terrain planner and what its reports need.
+struct TerrainPlanOutcome {
+  RoughTerrainPlannerKind kind = RoughTerrainPlannerKind::IA;
+  RoughTerrainPlannerOptions options;
+  std::string planner;  // its registry name
+  bool admissible = true;
+  std::uint64_t reopened = 0;
+  PlanResult result;
+  TerrainPathMetrics metrics;           // of the path (zero without one)
+  std::vector<double> path_z;           // height at each path cell; NaN where unobserved
+  std::vector<Cell> trace;              // expanded cells (options.record_trace)
+  std::vector<std::uint8_t> blocked;    // the planner's blocked mask, per cell
+};
 
-// lv_m, av_rad, hv_m, sv_m2, the attitude summaries (roll/pitch/tilt mean and max, degrees, and the
-// mean absolute roll and pitch) and the counts behind them; every key null when `m` is null.
-void add_terrain_metrics_json(nlohmann::ordered_json& j, const TerrainPathMetrics* m);
-// The keys add_terrain_metrics_json writes, in order.
-const std::vector<std::string>& terrain_metric_keys();
+// Plans from start to goal (cells; outside the map: a result, not an error) with `kind` and
+// measures the path. Throws Error for impossible options.
+TerrainPlanOutcome plan_on_terrain(const ElevationMap& map, Cell start, Cell goal, RoughTerrainPlannerKind kind,
+                                   const RoughTerrainPlannerOptions& options, const SearchLimits& limits = {});
+
+// The result as one JSON line: planner, admissible, heuristic (IA*), found, reason, cost, length,
+// units, expanded, generated, reopened (IA*), path, path_cells, the path metrics, options, and
+// expanded_cells when the trace was kept, time_ms.
+std::string terrain_plan_json(const TerrainPlanOutcome& outcome);
+std::string terrain_plan_text(const TerrainPlanOutcome& outcome);
+// x_m,y_m,z_m,ix,iy per path cell (z empty where unobserved).
+std::string terrain_plan_path_csv(const TerrainPlanOutcome& outcome);
+// The terrain, the path, start and goal, and the expanded cells when the trace was kept, else the
+// planner's obstacles (none for IA*, whose costs replace them).
+void write_terrain_plan_picture(const TerrainPlanOutcome& outcome, const ElevationMap& map, Cell start, Cell goal,
+                                const std::string& path);
 
 // A path drawn on a terrain picture.
 struct TerrainPathLayer {

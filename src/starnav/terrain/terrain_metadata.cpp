@@ -1,6 +1,7 @@
 #include "starnav/terrain/terrain_metadata.hpp"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 namespace starnav {
 
@@ -17,8 +18,9 @@ json feature_json(const TerrainFeature& f) {
   return j;
 }
 
-// The map's part: size, features, height range.
-void add_map(json& meta, const ElevationMap& map, const std::vector<TerrainFeature>& features) {
+// The map's part (size, features, height range) and the file's; the document as text.
+std::string finish(json& meta, const ElevationMap& map, const std::vector<TerrainFeature>& features,
+                   const std::string& file, const std::string& format) {
   meta["width"] = map.width();
   meta["height"] = map.height();
   meta["resolution_m"] = map.resolution();
@@ -29,11 +31,15 @@ void add_map(json& meta, const ElevationMap& map, const std::vector<TerrainFeatu
   const auto range = map.height_range();
   meta["z_min_m"] = range ? range->min : 0.0;
   meta["z_max_m"] = range ? range->max : 0.0;
+  meta["file"] = file;
+  meta["format"] = format;
+  return meta.dump(2) + "\n";
 }
 
 }  // namespace
 
-json hills_metadata(const HillsOptions& h, const ElevationMap& map) {
+std::string hills_metadata(const HillsOptions& h, const ElevationMap& map, const std::string& file,
+                           const std::string& format) {
   json meta;
   meta["kind"] = "hills";
   meta["seed"] = h.seed;
@@ -43,11 +49,10 @@ json hills_metadata(const HillsOptions& h, const ElevationMap& map) {
   meta["hill_sigma_m"] = {h.hill_sigma_min_m, h.hill_sigma_max_m};
   meta["roughness_m"] = h.roughness_m;
   meta["roughness_correlation_m"] = h.roughness_correlation_m;
-  add_map(meta, map, h.features);
-  return meta;
+  return finish(meta, map, h.features, file, format);
 }
 
-json road_metadata(const RoadOptions& r, const RoadTerrain& t) {
+std::string road_metadata(const RoadOptions& r, const RoadTerrain& t, const std::string& file, const std::string& format) {
   json meta;
   meta["kind"] = "road";
   meta["seed"] = r.seed;
@@ -63,8 +68,7 @@ json road_metadata(const RoadOptions& r, const RoadTerrain& t) {
   else meta["blur_sigma_cells"] = r.blur_sigma_cells;
   meta["sigma2_m2"] = t.spectrum.sigma2;
   meta["sigma_m"] = std::sqrt(t.spectrum.sigma2);
-  add_map(meta, t.map, r.features);
-  return meta;
+  return finish(meta, t.map, r.features, file, format);
 }
 
 }  // namespace starnav
