@@ -38,6 +38,21 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
   return static_cast<std::uint64_t>(v);
 }
 
+std::vector<double> parse_number_list(const std::string& text, const std::string& flag, std::size_t count,
+                                      const std::string& what) {
+  std::vector<double> values;
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', begin), text.size());
+    double v = 0.0;
+    if (!parse_double(text.substr(begin, comma - begin), v)) throw Error("expected " + what + ", got '" + text + "'", {}, 0, flag);
+    values.push_back(v);
+    begin = comma + 1;
+  }
+  if (values.size() != count) throw Error("expected " + what + ", got '" + text + "'", {}, 0, flag);
+  return values;
+}
+
 Vec2 parse_xy(const std::string& text, const std::string& flag) {
   const auto comma = text.find(',');
   double x = 0, y = 0;

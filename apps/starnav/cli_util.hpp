@@ -19,6 +19,11 @@ namespace starnav::cli {
 // Parses one finite number (the whole of `s`); false otherwise.
 bool parse_double(const std::string& s, double& out);
 
+// Parses `count` comma-separated finite numbers; throws Error naming `flag`:
+// "expected <what>, got '...'".
+std::vector<double> parse_number_list(const std::string& text, const std::string& flag, std::size_t count,
+                                      const std::string& what);
+
 // Parses "X,Y" (two finite numbers); throws Error naming `flag` otherwise.
 Vec2 parse_xy(const std::string& text, const std::string& flag);
 

@@ -25,7 +25,6 @@
 // flags or a bad scenario.
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -64,13 +63,6 @@ struct NavBenchOptions {
 // cli_util's parse_unsigned, also taking a leading '+'.
 std::uint64_t parse_count(const std::string& text, const std::string& flag, const char* what) {
   return parse_unsigned(text.size() > 1 && text[0] == '+' ? text.substr(1) : text, flag, what);
-}
-
-void write_file(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  f << text;
-  f.flush();
-  if (!f) throw Error("cannot write", p.string(), 0, "--out");
 }
 
 void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
@@ -130,8 +122,8 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
     std::error_code ec;
     fs::create_directories(o.out, ec);
     if (ec) throw Error("cannot create the folder: " + ec.message(), o.out, 0, "--out");
-    write_file(fs::path(o.out) / "runs.csv", csv);
-    write_file(fs::path(o.out) / "summary.json", doc);
+    write_text_file((fs::path(o.out) / "runs.csv").string(), csv, "--out");
+    write_text_file((fs::path(o.out) / "summary.json").string(), doc, "--out");
     if (!o.quiet) std::cerr << "bench nav: wrote " << o.out << "/runs.csv, summary.json\n";
   }
 

@@ -60,27 +60,9 @@ int parse_count(const std::string& text, const std::string& flag, int lo, int hi
   return v;
 }
 
-std::vector<double> parse_list(const std::string& text, const std::string& flag, std::size_t count, const char* what) {
-  std::vector<double> values;
-  std::size_t pos = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', pos);
-    double v = 0.0;
-    if (!parse_double(text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos), v)) {
-      values.clear();
-      break;
-    }
-    values.push_back(v);
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-  if (values.size() != count) throw Error(std::string("expected ") + what + ", got '" + text + "'", {}, 0, flag);
-  return values;
-}
-
 TerrainFeature parse_feature(const std::string& text, TerrainFeature::Kind kind, const std::string& flag) {
   const char* what = kind == TerrainFeature::Kind::Pit ? "X,Y,RADIUS,DEPTH (metres)" : "X,Y,RADIUS,HEIGHT (metres)";
-  const std::vector<double> v = parse_list(text, flag, 4, what);
+  const std::vector<double> v = parse_number_list(text, flag, 4, what);
   if (!(v[2] > 0.0) || !(v[3] > 0.0)) throw Error(std::string("radius and depth must be > 0 in ") + what, {}, 0, flag);
   TerrainFeature f;
   f.kind = kind;
@@ -159,7 +141,7 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
     }
     if (!o.method.empty()) r.method = parse_road_method(o.method, "--method");
     if (!o.band.empty()) {
-      const std::vector<double> b = parse_list(o.band, "--band", 2, "N1,N2 (1/m)");
+      const std::vector<double> b = parse_number_list(o.band, "--band", 2, "N1,N2 (1/m)");
       if (!(b[0] > 0.0) || !(b[1] > b[0])) throw Error("need 0 < N1 < N2", {}, 0, "--band");
       r.n1 = b[0];
       r.n2 = b[1];

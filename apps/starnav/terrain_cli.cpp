@@ -1,10 +1,9 @@
 #include "terrain_cli.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 
+#include "cli_util.hpp"
 #include "starnav/core/error.hpp"
 
 namespace starnav::cli {
@@ -13,25 +12,6 @@ namespace {
 
 bool uses_thresholds(RoughTerrainPlannerKind k) { return k != RoughTerrainPlannerKind::OA; }
 bool uses_costs(RoughTerrainPlannerKind k) { return k == RoughTerrainPlannerKind::IA; }
-
-// Five comma-separated finite numbers.
-std::vector<double> parse_weights(const std::string& text) {
-  std::vector<double> w;
-  std::size_t begin = 0;
-  while (begin <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', begin), text.size());
-    const std::string part = text.substr(begin, comma - begin);
-    char* end = nullptr;
-    errno = 0;
-    const double v = part.empty() ? 0.0 : std::strtod(part.c_str(), &end);
-    if (part.empty() || errno != 0 || end != part.c_str() + part.size() || !std::isfinite(v))
-      throw Error("expected ws,we,wr,w1,w2 (five numbers), got '" + text + "'", {}, 0, "--weights");
-    w.push_back(v);
-    begin = comma + 1;
-  }
-  if (w.size() != 5) throw Error("expected ws,we,wr,w1,w2 (five numbers), got '" + text + "'", {}, 0, "--weights");
-  return w;
-}
 
 }  // namespace
 
@@ -87,7 +67,7 @@ RoughTerrainPlannerOptions terrain_planner_options(const TerrainPlanFlags& f,
   o.cost.a_y = f.ay_rad;
   o.cost.s_y = f.sy_m2;
   if (!f.weights.empty()) {
-    const std::vector<double> w = parse_weights(f.weights);
+    const std::vector<double> w = parse_number_list(f.weights, "--weights", 5, "ws,we,wr,w1,w2 (five numbers)");
     o.cost.w_s = w[0];
     o.cost.w_e = w[1];
     o.cost.w_r = w[2];
