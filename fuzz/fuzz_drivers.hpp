@@ -39,6 +39,8 @@
 #include "starnav/map/elevation_map.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/harness/navigation_run.hpp"
+#include "starnav/logs/carmen_log.hpp"
+#include "starnav/logs/ros_bag.hpp"
 #include "starnav/sim/scenario.hpp"
 
 namespace starnav::fuzz {
@@ -430,6 +432,43 @@ inline void fuzz_scenario(std::string_view data) {
   check_scenario(spec);
 }
 
+// A log a reader accepted: the promises of logs/robot_log.hpp, and its reports must not throw.
+inline void check_log(const RobotLog& log) {
+  for (const LogScan& scan : log.scans) {
+    require(scan.ranges_m.size() <= 100000, "log: more than 100000 beams");
+    require(std::isfinite(scan.angle_min_rad) && std::isfinite(scan.angle_increment_rad), "log: beam angles not finite");
+    require(!std::isnan(scan.range_max_m), "log: range_max is NaN");
+    std::int64_t back = 0;
+    require(parse_stamp_us(format_stamp_us(scan.stamp_us), back) && back == scan.stamp_us, "log: stamp round trip");
+  }
+  for (const LogOdometry& o : log.odometry)
+    require(std::isfinite(o.pose.x) && std::isfinite(o.pose.y) && std::abs(o.pose.yaw) <= kPi + 1e-12,
+            "log: odometry not finite or yaw not wrapped");
+  const std::vector<LogOdometry> sorted = sort_by_time(log.odometry);
+  for (const LogScan& scan : log.scans) (void)odometry_at(sorted, scan.stamp_us);
+  (void)log_info_text(log);
+  (void)log_info_json(log);
+}
+
+// The CARMEN reader and the text-extract reader on the same bytes.
+inline void fuzz_carmen_log(std::string_view data) {
+  try {
+    check_log(read_carmen_log(data, "fuzz.clf"));
+  } catch (const Error&) {
+  }
+  try {
+    check_log(read_odomscan_text(data, "fuzz.txt"));
+  } catch (const Error&) {
+  }
+}
+
+inline void fuzz_ros_bag(std::string_view data) {
+  try {
+    check_log(read_ros1_bag(data, "fuzz.bag"));
+  } catch (const Error&) {
+  }
+}
+
 struct Target {
   const char* name;
   void (*run)(std::string_view);
@@ -446,6 +485,8 @@ inline constexpr Target kTargets[] = {
     {"fuzz_elevation_yaml", fuzz_elevation_yaml},
     {"fuzz_unity_raw", fuzz_unity_raw},
     {"fuzz_scenario", fuzz_scenario},
+    {"fuzz_carmen_log", fuzz_carmen_log},
+    {"fuzz_ros_bag", fuzz_ros_bag},
 };
 
 inline const Target* find_target(std::string_view name) {

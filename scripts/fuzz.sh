@@ -46,9 +46,11 @@ declare -A MAX_LEN=(
   [fuzz_elevation_yaml]=16384
   [fuzz_unity_raw]=16384
   [fuzz_scenario]=8192
+  [fuzz_carmen_log]=16384
+  [fuzz_ros_bag]=16384
 )
 ALL_TARGETS=(fuzz_movingai_map fuzz_movingai_scen fuzz_pgm fuzz_png fuzz_ros_yaml fuzz_asc
-             fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw fuzz_scenario)
+             fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw fuzz_scenario fuzz_carmen_log fuzz_ros_bag)
 COMMON_FLAGS=(-rss_limit_mb=2048 -timeout=5)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:symbolize=1}
@@ -116,6 +118,7 @@ shared_files() {
     fuzz_png) patterns=("datasets/ros_maps/*/*.png" "datasets/carmen_radish_corrected/*.png") ;;
     fuzz_ros_yaml) patterns=("datasets/ros_maps/*/*.yaml") ;;
     fuzz_asc) patterns=("datasets/dem/*/*.asc") ;;
+    fuzz_ros_bag) patterns=("datasets/carmen_raw/ros1_bags/*.bag") ;;
     *) return 0 ;;
   esac
   local p f

@@ -20,5 +20,6 @@ void register_map_render(CLI::App& map, Context& ctx);       // cmd_map_render.c
 void register_terrain_commands(CLI::App& app, Context& ctx);  // cmd_terrain.cpp
 void register_sim_commands(CLI::App& app, Context& ctx);      // cmd_sim.cpp
 void register_params_command(CLI::App& app, Context& ctx);    // cmd_params.cpp
+void register_log_commands(CLI::App& app, Context& ctx);      // cmd_log.cpp
 
 }  // namespace starnav::cli

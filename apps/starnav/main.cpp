@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_terrain_commands(app, ctx);
   starnav::cli::register_sim_commands(app, ctx);
   starnav::cli::register_params_command(app, ctx);
+  starnav::cli::register_log_commands(app, ctx);
 
   try {
     app.parse(argc, argv);

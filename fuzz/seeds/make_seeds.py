@@ -389,6 +389,67 @@ def scenarios():
     return out
 
 
+def carmen_logs():
+    flaser = b"FLASER 3 1.00 2.50 81.91 0.0 0.0 0.0 1.0 2.0 0.5 100.100000 host 0.2\n"
+    return {
+        "carmen.clf": b"# CARMEN Logfile\nPARAM robot_frontlaser_offset 0.25 nohost 0.0\n"
+        + b"ODOM 1.0 2.0 0.5 0.3 0.1 0.0 100.000001 host 0.1\n" + flaser
+        + b"RAWLASER1 0 -1.5708 3.1416 0.0174533 30.0 0.01 0 2 4.0 5.0 0 100.2 host 0.3\n"
+        + b"ROBOTLASER1 0 -1.0 2.0 0.5 20.0 0.01 0 3 1.5 2.5 3.5 1 9.0 0.1 0.2 0.3 1.0 2.0 0.4 0.5 0.6 0.1 0.1 0.2 100.3 host 0.4\n"
+        + b"TRUEPOS 5.0 6.0 0.7 1.0 2.0 0.5 100.4 host 0.5\nNMEA $GPGGA\n",
+        "flaser_repeat.clf": flaser * 12,
+        "odomscan.txt": b"# extract\nODOMETRY 1.000000 0.5 0.25 0.1 0.2 0.0\nLASERSCAN 1.100000 3 1.00 2.00 3.00\n"
+        + b"ODOMETRY 0.900000 0.6 0.25 3.1 0.2 0.0\n",
+        "bad_count.clf": b"FLASER 99999 1.0\n",
+        "crlf.clf": flaser.replace(b"\n", b"\r\n"),
+    }
+
+
+def ros_bags():
+    """Bags written from the format description (plain and bzip2 chunks; LZ4 needs a module
+    Python lacks: the unit tests cover it)."""
+    import bz2
+
+    def field(name, value):
+        return struct.pack("<I", len(name) + 1 + len(value)) + name + b"=" + value
+
+    def record(header, data):
+        return struct.pack("<I", len(header)) + header + struct.pack("<I", len(data)) + data
+
+    def header(sec, nsec, frame):
+        return struct.pack("<III", 0, sec, nsec) + struct.pack("<I", len(frame)) + frame
+
+    def connection(cid, topic, kind):
+        h = field(b"op", b"\x07") + field(b"conn", struct.pack("<I", cid)) + field(b"topic", topic)
+        return record(h, field(b"topic", topic) + field(b"type", kind) + field(b"md5sum", b"0" * 32))
+
+    def message(cid, sec, data):
+        h = field(b"op", b"\x02") + field(b"conn", struct.pack("<I", cid)) + field(b"time", struct.pack("<II", sec, 0))
+        return record(h, data)
+
+    scan = header(10, 500, b"laser") + struct.pack("<7f", -1.0, 1.0, 0.5, 0.0, 0.0, 0.1, 30.0)
+    scan += struct.pack("<I5f", 5, 1.0, 2.0, 30.0, 4.0, 5.0) + struct.pack("<I", 0)
+    odom = header(10, 0, b"odom") + struct.pack("<I", 9) + b"base_link" + struct.pack("<7d", 1, 2, 0, 0, 0, 0.2, 0.98)
+    odom += struct.pack("<36d", *([0.0] * 36)) + struct.pack("<6d", 0.3, 0, 0, 0, 0, 0.1) + struct.pack("<36d", *([0.0] * 36))
+    tf = struct.pack("<I", 1) + header(0, 0, b"base_link") + struct.pack("<I", 5) + b"laser" + struct.pack("<7d", 0.04, 0, 0, 0, 0, 0, 1)
+    inner = (connection(0, b"/tf_static", b"tf2_msgs/TFMessage") + message(0, 1, tf)
+             + connection(1, b"/scan", b"sensor_msgs/LaserScan") + connection(2, b"/odom", b"nav_msgs/Odometry")
+             + message(2, 10, odom) + message(1, 10, scan))
+
+    def bag(compression, stored):
+        h = field(b"op", b"\x05") + field(b"compression", compression) + field(b"size", struct.pack("<I", len(inner)))
+        bh = field(b"op", b"\x03") + field(b"index_pos", struct.pack("<Q", 0)) + field(b"conn_count", struct.pack("<I", 0))
+        bh += field(b"chunk_count", struct.pack("<I", 0))
+        return b"#ROSBAG V2.0\n" + record(bh, b" " * 64) + record(h, stored)
+
+    return {
+        "plain.bag": bag(b"none", inner),
+        "bz2.bag": bag(b"bz2", bz2.compress(inner, 9)),
+        "unknown_compression.bag": bag(b"zip", inner),
+        "magic_only.bag": b"#ROSBAG V2.0\n",
+    }
+
+
 TARGETS = {
     "fuzz_movingai_map": maps,
     "fuzz_movingai_scen": scens,
@@ -400,6 +461,8 @@ TARGETS = {
     "fuzz_elevation_yaml": elevation_yamls,
     "fuzz_unity_raw": unity_raws,
     "fuzz_scenario": scenarios,
+    "fuzz_carmen_log": carmen_logs,
+    "fuzz_ros_bag": ros_bags,
 }
 
 

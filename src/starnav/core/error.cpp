@@ -30,6 +30,24 @@ std::string one_line(std::string text, std::size_t max_chars) {
   return text;
 }
 
+std::string printable(std::string_view text, std::size_t max_chars) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  const bool cut = max_chars > 0 && text.size() > max_chars;
+  std::string out;
+  for (char c : cut ? text.substr(0, max_chars) : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u >= 0x7f) {
+      out += "\\x";
+      out += kHex[u >> 4];
+      out += kHex[u & 0xf];
+    } else {
+      out += c;
+    }
+  }
+  if (cut) out += "...";
+  return out;
+}
+
 Error::Error(std::string message, std::string file, int line, std::string field)
     : std::runtime_error(format_error_location(file, line, field, message)),
       file_(std::move(file)),

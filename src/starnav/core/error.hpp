@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace starnav {
 
@@ -30,6 +31,11 @@ class Error : public std::runtime_error {
 // `text` fit for one line of an error message: line breaks and tabs become spaces, trailing
 // spaces go, and with max_chars > 0 a longer text is cut to max_chars ending in "...".
 std::string one_line(std::string text, std::size_t max_chars = 0);
+
+// Text taken from input (a token, a topic name) fit to quote in a message: every byte outside
+// printable ASCII becomes \xNN, so that no input can break or forge an error line; with max_chars > 0 a longer
+// text is cut to max_chars and "..." added.
+std::string printable(std::string_view text, std::size_t max_chars = 0);
 
 // FILE[:LINE][: FIELD]: message  (parts that are empty are left out).
 std::string format_error_location(const std::string& file, int line, const std::string& field,

@@ -48,21 +48,6 @@ std::string_view trim_blanks(std::string_view s) {
 
 bool blank_line(std::string_view line) { return trim_blanks(line).empty(); }
 
-std::string printable(std::string_view s, std::size_t max_chars = 40) {
-  std::string out;
-  for (const char c : s.substr(0, max_chars)) {
-    if (c >= 0x20 && c < 0x7f) {
-      out.push_back(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", static_cast<unsigned char>(c));
-      out += buf;
-    }
-  }
-  if (s.size() > max_chars) out += "...";
-  return out;
-}
-
 // A plain non-negative decimal integer (digits only) that fits an int.
 bool parse_non_negative_int(std::string_view text, int& value) {
   if (text.empty()) return false;
@@ -89,10 +74,10 @@ int header_dimension(MovingAiLines& lines, std::string_view keyword, const std::
     throw Error("file ends before the '" + field + "' line", source, lines.line_number() + 1, field);
   std::string_view value;
   if (!split_header(line, keyword, value))
-    throw Error("expected '" + field + " N', found '" + printable(line) + "'", source, lines.line_number(), field);
+    throw Error("expected '" + field + " N', found '" + printable(line, 40) + "'", source, lines.line_number(), field);
   int n = 0;
   if (!parse_non_negative_int(value, n))
-    throw Error("expected a positive integer, found '" + printable(value) + "'", source, lines.line_number(), field);
+    throw Error("expected a positive integer, found '" + printable(value, 40) + "'", source, lines.line_number(), field);
   if (n <= 0) throw Error("must be positive, got " + std::to_string(n), source, lines.line_number(), field);
   return n;
 }
@@ -187,7 +172,7 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
   // One visible-ASCII word ("octile" in every known file), so that it is written back unchanged.
   if (!split_header(line, "type", type) || type.empty() ||
       !std::all_of(type.begin(), type.end(), [](char c) { return c > 0x20 && c < 0x7f; }))
-    throw Error("expected 'type octile', found '" + printable(line) + "'", source, lines.line_number(), "type");
+    throw Error("expected 'type octile', found '" + printable(line, 40) + "'", source, lines.line_number(), "type");
   map.type = std::string(type);
 
   map.height = header_dimension(lines, "height", source);
@@ -200,7 +185,7 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
 
   if (!lines.next(line)) throw Error("file ends before the 'map' line", source, lines.line_number() + 1, "map");
   if (trim_blanks(line) != "map")
-    throw Error("expected 'map', found '" + printable(line) + "'", source, lines.line_number(), "map");
+    throw Error("expected 'map', found '" + printable(line, 40) + "'", source, lines.line_number(), "map");
 
   // Grows with the rows actually present, so a tiny file claiming a huge map allocates little.
   const std::size_t cell_count = static_cast<std::size_t>(map.width) * static_cast<std::size_t>(map.height);
@@ -223,7 +208,7 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
   }
   while (lines.next(line)) {
     if (!blank_line(line))
-      throw Error("unexpected text after the " + std::to_string(map.height) + " map rows: '" + printable(line) + "'",
+      throw Error("unexpected text after the " + std::to_string(map.height) + " map rows: '" + printable(line, 40) + "'",
                   source, lines.line_number(), "map");
   }
   return map;
@@ -268,7 +253,7 @@ MovingAiScenario parse_movingai_scenario(std::string_view text, const std::strin
   if (!lines.next(line)) throw Error("empty file: expected 'version 1'", source, 1, "version");
   std::string_view version;
   if (!split_header(line, "version", version) || (version != "1" && version != "1.0"))
-    throw Error("expected 'version 1' or 'version 1.0', found '" + printable(line) + "'", source, 1, "version");
+    throw Error("expected 'version 1' or 'version 1.0', found '" + printable(line, 40) + "'", source, 1, "version");
   scen.version = std::string(version);
 
   bool separator_known = false;
@@ -296,7 +281,7 @@ MovingAiScenario parse_movingai_scenario(std::string_view text, const std::strin
     ScenarioEntry e;
     auto int_field = [&](std::size_t i, const char* name, int& out) {
       if (!parse_non_negative_int(fields[i], out))
-        throw Error("expected a non-negative integer, found '" + printable(fields[i]) + "'", source, n, name);
+        throw Error("expected a non-negative integer, found '" + printable(fields[i], 40) + "'", source, n, name);
     };
     int_field(0, "bucket", e.bucket);
     e.map = std::string(fields[1]);
@@ -308,7 +293,7 @@ MovingAiScenario parse_movingai_scenario(std::string_view text, const std::strin
     int_field(6, "goal_x", e.goal_x);
     int_field(7, "goal_y", e.goal_y);
     if (!parse_length(fields[8], e.optimal_length))
-      throw Error("expected a non-negative decimal length, found '" + printable(fields[8]) + "'", source, n,
+      throw Error("expected a non-negative decimal length, found '" + printable(fields[8], 40) + "'", source, n,
                   "optimal_length");
     e.optimal_length_text = std::string(fields[8]);
     if (e.map_width <= 0) throw Error("map width must be positive", source, n, "width");

@@ -1,0 +1,257 @@
+#include "starnav/logs/carmen_log.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <limits>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+
+namespace starnav {
+
+namespace {
+
+// The fields of one line and where it is, for errors.
+class Fields {
+ public:
+  Fields(std::string_view line, const std::string& path, int line_no) : path_(path), line_(line_no) {
+    std::size_t i = 0;
+    while (i < line.size()) {
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+      const std::size_t begin = i;
+      while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+      if (i > begin) tokens_.push_back(line.substr(begin, i - begin));
+    }
+  }
+  std::size_t size() const { return tokens_.size(); }
+  std::string_view operator[](std::size_t i) const { return tokens_[i]; }
+  const std::string& type() const {
+    if (type_.empty() && !tokens_.empty()) type_ = printable(tokens_[0], 40);
+    return type_;
+  }
+
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw Error(what, path_, line_, type() + " " + field);
+  }
+  void need(std::size_t n, const std::string& layout) const {
+    if (tokens_.size() < n)
+      fail("fields", "expected at least " + std::to_string(n) + " fields (" + layout + "), got " +
+                         std::to_string(tokens_.size()));
+  }
+  double number(std::size_t i, const char* field) const {
+    if (i >= tokens_.size()) fail(field, "missing");
+    double v = 0.0;
+    const std::string_view t = tokens_[i];
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !std::isfinite(v))
+      fail(field, "expected a finite number, got '" + printable(t, 40) + "'");
+    return v;
+  }
+  std::size_t count(std::size_t i, const char* field, std::size_t max) const {
+    if (i >= tokens_.size()) fail(field, "missing");
+    std::size_t v = 0;
+    const std::string_view t = tokens_[i];
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (r.ec != std::errc() || r.ptr != t.data() + t.size() || v > max)
+      fail(field, "expected a count 0.." + std::to_string(max) + ", got '" + printable(t, 40) + "'");
+    return v;
+  }
+  std::int64_t stamp(std::size_t i, const char* field) const {
+    std::int64_t us = 0;
+    if (i >= tokens_.size()) fail(field, "missing");
+    if (!parse_stamp_us(tokens_[i], us)) fail(field, "expected a timestamp in seconds, got '" + printable(tokens_[i], 40) + "'");
+    return us;
+  }
+  int line() const { return line_; }
+
+ private:
+  std::vector<std::string_view> tokens_;
+  const std::string& path_;
+  int line_;
+  mutable std::string type_;
+};
+
+// Laser readings per line: far above any real scanner (the SICK LMS 1xx family has 1141).
+constexpr std::size_t kMaxBeams = 100000;
+
+template <class Visit>
+void for_each_line(std::string_view text, Visit&& visit) {
+  std::size_t begin = 0;
+  int line_no = 0;
+  while (begin < text.size()) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string_view::npos) end = text.size();
+    ++line_no;
+    visit(text.substr(begin, end - begin), line_no);
+    begin = end + 1;
+  }
+}
+
+bool blank_or_comment(std::string_view line) {
+  const std::size_t i = line.find_first_not_of(" \t\r");
+  return i == std::string_view::npos || line[i] == '#';
+}
+
+void read_ranges(const Fields& f, std::size_t first, std::size_t n, LogScan& s) {
+  s.ranges_m.resize(n);
+  for (std::size_t i = 0; i < n; ++i) s.ranges_m[i] = static_cast<float>(f.number(first + i, "range"));
+}
+
+// The no-return value of logs that do not store it (see the header).
+void set_inferred_range_max(RobotLog& log, const std::vector<std::size_t>& scans, const LogReadOptions& o) {
+  double max_reading = 0.0;
+  std::size_t at_max = 0, readings = 0;
+  for (std::size_t i : scans)
+    for (float r : log.scans[i].ranges_m) {
+      ++readings;
+      if (r > max_reading) max_reading = r, at_max = 0;
+      if (r == static_cast<float>(max_reading)) ++at_max;
+    }
+  double range_max = std::nextafter(max_reading, std::numeric_limits<double>::infinity());
+  if (at_max >= 10 && static_cast<double>(at_max) >= 0.001 * static_cast<double>(readings))
+    range_max = static_cast<float>(max_reading);
+  if (o.range_max_m) range_max = *o.range_max_m;
+  for (std::size_t i : scans) log.scans[i].range_max_m = range_max;
+  log.params["range_max_m"] = std::to_string(range_max) + (o.range_max_m ? " (given)" : " (inferred)");
+}
+
+LogScan raw_laser(const Fields& f, bool robot_laser) {
+  // type start_angle fov resolution max_range accuracy remission_mode n ...
+  f.need(9, "type start_angle fov resolution max_range accuracy remission_mode n ranges...");
+  LogScan s;
+  s.angle_min_rad = f.number(2, "start_angle");
+  s.angle_increment_rad = f.number(4, "angular_resolution");
+  s.range_max_m = f.number(5, "maximum_range");
+  if (!(s.range_max_m > 0)) f.fail("maximum_range", "must be > 0");
+  const std::size_t n = f.count(8, "num_readings", kMaxBeams);
+  read_ranges(f, 9, n, s);
+  const std::size_t m = f.count(9 + n, "num_remissions", kMaxBeams);
+  std::size_t at = 10 + n + m;
+  if (robot_laser) {
+    f.need(at + 11 + 1, "... remissions laser_x laser_y laser_theta x y theta tv rv forward side turn_axis ipc_timestamp");
+    s.laser_pose = Pose2(f.number(at, "laser_x"), f.number(at + 1, "laser_y"), wrap_angle(f.number(at + 2, "laser_theta")));
+    s.odometry = Pose2(f.number(at + 3, "x"), f.number(at + 4, "y"), wrap_angle(f.number(at + 5, "theta")));
+    at += 11;
+  }
+  s.stamp_us = f.stamp(at, "ipc_timestamp");
+  return s;
+}
+
+}  // namespace
+
+void set_flaser_beam_angles(LogScan& s, std::size_t n) {
+  s.angle_min_rad = -kPi / 2;
+  if (n == 180) s.angle_increment_rad = deg_to_rad(1.0);
+  else if (n == 360) s.angle_increment_rad = deg_to_rad(0.5);
+  else s.angle_increment_rad = n > 1 ? kPi / static_cast<double>(n - 1) : 0.0;
+}
+
+RobotLog read_carmen_log(std::string_view text, const std::string& path, const LogReadOptions& o) {
+  RobotLog log;
+  log.path = path;
+  log.format = "carmen";
+  std::vector<std::size_t> flaser;
+  for_each_line(text, [&](std::string_view line, int line_no) {
+    if (blank_or_comment(line)) return;
+    const Fields f(line, path, line_no);
+    const std::string& type = f.type();
+    if (type == "FLASER") {
+      f.need(2, "n ranges... x y theta odom_x odom_y odom_theta ipc_timestamp");
+      const std::size_t n = f.count(1, "num_readings", kMaxBeams);
+      f.need(2 + n + 7, "n ranges... x y theta odom_x odom_y odom_theta ipc_timestamp");
+      LogScan s;
+      set_flaser_beam_angles(s, n);
+      read_ranges(f, 2, n, s);
+      s.odometry = Pose2(f.number(2 + n + 3, "odom_x"), f.number(2 + n + 4, "odom_y"),
+                         wrap_angle(f.number(2 + n + 5, "odom_theta")));
+      s.stamp_us = f.stamp(2 + n + 6, "ipc_timestamp");
+      s.source_index = static_cast<std::size_t>(line_no);
+      flaser.push_back(log.scans.size());
+      log.scans.push_back(std::move(s));
+    } else if (type == "ROBOTLASER1" || type.rfind("RAWLASER", 0) == 0) {
+      if (type.rfind("RAWLASER", 0) == 0 && !(type.size() == 9 && type[8] >= '1' && type[8] <= '4')) {
+        ++log.skipped[type];
+        return;
+      }
+      LogScan s = raw_laser(f, type == "ROBOTLASER1");
+      if (o.range_max_m) s.range_max_m = *o.range_max_m;
+      s.source_index = static_cast<std::size_t>(line_no);
+      log.scans.push_back(std::move(s));
+    } else if (type == "ODOM") {
+      f.need(8, "x y theta tv rv accel ipc_timestamp");
+      LogOdometry od;
+      od.pose = Pose2(f.number(1, "x"), f.number(2, "y"), wrap_angle(f.number(3, "theta")));
+      od.tv_mps = f.number(4, "tv");
+      od.rv_radps = f.number(5, "rv");
+      od.stamp_us = f.stamp(7, "ipc_timestamp");
+      log.odometry.push_back(od);
+    } else if (type == "TRUEPOS") {
+      f.need(8, "x y theta odom_x odom_y odom_theta ipc_timestamp");
+      LogTruePose tp;
+      tp.pose = Pose2(f.number(1, "true_x"), f.number(2, "true_y"), wrap_angle(f.number(3, "true_theta")));
+      tp.odometry = Pose2(f.number(4, "odom_x"), f.number(5, "odom_y"), wrap_angle(f.number(6, "odom_theta")));
+      tp.stamp_us = f.stamp(7, "ipc_timestamp");
+      log.truth.push_back(tp);
+    } else if (type == "PARAM") {
+      f.need(3, "name value");
+      const std::string name = printable(f[1], std::size_t{200});
+      log.params[name] = printable(f[2], std::size_t{200});
+      if (name == "robot_frontlaser_offset") log.laser_in_base = Pose2(f.number(2, "robot_frontlaser_offset"), 0.0, 0.0);
+    } else {
+      ++log.skipped[type];
+    }
+  });
+  if (!flaser.empty()) set_inferred_range_max(log, flaser, o);
+  return log;
+}
+
+RobotLog read_odomscan_text(std::string_view text, const std::string& path, const LogReadOptions& o) {
+  RobotLog log;
+  log.path = path;
+  log.format = "odomscan_text";
+  std::vector<std::size_t> scans;
+  for_each_line(text, [&](std::string_view line, int line_no) {
+    if (blank_or_comment(line)) return;
+    const Fields f(line, path, line_no);
+    if (f.type() == "LASERSCAN") {
+      f.need(3, "ipc_timestamp n ranges...");
+      const std::size_t n = f.count(2, "n", kMaxBeams);
+      if (f.size() != 3 + n) f.fail("ranges", "expected " + std::to_string(n) + " ranges, got " + std::to_string(f.size() - 3));
+      LogScan s;
+      set_flaser_beam_angles(s, n);
+      s.stamp_us = f.stamp(1, "ipc_timestamp");
+      read_ranges(f, 3, n, s);
+      s.source_index = static_cast<std::size_t>(line_no);
+      scans.push_back(log.scans.size());
+      log.scans.push_back(std::move(s));
+    } else if (f.type() == "ODOMETRY") {
+      if (f.size() != 7) f.fail("fields", "expected ODOMETRY ipc_timestamp x y theta tv rv, got " + std::to_string(f.size()) + " fields");
+      LogOdometry od;
+      od.stamp_us = f.stamp(1, "ipc_timestamp");
+      od.pose = Pose2(f.number(2, "x"), f.number(3, "y"), wrap_angle(f.number(4, "theta")));
+      od.tv_mps = f.number(5, "tv");
+      od.rv_radps = f.number(6, "rv");
+      log.odometry.push_back(od);
+    } else {
+      ++log.skipped[f.type()];
+    }
+  });
+  if (!scans.empty()) set_inferred_range_max(log, scans, o);
+  return log;
+}
+
+bool looks_like_odomscan_text(std::string_view text) {
+  bool result = false, decided = false;
+  for_each_line(text.substr(0, 1 << 20), [&](std::string_view line, int) {
+    if (decided || blank_or_comment(line)) return;
+    decided = true;
+    const std::size_t i = line.find_first_not_of(" \t");
+    result = line.substr(i).rfind("ODOMETRY ", 0) == 0 || line.substr(i).rfind("LASERSCAN ", 0) == 0;
+  });
+  return result;
+}
+
+}  // namespace starnav

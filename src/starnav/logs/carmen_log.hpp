@@ -1,0 +1,50 @@
+#pragma once
+// CARMEN logs (.clf, .log, also gzipped) and the plain-text extracts of
+// ../shared/datasets/carmen_raw/derived_from_bags (ODOMETRY / LASERSCAN lines).
+//
+// CARMEN lines read (fields as CARMEN's logger writes them; ipc_timestamp is the message's time):
+//   FLASER n r1..rn x y theta odom_x odom_y odom_theta ipc_timestamp ipc_hostname logger_timestamp
+//   RAWLASER1..4 type start_angle fov resolution max_range accuracy remission_mode n r1..rn
+//       m e1..em ipc_timestamp ipc_hostname logger_timestamp
+//   ROBOTLASER1 type start_angle fov resolution max_range accuracy remission_mode n r1..rn m e1..em
+//       laser_x laser_y laser_theta x y theta tv rv forward_safety side_safety turn_axis
+//       ipc_timestamp ipc_hostname logger_timestamp
+//   ODOM x y theta tv rv accel ipc_timestamp ipc_hostname logger_timestamp
+//   TRUEPOS x y theta odom_x odom_y odom_theta ipc_timestamp ipc_hostname logger_timestamp
+//   PARAM name value ...   (robot_frontlaser_offset gives the laser's forward offset)
+// Other line types are skipped and counted; '#' lines are comments.
+//
+// FLASER and LASERSCAN store no beam angles: n beams span the front half-plane as CARMEN's
+// lasers did (docs/slam.md): 180 beams 1 deg apart from -90 deg, 360 beams 0.5 deg apart from -90
+// deg, any other n from -90 to +90 deg inclusive (361: 0.5 deg). Their no-return value is not
+// stored either: the largest reading of the log is taken for it when it repeats (at least 10
+// times and 0.1 % of the readings, as a saturated sensor's value does: 81.91 m, 81.83 m, 50.00 m
+// in the benchmark logs), else every reading counts; `range_max_m` overrides.
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "starnav/logs/robot_log.hpp"
+
+namespace starnav {
+
+struct LogReadOptions {
+  std::optional<double> range_max_m;  // readings at or beyond it returned nothing
+  std::string scan_topic;              // bags: the LaserScan topic (default: the only one)
+  std::string odom_topic;              // bags: the Odometry topic (default: the only one)
+  // Bags converted from FLASER logs: the beam angles of FLASER (above) instead of the messages'
+  // angle_min and angle_increment, which such converters invented.
+  bool flaser_beam_angles = false;
+};
+
+// FLASER's beam layout for n beams (see above): angle_min and angle_increment of `scan`.
+void set_flaser_beam_angles(LogScan& scan, std::size_t n);
+
+// `text` is the whole (decompressed) file; `path` names it in errors (FILE:LINE: FIELD: what).
+RobotLog read_carmen_log(std::string_view text, const std::string& path, const LogReadOptions& options = {});
+RobotLog read_odomscan_text(std::string_view text, const std::string& path, const LogReadOptions& options = {});
+
+// True when the first non-comment line of `text` is an ODOMETRY or LASERSCAN line.
+bool looks_like_odomscan_text(std::string_view text);
+
+}  // namespace starnav

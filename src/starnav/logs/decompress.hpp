@@ -1,0 +1,25 @@
+#pragma once
+// The compressions robot logs come in: gzip (CARMEN .clf.gz, text extracts), and the bzip2 and LZ4
+// chunks of ROS 1 bags. Every call bounds what it will produce (a log that claims gigabytes is
+// refused before anything is allocated) and fails with an Error naming the file and the byte
+// offset of the compressed block.
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace starnav {
+
+// The most bytes one decompressed log file or bag chunk may hold (1 GiB).
+inline constexpr std::size_t kMaxDecompressedBytes = std::size_t{1} << 30;
+
+// True when `bytes` starts with the gzip magic.
+bool is_gzip(std::string_view bytes);
+// The gunzipped bytes (concatenated members too); Error(path, field "gzip") on corrupt data.
+std::string gunzip(std::string_view bytes, const std::string& path);
+// A bzip2 stream that decompresses to exactly `size` bytes (a bag chunk says its size).
+std::string bunzip2(std::string_view bytes, std::size_t size, const std::string& path, std::size_t offset);
+// An LZ4 frame (roslz4 writes the standard frame format) of exactly `size` bytes.
+std::string lz4_frame_decompress(std::string_view bytes, std::size_t size, const std::string& path,
+                                 std::size_t offset);
+
+}  // namespace starnav

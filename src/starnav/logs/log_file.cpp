@@ -1,0 +1,33 @@
+#include "starnav/logs/log_file.hpp"
+
+#include <filesystem>
+#include <system_error>
+
+#include "starnav/core/error.hpp"
+#include "starnav/io/file_bytes.hpp"
+#include "starnav/logs/decompress.hpp"
+#include "starnav/logs/ros_bag.hpp"
+
+namespace starnav {
+
+RobotLog read_robot_log(const std::string& path, const LogReadOptions& options) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) throw Error("no such file", path);
+  // Devices and pipes could feed bytes without end.
+  if (!fs::is_regular_file(st)) throw Error(fs::is_directory(st) ? "is a directory, not a log" : "is not a regular file", path);
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw Error("cannot read its size", path);
+  if (size > kMaxLogFileBytes) throw Error("is larger than the limit of " + std::to_string(kMaxLogFileBytes) + " bytes", path);
+  std::string bytes = read_file_bytes(path);
+  if (is_gzip(bytes)) bytes = gunzip(bytes, path);
+  if (is_ros1_bag(bytes)) return read_ros1_bag(bytes, path, options);
+  if (looks_like_odomscan_text(bytes)) return read_odomscan_text(bytes, path, options);
+  RobotLog log = read_carmen_log(bytes, path, options);
+  if (log.scans.empty() && log.odometry.empty() && log.truth.empty())
+    throw Error("holds no laser, odometry or ground-truth line: not a CARMEN log, text extract or ROS bag", path);
+  return log;
+}
+
+}  // namespace starnav

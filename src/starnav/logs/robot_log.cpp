@@ -1,0 +1,186 @@
+#include "starnav/logs/robot_log.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/record_format.hpp"
+
+namespace starnav {
+
+bool parse_stamp_us(std::string_view text, std::int64_t& us) {
+  std::size_t i = 0;
+  bool negative = false;
+  if (i < text.size() && (text[i] == '-' || text[i] == '+')) negative = text[i++] == '-';
+  const std::size_t int_begin = i;
+  std::int64_t whole = 0;
+  constexpr std::int64_t kMaxWhole = std::numeric_limits<std::int64_t>::max() / 1'000'000 - 1;
+  while (i < text.size() && text[i] >= '0' && text[i] <= '9') {
+    whole = whole * 10 + (text[i++] - '0');
+    if (whole > kMaxWhole) return false;
+  }
+  const bool has_int = i > int_begin;
+  std::int64_t frac = 0;
+  int digits = 0;
+  bool round_up = false, has_frac = false;
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') {
+      has_frac = true;
+      if (digits < 6) {
+        frac = frac * 10 + (text[i] - '0');
+        ++digits;
+      } else if (digits == 6) {
+        round_up = text[i] >= '5';
+        ++digits;
+      }
+      ++i;
+    }
+  }
+  if (i != text.size() || (!has_int && !has_frac)) return false;
+  for (int d = std::min(digits, 6); d < 6; ++d) frac *= 10;
+  us = whole * 1'000'000 + frac + (round_up ? 1 : 0);
+  if (negative) us = -us;
+  return true;
+}
+
+std::string format_stamp_us(std::int64_t us) {
+  const bool negative = us < 0;
+  const std::uint64_t a = negative ? 0 - static_cast<std::uint64_t>(us) : static_cast<std::uint64_t>(us);
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%s%llu.%06llu", negative ? "-" : "", static_cast<unsigned long long>(a / 1'000'000),
+                static_cast<unsigned long long>(a % 1'000'000));
+  return buffer;
+}
+
+std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry) {
+  std::stable_sort(odometry.begin(), odometry.end(),
+                   [](const LogOdometry& a, const LogOdometry& b) { return a.stamp_us < b.stamp_us; });
+  return odometry;
+}
+
+std::optional<Pose2> odometry_at(const std::vector<LogOdometry>& sorted, std::int64_t stamp_us) {
+  if (sorted.empty()) return std::nullopt;
+  const auto after = std::lower_bound(sorted.begin(), sorted.end(), stamp_us,
+                                      [](const LogOdometry& o, std::int64_t t) { return o.stamp_us < t; });
+  if (after == sorted.begin()) return after->pose;
+  if (after == sorted.end()) return sorted.back().pose;
+  if (after->stamp_us == stamp_us) return after->pose;
+  const LogOdometry& a = *(after - 1);
+  const LogOdometry& b = *after;
+  const double f = static_cast<double>(stamp_us - a.stamp_us) / static_cast<double>(b.stamp_us - a.stamp_us);
+  return Pose2(a.pose.x + f * (b.pose.x - a.pose.x), a.pose.y + f * (b.pose.y - a.pose.y),
+               wrap_angle(a.pose.yaw + f * wrap_angle(b.pose.yaw - a.pose.yaw)));
+}
+
+RobotLogSummary summarise_log(const RobotLog& log) {
+  RobotLogSummary s;
+  s.scans = log.scans.size();
+  s.odometry = log.odometry.size();
+  s.truth = log.truth.size();
+  bool any = false;
+  auto span = [&](std::int64_t t) {
+    s.first_us = any ? std::min(s.first_us, t) : t;
+    s.last_us = any ? std::max(s.last_us, t) : t;
+    any = true;
+  };
+  s.scan_odometry_in_line = !log.scans.empty();
+  for (std::size_t i = 0; i < log.scans.size(); ++i) {
+    const LogScan& scan = log.scans[i];
+    span(scan.stamp_us);
+    if (i > 0 && scan.stamp_us < log.scans[i - 1].stamp_us) ++s.scans_out_of_order;
+    const std::size_t n = scan.ranges_m.size();
+    s.beams_min = i == 0 ? n : std::min(s.beams_min, n);
+    s.beams_max = std::max(s.beams_max, n);
+    s.readings += n;
+    for (std::size_t b = 0; b < n; ++b) s.no_return += scan.ranges_m[b] >= scan.range_max_m;
+    s.scan_odometry_in_line = s.scan_odometry_in_line && scan.odometry.has_value();
+  }
+  if (!log.scans.empty()) s.range_max_m = log.scans.front().range_max_m;
+  for (std::size_t i = 0; i < log.odometry.size(); ++i) {
+    span(log.odometry[i].stamp_us);
+    if (i > 0 && log.odometry[i].stamp_us < log.odometry[i - 1].stamp_us) ++s.odometry_out_of_order;
+  }
+  return s;
+}
+
+namespace {
+
+std::string pose_text(const Pose2& p) {
+  return "(" + format_fixed(p.x, 3) + ", " + format_fixed(p.y, 3) + ", " + format_fixed(rad_to_deg(p.yaw), 2) + " deg)";
+}
+
+}  // namespace
+
+std::string log_info_text(const RobotLog& log) {
+  const RobotLogSummary s = summarise_log(log);
+  std::ostringstream out;
+  out << "file:       " << log.path << "\n";
+  out << "format:     " << log.format << "\n";
+  out << "scans:      " << s.scans;
+  if (s.scans > 0) {
+    const LogScan& first = log.scans.front();
+    out << " of " << s.beams_min;
+    if (s.beams_max != s.beams_min) out << ".." << s.beams_max;
+    out << " beams from " << format_fixed(rad_to_deg(first.angle_min_rad), 2) << " deg every "
+        << format_fixed(rad_to_deg(first.angle_increment_rad), 4) << " deg; no return at or beyond "
+        << format_fixed(s.range_max_m, 3) << " m (" << s.no_return << " of " << s.readings << " readings)";
+  }
+  out << "\n";
+  if (s.scans_out_of_order > 0) out << "            " << s.scans_out_of_order << " scan stamps earlier than the one before\n";
+  out << "odometry:   " << s.odometry << (s.scan_odometry_in_line ? " readings; every scan carries its odometry pose" : " readings")
+      << "\n";
+  if (s.odometry_out_of_order > 0)
+    out << "            " << s.odometry_out_of_order << " odometry stamps earlier than the one before\n";
+  if (s.truth > 0) out << "truth:      " << s.truth << " poses\n";
+  if (s.scans + s.odometry > 0)
+    out << "time:       " << format_stamp_us(s.first_us) << " .. " << format_stamp_us(s.last_us) << " s ("
+        << format_fixed(static_cast<double>(s.last_us - s.first_us) * 1e-6, 3) << " s)\n";
+  out << "laser pose: " << (log.laser_in_base ? pose_text(*log.laser_in_base) + " on the base" : std::string("not in the log"))
+      << "\n";
+  for (const auto& [k, v] : log.params)
+    if (k == "scan_topic" || k == "odom_topic" || k == "range_max_m" || k == "laser_frame") out << k << ": " << v << "\n";
+  for (const auto& [k, n] : log.skipped) out << "skipped:    " << n << " x " << k << "\n";
+  return out.str();
+}
+
+std::string log_info_json(const RobotLog& log) {
+  const RobotLogSummary s = summarise_log(log);
+  nlohmann::ordered_json j;
+  j["file"] = log.path;
+  j["format"] = log.format;
+  j["scans"] = s.scans;
+  j["beams_min"] = s.beams_min;
+  j["beams_max"] = s.beams_max;
+  j["angle_min_rad"] = log.scans.empty() ? 0.0 : log.scans.front().angle_min_rad;
+  j["angle_increment_rad"] = log.scans.empty() ? 0.0 : log.scans.front().angle_increment_rad;
+  j["range_max_m"] = s.range_max_m;
+  j["readings"] = s.readings;
+  j["no_return"] = s.no_return;
+  j["scans_out_of_order"] = s.scans_out_of_order;
+  j["odometry"] = s.odometry;
+  j["odometry_out_of_order"] = s.odometry_out_of_order;
+  j["scan_odometry_in_line"] = s.scan_odometry_in_line;
+  j["truth"] = s.truth;
+  j["first_stamp"] = format_stamp_us(s.first_us);
+  j["last_stamp"] = format_stamp_us(s.last_us);
+  j["duration_s"] = static_cast<double>(s.last_us - s.first_us) * 1e-6;
+  if (log.laser_in_base)
+    j["laser_in_base"] = {{"x_m", log.laser_in_base->x}, {"y_m", log.laser_in_base->y}, {"yaw_rad", log.laser_in_base->yaw}};
+  else
+    j["laser_in_base"] = nullptr;
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+  for (const auto& [k, v] : log.params) params[k] = v;
+  j["params"] = params;
+  nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
+  for (const auto& [k, n] : log.skipped) skipped[k] = n;
+  j["skipped"] = skipped;
+  // Names from a log may hold invalid UTF-8: replaced, not thrown on.
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace starnav

@@ -1,0 +1,92 @@
+#pragma once
+// A robot log as SLAM and mapping read it, whatever file it came from (CARMEN .clf, the text
+// extracts of ../shared/datasets/carmen_raw, ROS 1 bags): 2D laser scans, wheel odometry, and
+// ground-truth poses where a simulator wrote them. Times are the log's own stamps in integer
+// microseconds, so that a stamp printed with 6 decimals survives exactly (the SLAM benchmark's
+// relation files are matched by them); scans and odometry keep the log's order, which is not
+// always time order (docs/slam.md).
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "starnav/core/geometry.hpp"
+
+namespace starnav {
+
+struct LogScan {
+  std::int64_t stamp_us = 0;        // CARMEN ipc_timestamp, bag header.stamp (rounded to 1 us)
+  double angle_min_rad = 0.0;       // beam i at angle_min + i * angle_increment (sensor frame)
+  double angle_increment_rad = 0.0;
+  double range_min_m = 0.0;
+  double range_max_m = 0.0;         // readings at or beyond it returned nothing
+  std::vector<float> ranges_m;
+  std::optional<Pose2> odometry;    // the pose the line itself carries (FLASER, ROBOTLASER1)
+  std::optional<Pose2> laser_pose;  // ROBOTLASER1: the laser's pose (odom frame)
+  std::size_t source_index = 0;     // line (CARMEN, text) or message (bag) number, from 1
+
+  double t_s() const { return static_cast<double>(stamp_us) * 1e-6; }
+  double angle(std::size_t i) const { return angle_min_rad + static_cast<double>(i) * angle_increment_rad; }
+  bool returned(std::size_t i) const {
+    const double r = ranges_m[i];
+    return r >= range_min_m && r < range_max_m;  // NaN fails both
+  }
+};
+
+struct LogOdometry {
+  std::int64_t stamp_us = 0;
+  Pose2 pose;              // odom frame
+  double tv_mps = 0.0;     // forward speed, where the log has it
+  double rv_radps = 0.0;   // yaw rate
+};
+
+struct LogTruePose {
+  std::int64_t stamp_us = 0;
+  Pose2 pose;      // ground truth (simulator)
+  Pose2 odometry;  // the odometry at the same instant
+};
+
+struct RobotLog {
+  std::string path;
+  std::string format;  // "carmen", "odomscan_text", "ros1_bag"
+  std::vector<LogScan> scans;
+  std::vector<LogOdometry> odometry;
+  std::vector<LogTruePose> truth;
+  std::optional<Pose2> laser_in_base;           // PARAM robot_frontlaser_offset, /tf_static
+  std::map<std::string, std::string> params;    // CARMEN PARAM lines, bag topics chosen
+  std::map<std::string, std::size_t> skipped;   // lines of unknown types, messages of other topics
+};
+
+// A decimal timestamp ("1134864629.895182", "-0.5", "70.18") as integer microseconds, rounded
+// half away from zero beyond 6 decimals; false for anything else (exponents, inf, overflow).
+bool parse_stamp_us(std::string_view text, std::int64_t& us);
+// With exactly 6 decimals, as the logs print them.
+std::string format_stamp_us(std::int64_t us);
+
+// The odometry pose at `stamp_us`: linear between the two readings around it in time (yaw the
+// short way round), the nearest reading outside their span; nullopt without odometry. `sorted`
+// must be in time order (sort_by_time).
+std::optional<Pose2> odometry_at(const std::vector<LogOdometry>& sorted, std::int64_t stamp_us);
+// The readings in time order (stable: equal stamps keep the log's order).
+std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry);
+
+// A summary for `starnav log info`: counts, time span, beams, range limits, order.
+struct RobotLogSummary {
+  std::size_t scans = 0, odometry = 0, truth = 0;
+  std::int64_t first_us = 0, last_us = 0;  // over scans and odometry
+  std::size_t beams_min = 0, beams_max = 0;
+  double range_max_m = 0.0;        // of the first scan
+  std::size_t no_return = 0;       // readings at or beyond range_max
+  std::size_t readings = 0;
+  std::size_t scans_out_of_order = 0, odometry_out_of_order = 0;  // stamps earlier than the previous one
+  bool scan_odometry_in_line = false;  // every scan carries its own odometry pose
+};
+RobotLogSummary summarise_log(const RobotLog& log);
+// The summary as `starnav log info` prints it: text, or one JSON object.
+std::string log_info_text(const RobotLog& log);
+std::string log_info_json(const RobotLog& log);
+
+}  // namespace starnav

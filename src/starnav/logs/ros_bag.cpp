@@ -1,0 +1,422 @@
+#include "starnav/logs/ros_bag.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <optional>
+#include <set>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/logs/decompress.hpp"
+
+namespace starnav {
+
+namespace {
+
+constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
+constexpr std::uint8_t kOpMessage = 0x02, kOpBagHeader = 0x03, kOpIndex = 0x04, kOpChunk = 0x05, kOpChunkInfo = 0x06,
+                       kOpConnection = 0x07;
+
+// Little-endian reads over a byte range, failing with the byte offset and the field.
+class ByteReader {
+ public:
+  ByteReader(std::string_view bytes, const std::string& path, std::size_t base, std::string where)
+      : bytes_(bytes), path_(path), base_(base), where_(std::move(where)) {}
+
+  bool done() const { return at_ >= bytes_.size(); }
+  std::size_t offset() const { return at_; }
+  std::size_t remaining() const { return bytes_.size() - at_; }
+
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw Error(what + " (" + where_ + " byte " + std::to_string(base_ + at_) + ")", path_, 0, field);
+  }
+  std::string_view take(std::size_t n, const char* field) {
+    if (n > remaining()) fail(field, "needs " + std::to_string(n) + " bytes, " + std::to_string(remaining()) + " left");
+    const std::string_view v = bytes_.substr(at_, n);
+    at_ += n;
+    return v;
+  }
+  template <class T>
+  T get(const char* field) {
+    const std::string_view b = take(sizeof(T), field);
+    T v;
+    std::memcpy(&v, b.data(), sizeof(T));  // the bag format and every supported host are little-endian
+    return v;
+  }
+  std::uint32_t u32(const char* field) { return get<std::uint32_t>(field); }
+  std::string_view string(const char* field) { return take(u32(field), field); }
+
+ private:
+  std::string_view bytes_;
+  const std::string& path_;
+  std::size_t base_;
+  std::string where_;
+  std::size_t at_ = 0;
+};
+
+// A record header's fields (name=value pairs).
+struct RecordHeader {
+  std::map<std::string, std::string_view, std::less<>> fields;
+
+  std::optional<std::string_view> find(std::string_view name) const {
+    const auto it = fields.find(name);
+    if (it == fields.end()) return std::nullopt;
+    return it->second;
+  }
+  template <class T>
+  T value(std::string_view name, const ByteReader& r) const {
+    const auto v = find(name);
+    if (!v) r.fail(std::string(name), "record header lacks the field");
+    if (v->size() != sizeof(T)) r.fail(std::string(name), "expected " + std::to_string(sizeof(T)) + " bytes");
+    T out;
+    std::memcpy(&out, v->data(), sizeof(T));
+    return out;
+  }
+};
+
+RecordHeader parse_header(std::string_view bytes, const ByteReader& outer) {
+  RecordHeader h;
+  std::size_t i = 0;
+  while (i < bytes.size()) {
+    if (bytes.size() - i < 4) outer.fail("header", "truncated record header field");
+    std::uint32_t len = 0;
+    std::memcpy(&len, bytes.data() + i, 4);
+    i += 4;
+    if (len > bytes.size() - i) outer.fail("header", "record header field longer than its header");
+    const std::string_view field = bytes.substr(i, len);
+    i += len;
+    const std::size_t eq = field.find('=');
+    if (eq == std::string_view::npos) outer.fail("header", "record header field without '='");
+    h.fields[std::string(field.substr(0, eq))] = field.substr(eq + 1);
+  }
+  return h;
+}
+
+struct Record {
+  std::uint8_t op = 0;
+  RecordHeader header;
+  std::string_view data;
+  std::size_t offset = 0;  // where the record starts
+};
+
+// Reads the records of `bytes` in order.
+template <class Visit>
+void for_each_record(ByteReader& r, Visit&& visit) {
+  while (!r.done()) {
+    Record rec;
+    rec.offset = r.offset();
+    const std::string_view header = r.string("header_len");
+    rec.header = parse_header(header, r);
+    const auto op = rec.header.find("op");
+    if (!op || op->size() != 1) r.fail("op", "record header lacks a one-byte op");
+    rec.op = static_cast<std::uint8_t>((*op)[0]);
+    rec.data = r.string("data_len");
+    visit(rec, r);
+  }
+}
+
+std::string header_string(const RecordHeader& h, std::string_view name) {
+  const auto v = h.find(name);
+  return v ? std::string(*v) : std::string();
+}
+
+class BagWalker {
+ public:
+  BagWalker(std::string_view bytes, const std::string& path) : bytes_(bytes), path_(path) {
+    if (!is_ros1_bag(bytes)) throw Error("not a ROS bag 2.0 file (no '#ROSBAG V2.0' line)", path, 0, "magic");
+  }
+
+  void walk(const std::function<void(const BagMessageView&)>* visit) {
+    ByteReader top(bytes_.substr(kMagic.size()), path_, kMagic.size(), "file");
+    for_each_record(top, [&](const Record& rec, ByteReader& r) {
+      switch (rec.op) {
+        case kOpChunk: chunk(rec, r, visit); break;
+        case kOpConnection: connection(rec, r); break;
+        case kOpMessage: message(rec, r, visit, kMagic.size() + rec.offset); break;
+        case kOpBagHeader:
+        case kOpIndex:
+        case kOpChunkInfo: break;
+        default: r.fail("op", "unknown record op " + std::to_string(rec.op));
+      }
+    });
+  }
+
+  std::vector<BagConnection> connections() const {
+    std::vector<BagConnection> out;
+    for (const auto& [id, c] : connections_) out.push_back(*c);
+    return out;
+  }
+
+ private:
+  void connection(const Record& rec, const ByteReader& r) {
+    const std::uint32_t id = rec.header.value<std::uint32_t>("conn", r);
+    // The data is the connection header: topic, type, md5sum, message_definition, ...
+    const RecordHeader h = parse_header(rec.data, r);
+    auto c = std::make_unique<BagConnection>();
+    c->id = id;
+    // Names from the file are kept printable: they reach messages and reports.
+    c->topic = printable(header_string(rec.header, "topic"), 200);
+    c->type = printable(header_string(h, "type"), 200);
+    c->md5sum = printable(header_string(h, "md5sum"), 64);
+    if (c->topic.empty()) c->topic = printable(header_string(h, "topic"), 200);
+    auto& slot = connections_[id];
+    if (!slot) slot = std::move(c);
+  }
+
+  void message(const Record& rec, const ByteReader& r, const std::function<void(const BagMessageView&)>* visit,
+               std::size_t file_offset) {
+    const std::uint32_t id = rec.header.value<std::uint32_t>("conn", r);
+    const std::uint64_t time = rec.header.value<std::uint64_t>("time", r);
+    const auto it = connections_.find(id);
+    if (it == connections_.end()) r.fail("conn", "message on connection " + std::to_string(id) + " before its connection record");
+    if (!visit) return;
+    BagMessageView m;
+    m.connection = it->second.get();
+    m.record_time_ns = static_cast<std::uint64_t>(time & 0xffffffffu) * 1'000'000'000ull + (time >> 32);
+    m.data = rec.data;
+    m.file_offset = file_offset;
+    (*visit)(m);
+  }
+
+  void chunk(const Record& rec, const ByteReader& r, const std::function<void(const BagMessageView&)>* visit) {
+    const std::string compression = header_string(rec.header, "compression");
+    const std::uint32_t size = rec.header.value<std::uint32_t>("size", r);
+    const std::size_t at = kMagic.size() + rec.offset;
+    std::string storage;
+    std::string_view inner;
+    if (compression == "none") {
+      if (rec.data.size() != size) r.fail("size", "chunk size differs from its data");
+      inner = rec.data;
+    } else if (compression == "bz2") {
+      storage = bunzip2(rec.data, size, path_, at);
+      inner = storage;
+    } else if (compression == "lz4") {
+      storage = lz4_frame_decompress(rec.data, size, path_, at);
+      inner = storage;
+    } else {
+      r.fail("compression", "unknown chunk compression '" + printable(compression, 20) + "' (none, bz2, lz4)");
+    }
+    ByteReader in(inner, path_, 0, "chunk at file byte " + std::to_string(at) + ", decompressed");
+    for_each_record(in, [&](const Record& inner_rec, ByteReader& ir) {
+      if (inner_rec.op == kOpConnection) connection(inner_rec, ir);
+      else if (inner_rec.op == kOpMessage) message(inner_rec, ir, visit, at);
+      else ir.fail("op", "record op " + std::to_string(inner_rec.op) + " inside a chunk");
+    });
+  }
+
+  std::string_view bytes_;
+  const std::string& path_;
+  std::map<std::uint32_t, std::unique_ptr<BagConnection>> connections_;
+};
+
+// ---- Messages -------------------------------------------------------------------------------------
+
+struct StampedHeader {
+  std::int64_t stamp_us = 0;
+  std::string frame_id;
+};
+
+StampedHeader read_header(ByteReader& r) {
+  StampedHeader h;
+  r.u32("header.seq");
+  const std::uint32_t sec = r.u32("header.stamp.sec");
+  const std::uint32_t nsec = r.u32("header.stamp.nsec");
+  if (nsec >= 1'000'000'000u) r.fail("header.stamp.nsec", "nanoseconds above 999999999");
+  h.stamp_us = static_cast<std::int64_t>(sec) * 1'000'000 + (static_cast<std::int64_t>(nsec) + 500) / 1000;
+  h.frame_id = printable(r.string("header.frame_id"), 200);
+  return h;
+}
+
+double yaw_of_quaternion(double x, double y, double z, double w) {
+  return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+}
+
+struct DecodedScan {
+  LogScan scan;
+  std::string frame_id;
+};
+
+DecodedScan decode_laser_scan(ByteReader& r) {
+  DecodedScan d;
+  const StampedHeader h = read_header(r);
+  d.frame_id = h.frame_id;
+  LogScan& s = d.scan;
+  s.stamp_us = h.stamp_us;
+  s.angle_min_rad = r.get<float>("angle_min");
+  r.get<float>("angle_max");
+  s.angle_increment_rad = r.get<float>("angle_increment");
+  r.get<float>("time_increment");
+  r.get<float>("scan_time");
+  s.range_min_m = r.get<float>("range_min");
+  s.range_max_m = r.get<float>("range_max");
+  const std::uint32_t n = r.u32("ranges");
+  if (n > r.remaining() / 4) r.fail("ranges", std::to_string(n) + " ranges do not fit the message");
+  s.ranges_m.resize(n);
+  const std::string_view raw = r.take(std::size_t{n} * 4, "ranges");
+  std::memcpy(s.ranges_m.data(), raw.data(), raw.size());
+  if (!std::isfinite(s.angle_min_rad) || !std::isfinite(s.angle_increment_rad))
+    r.fail("angle_increment", "beam angles are not finite");
+  if (std::isnan(s.range_max_m)) r.fail("range_max", "not a number");
+  return d;
+}
+
+struct DecodedOdometry {
+  LogOdometry odometry;
+  std::string child_frame_id;
+};
+
+DecodedOdometry decode_odometry(ByteReader& r) {
+  DecodedOdometry d;
+  const StampedHeader h = read_header(r);
+  d.odometry.stamp_us = h.stamp_us;
+  d.child_frame_id = printable(r.string("child_frame_id"), 200);
+  const double x = r.get<double>("pose.position.x"), y = r.get<double>("pose.position.y");
+  r.get<double>("pose.position.z");
+  const double qx = r.get<double>("pose.orientation.x"), qy = r.get<double>("pose.orientation.y");
+  const double qz = r.get<double>("pose.orientation.z"), qw = r.get<double>("pose.orientation.w");
+  r.take(36 * 8, "pose.covariance");
+  d.odometry.tv_mps = r.get<double>("twist.linear.x");
+  r.get<double>("twist.linear.y");
+  r.get<double>("twist.linear.z");
+  r.get<double>("twist.angular.x");
+  r.get<double>("twist.angular.y");
+  d.odometry.rv_radps = r.get<double>("twist.angular.z");
+  r.take(36 * 8, "twist.covariance");
+  d.odometry.pose = Pose2(x, y, yaw_of_quaternion(qx, qy, qz, qw));
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(d.odometry.pose.yaw))
+    r.fail("pose", "not finite");
+  return d;
+}
+
+struct StaticTransform {
+  std::string parent, child;
+  Pose2 pose;  // child in parent (planar part)
+};
+
+void decode_tf(ByteReader& r, std::vector<StaticTransform>& out) {
+  const std::uint32_t n = r.u32("transforms");
+  if (n > r.remaining() / 16) r.fail("transforms", "more transforms than the message holds");
+  for (std::uint32_t i = 0; i < n; ++i) {
+    StaticTransform t;
+    t.parent = read_header(r).frame_id;
+    t.child = printable(r.string("child_frame_id"), 200);
+    const double x = r.get<double>("translation.x"), y = r.get<double>("translation.y");
+    r.get<double>("translation.z");
+    const double qx = r.get<double>("rotation.x"), qy = r.get<double>("rotation.y");
+    const double qz = r.get<double>("rotation.z"), qw = r.get<double>("rotation.w");
+    t.pose = Pose2(x, y, yaw_of_quaternion(qx, qy, qz, qw));
+    out.push_back(std::move(t));
+  }
+}
+
+std::string strip_slash(std::string s) {
+  while (!s.empty() && s[0] == '/') s.erase(0, 1);
+  return s;
+}
+
+// The planar pose of `to` in `from` through the static transforms (either direction), if linked.
+std::optional<Pose2> chain(const std::vector<StaticTransform>& tfs, const std::string& from, const std::string& to) {
+  std::map<std::string, Pose2> reached{{from, Pose2()}};
+  std::deque<std::string> queue{from};
+  while (!queue.empty()) {
+    const std::string f = queue.front();
+    queue.pop_front();
+    if (f == to) return reached[f];
+    for (const StaticTransform& t : tfs) {
+      const std::string p = strip_slash(t.parent), c = strip_slash(t.child);
+      if (p == f && !reached.count(c)) {
+        reached[c] = reached[f].compose(t.pose);
+        queue.push_back(c);
+      } else if (c == f && !reached.count(p)) {
+        reached[p] = reached[f].compose(t.pose.inverse());
+        queue.push_back(p);
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+// The one topic of `type`, or the named one.
+std::string choose_topic(const std::vector<BagConnection>& conns, const std::string& type, const std::string& wanted,
+                         const std::string& path, const char* flag) {
+  std::set<std::string> topics;
+  for (const BagConnection& c : conns)
+    if (c.type == type) topics.insert(c.topic);
+  if (!wanted.empty()) {
+    if (!topics.count(wanted)) {
+      std::string list;
+      for (const std::string& t : topics) list += (list.empty() ? "" : ", ") + t;
+      throw Error("no " + type + " topic '" + wanted + "' in the bag" + (list.empty() ? "" : " (it has " + list + ")"), path, 0,
+                  flag);
+    }
+    return wanted;
+  }
+  if (topics.size() > 1) {
+    std::string list;
+    for (const std::string& t : topics) list += (list.empty() ? "" : ", ") + t;
+    throw Error("several " + type + " topics (" + list + "): name one", path, 0, flag);
+  }
+  return topics.empty() ? std::string() : *topics.begin();
+}
+
+}  // namespace
+
+bool is_ros1_bag(std::string_view bytes) { return bytes.substr(0, kMagic.size()) == kMagic; }
+
+void for_each_bag_message(std::string_view bytes, const std::string& path,
+                          const std::function<void(const BagMessageView&)>& visit) {
+  BagWalker w(bytes, path);
+  w.walk(&visit);
+}
+
+std::vector<BagConnection> bag_connections(std::string_view bytes, const std::string& path) {
+  BagWalker w(bytes, path);
+  w.walk(nullptr);
+  return w.connections();
+}
+
+RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const LogReadOptions& o) {
+  const std::vector<BagConnection> conns = bag_connections(bytes, path);
+  const std::string scan_topic = choose_topic(conns, "sensor_msgs/LaserScan", o.scan_topic, path, "--scan-topic");
+  const std::string odom_topic = choose_topic(conns, "nav_msgs/Odometry", o.odom_topic, path, "--odom-topic");
+  if (scan_topic.empty()) throw Error("has no sensor_msgs/LaserScan topic", path, 0, "--scan-topic");
+  RobotLog log;
+  log.path = path;
+  log.format = "ros1_bag";
+  log.params["scan_topic"] = scan_topic;
+  if (!odom_topic.empty()) log.params["odom_topic"] = odom_topic;
+  std::string laser_frame, base_frame;
+  std::vector<StaticTransform> statics;
+  std::size_t index = 0;
+  for_each_bag_message(bytes, path, [&](const BagMessageView& m) {
+    ++index;
+    const BagConnection& c = *m.connection;
+    ByteReader r(m.data, path, 0, c.topic + " message " + std::to_string(index) + " (record at file byte " +
+                                      std::to_string(m.file_offset) + "),");
+    if (c.topic == scan_topic) {
+      DecodedScan d = decode_laser_scan(r);
+      if (laser_frame.empty()) laser_frame = strip_slash(d.frame_id);
+      d.scan.source_index = index;
+      if (o.range_max_m) d.scan.range_max_m = *o.range_max_m;
+      if (o.flaser_beam_angles) set_flaser_beam_angles(d.scan, d.scan.ranges_m.size());
+      log.scans.push_back(std::move(d.scan));
+    } else if (c.topic == odom_topic) {
+      DecodedOdometry d = decode_odometry(r);
+      if (base_frame.empty()) base_frame = strip_slash(d.child_frame_id);
+      log.odometry.push_back(d.odometry);
+    } else if (c.type == "tf2_msgs/TFMessage" && strip_slash(c.topic) == "tf_static") {
+      decode_tf(r, statics);
+    } else {
+      ++log.skipped[c.topic + " (" + c.type + ")"];
+    }
+  });
+  if (base_frame.empty()) base_frame = "base_link";
+  if (!laser_frame.empty() && !statics.empty()) {
+    log.laser_in_base = chain(statics, base_frame, laser_frame);
+    if (log.laser_in_base) log.params["laser_frame"] = base_frame + " -> " + laser_frame;
+  }
+  return log;
+}
+
+}  // namespace starnav

@@ -1,0 +1,51 @@
+// starnav log info: the summary of a log in text and JSON, and one error line (file, line, field)
+// with exit 2 for a malformed log, a directory and a device.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "support/test_support.hpp"
+
+namespace starnav {
+namespace {
+
+TEST(CliLog, InfoSummarisesALogAndRefusesBadOnesInOneLine) {
+  const test::ScratchDir dir;
+  const std::string log = dir.file("run.clf");
+  test::write_text(log,
+                   "PARAM robot_frontlaser_offset 0.1 h 0\n"
+                   "ODOM 0 0 0 0 0 0 1.000000 h 0\n"
+                   "FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1.500000 h 0\n"
+                   "ODOM 1 0 0 0 0 0 2.000000 h 0\nSYNC x\n");
+  const test::CliResult text = test::run_cli({"log", "info", log});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("scans:      1 of 3 beams"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("skipped:    1 x SYNC"), std::string::npos) << text.out;
+  const test::CliResult js = test::run_cli({"log", "info", log, "--json"});
+  ASSERT_EQ(js.exit_code, 0) << js.err;
+  const auto j = nlohmann::json::parse(js.out);
+  EXPECT_EQ(j["odometry"], 2);
+  EXPECT_EQ(j["first_stamp"], "1.000000");
+  EXPECT_DOUBLE_EQ(j["laser_in_base"]["x_m"].get<double>(), 0.1);
+
+  test::write_text(dir.file("bad.clf"), "ODOM 0 0 0 0 0 0 1.0 h 0\nFLASER 2 1.0 oops 0 0 0 0 0 0 1.5 h 0\n");
+  struct Row {
+    std::vector<std::string> args;
+    std::string expect;
+  };
+  for (const Row& r : {Row{{"log", "info", dir.file("bad.clf")}, "bad.clf:2: FLASER range: expected a finite number, got 'oops'"},
+                       Row{{"log", "info", dir.path().string()}, "is a directory"},
+                       Row{{"log", "info", "/dev/null"}, "not a regular file"},
+                       Row{{"log", "info", log, "--range-max", "-1"}, "--range-max"}}) {
+    const test::CliResult c = test::run_cli(r.args);
+    EXPECT_EQ(c.exit_code, 2) << r.expect;
+    EXPECT_NE(c.err.find(r.expect), std::string::npos) << c.err;
+    EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
+  }
+}
+
+}  // namespace
+}  // namespace starnav
