@@ -106,6 +106,7 @@ void register_map_commands(CLI::App& app, Context& ctx) {
   });
 
   register_map_render(*map, ctx);
+  register_map_build(*map, ctx);
 }
 
 }  // namespace starnav::cli

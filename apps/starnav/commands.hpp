@@ -17,9 +17,11 @@ void register_bench_ablation(CLI::App& app, Context& ctx);  // cmd_bench_ablatio
 void register_bench_terrain(CLI::App& app, Context& ctx);   // cmd_bench_terrain.cpp (called by register_bench_commands)
 void register_bench_nav(CLI::App& app, Context& ctx);       // cmd_bench_nav.cpp (called by register_bench_commands)
 void register_map_render(CLI::App& map, Context& ctx);       // cmd_map_render.cpp
+void register_map_build(CLI::App& map, Context& ctx);        // cmd_map_build.cpp
 void register_terrain_commands(CLI::App& app, Context& ctx);  // cmd_terrain.cpp
 void register_sim_commands(CLI::App& app, Context& ctx);      // cmd_sim.cpp
 void register_params_command(CLI::App& app, Context& ctx);    // cmd_params.cpp
 void register_log_commands(CLI::App& app, Context& ctx);      // cmd_log.cpp
+void register_slam_commands(CLI::App& app, Context& ctx);     // cmd_slam.cpp
 
 }  // namespace starnav::cli

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_sim_commands(app, ctx);
   starnav::cli::register_params_command(app, ctx);
   starnav::cli::register_log_commands(app, ctx);
+  starnav::cli::register_slam_commands(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -47,5 +47,38 @@ TEST(CliLog, InfoSummarisesALogAndRefusesBadOnesInOneLine) {
   }
 }
 
+TEST(CliMapBuild, MapsALogWithKnownPosesIntoAMapServerMap) {
+  const test::ScratchDir dir;
+  std::string log = "PARAM robot_frontlaser_offset 0.0 h 0\n";
+  for (int i = 0; i < 4; ++i) {
+    // A wall 2 m ahead of a robot standing at the origin, seen in 5 beams over the front half-plane.
+    log += "FLASER 5 2.0 2.1 2.2 2.1 2.0 0 0 0 0 0 0 " + std::to_string(i) + ".000000 h 0\n";
+  }
+  test::write_text(dir.file("wall.clf"), log);
+  const std::string out = dir.file("wall.yaml");
+  const test::CliResult r = test::run_cli({"map", "build", dir.file("wall.clf"), "--out", out, "--json", "--resolution", "0.1",
+                                           "--set", "hit_probability=0.8", "--trajectory-out", dir.file("traj.csv")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["scans_mapped"], 4);
+  EXPECT_GE(j["occupied"].get<int>(), 5);
+  EXPECT_TRUE(test::fs::exists(dir.file("wall.pgm")));
+  const test::CliResult info = test::run_cli({"map", "info", out, "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_EQ(test::read_text(dir.file("traj.csv")).substr(0, 29), "t_s,x_m,y_m,yaw_rad\n0.000000,");
+  // The outputs exist now: without --force, refused before any work.
+  const test::CliResult again = test::run_cli({"map", "build", dir.file("wall.clf"), "--out", out});
+  EXPECT_EQ(again.exit_code, 2);
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"map", "build", dir.file("wall.clf"), "--out", dir.file("b.yaml"), "--poses", dir.file("none.csv")},
+        std::vector<std::string>{"map", "build", dir.file("wall.clf"), "--out", dir.file("b.yaml"), "--set", "hit_probability=2"},
+        std::vector<std::string>{"map", "build", dir.file("wall.clf"), "--out", dir.file("b.yaml"), "--set", "bogus=1"},
+        std::vector<std::string>{"map", "build", dir.file("wall.clf"), "--out", dir.file("b.yaml"), "--poses", "truth"}}) {
+    const test::CliResult c = test::run_cli(args);
+    EXPECT_EQ(c.exit_code, 2) << args.back();
+    EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
+  }
+}
+
 }  // namespace
 }  // namespace starnav

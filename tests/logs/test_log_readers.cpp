@@ -27,12 +27,13 @@ TEST(LogStamps, ParseExactlyAndRoundBeyondMicroseconds) {
   };
   for (const Row& r : {Row{"70.18", 70'180'000}, Row{"1134864629.895182", 1'134'864'629'895'182}, Row{"-0.5", -500'000},
                        Row{"1.0000005", 1'000'001}, Row{"1.0000004", 1'000'000}, Row{"12", 12'000'000}, Row{".25", 250'000},
-                       Row{"+3.000001", 3'000'001}}) {
+                       Row{"+3.000001", 3'000'001}, Row{"4.29497e+09", 4'294'970'000'000'000}, Row{"1.08499e-42", 0},
+                       Row{"2.5e-6", 3}, Row{"1E3", 1'000'000'000}, Row{"0.0000004999", 0}, Row{"123456789012.1234567", 123'456'789'012'123'457}}) {
     std::int64_t us = 0;
     ASSERT_TRUE(parse_stamp_us(r.text, us)) << r.text;
     EXPECT_EQ(us, r.us) << r.text;
   }
-  for (const char* bad : {"", ".", "-", "1e3", "inf", "nan", "1.2.3", "0x10", "12a", "99999999999999999999"}) {
+  for (const char* bad : {"", ".", "-", "1e", "1e+", "inf", "nan", "1.2.3", "0x10", "12a", "99999999999999999999", "1e30"}) {
     std::int64_t us = 0;
     EXPECT_FALSE(parse_stamp_us(bad, us)) << bad;
   }
@@ -156,7 +157,7 @@ TEST(LogReaders, MalformedInputNamesFileLineAndField) {
       {"FLASER x 1 2 3\n", false, 1, "FLASER num_readings"},
       {"FLASER 999999999 1\n", false, 1, "FLASER num_readings"},
       {"# c\nFLASER 1 nan 0 0 0 0 0 0 1.0 h 0\n", false, 2, "FLASER range"},
-      {"FLASER 1 1.0 0 0 0 0 0 0 1e3 h 0\n", false, 1, "FLASER ipc_timestamp"},
+      {"FLASER 1 1.0 0 0 0 0 0 0 1x3 h 0\n", false, 1, "FLASER ipc_timestamp"},
       {"ODOM 1 2 inf 0 0 0 1.0 h 0\n", false, 1, "ODOM theta"},
       {"ODOM 1 2 3\n", false, 1, "ODOM fields"},
       {"TRUEPOS 1 2 3 4 5 6 x h 0\n", false, 1, "TRUEPOS ipc_timestamp"},

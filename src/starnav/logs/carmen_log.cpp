@@ -165,6 +165,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
       LogScan s;
       set_flaser_beam_angles(s, n);
       read_ranges(f, 2, n, s);
+      s.laser_pose = Pose2(f.number(2 + n, "x"), f.number(2 + n + 1, "y"), wrap_angle(f.number(2 + n + 2, "theta")));
       s.odometry = Pose2(f.number(2 + n + 3, "odom_x"), f.number(2 + n + 4, "odom_y"),
                          wrap_angle(f.number(2 + n + 5, "odom_theta")));
       s.stamp_us = f.stamp(2 + n + 6, "ipc_timestamp");

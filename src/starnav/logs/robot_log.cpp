@@ -13,38 +13,66 @@
 namespace starnav {
 
 bool parse_stamp_us(std::string_view text, std::int64_t& us) {
+  // Decimal arithmetic, never through a double: mantissa digits (at most 18 kept, the first
+  // dropped one rounds), a decimal exponent (CARMEN's %g writes "4.29497e+09", "1.08499e-42").
   std::size_t i = 0;
   bool negative = false;
   if (i < text.size() && (text[i] == '-' || text[i] == '+')) negative = text[i++] == '-';
-  const std::size_t int_begin = i;
-  std::int64_t whole = 0;
-  constexpr std::int64_t kMaxWhole = std::numeric_limits<std::int64_t>::max() / 1'000'000 - 1;
-  while (i < text.size() && text[i] >= '0' && text[i] <= '9') {
-    whole = whole * 10 + (text[i++] - '0');
-    if (whole > kMaxWhole) return false;
-  }
-  const bool has_int = i > int_begin;
-  std::int64_t frac = 0;
-  int digits = 0;
-  bool round_up = false, has_frac = false;
+  std::int64_t mantissa = 0;
+  int kept = 0, scale = 0;  // value = mantissa * 10^(scale)
+  bool any_digit = false, round_up = false, dropped = false;
+  auto digit = [&](int d, bool fraction) {
+    any_digit = true;
+    if (kept < 18 && !(kept == 0 && d == 0)) {
+      mantissa = mantissa * 10 + d;
+      ++kept;
+      if (fraction) --scale;
+    } else if (kept >= 18) {
+      if (!dropped) round_up = d >= 5, dropped = true;
+      if (!fraction) ++scale;
+    } else if (fraction) {
+      --scale;  // a leading zero after the point
+    }
+  };
+  while (i < text.size() && text[i] >= '0' && text[i] <= '9') digit(text[i++] - '0', false);
   if (i < text.size() && text[i] == '.') {
     ++i;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') digit(text[i++] - '0', true);
+  }
+  if (!any_digit) return false;
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    bool exp_negative = false;
+    if (i < text.size() && (text[i] == '-' || text[i] == '+')) exp_negative = text[i++] == '-';
+    int e = 0;
+    bool exp_digit = false;
     while (i < text.size() && text[i] >= '0' && text[i] <= '9') {
-      has_frac = true;
-      if (digits < 6) {
-        frac = frac * 10 + (text[i] - '0');
-        ++digits;
-      } else if (digits == 6) {
-        round_up = text[i] >= '5';
-        ++digits;
-      }
+      exp_digit = true;
+      if (e < 100000) e = e * 10 + (text[i] - '0');
       ++i;
     }
+    if (!exp_digit) return false;
+    scale += exp_negative ? -e : e;
   }
-  if (i != text.size() || (!has_int && !has_frac)) return false;
-  for (int d = std::min(digits, 6); d < 6; ++d) frac *= 10;
-  us = whole * 1'000'000 + frac + (round_up ? 1 : 0);
-  if (negative) us = -us;
+  if (i != text.size()) return false;
+  if (round_up) ++mantissa;
+  // To microseconds: times 10^(scale + 6).
+  int shift = scale + 6;
+  std::int64_t v = mantissa;
+  if (shift >= 0) {
+    for (; shift > 0; --shift) {
+      if (v > std::numeric_limits<std::int64_t>::max() / 10) return false;
+      v *= 10;
+    }
+  } else {
+    bool half = false;
+    for (; shift < 0 && v > 0; ++shift) {
+      half = v % 10 >= 5;
+      v /= 10;
+    }
+    if (shift == 0 && half) ++v;  // half away from zero on the last digit dropped
+  }
+  us = negative ? -v : v;
   return true;
 }
 

@@ -24,8 +24,9 @@ struct LogScan {
   double range_min_m = 0.0;
   double range_max_m = 0.0;         // readings at or beyond it returned nothing
   std::vector<float> ranges_m;
-  std::optional<Pose2> odometry;    // the pose the line itself carries (FLASER, ROBOTLASER1)
-  std::optional<Pose2> laser_pose;  // ROBOTLASER1: the laser's pose (odom frame)
+  std::optional<Pose2> odometry;    // the robot's pose the line itself carries (FLASER, ROBOTLASER1)
+  std::optional<Pose2> laser_pose;  // the laser's pose the line carries (FLASER x y theta, ROBOTLASER1);
+                                    // corrected logs hold corrected poses here
   std::size_t source_index = 0;     // line (CARMEN, text) or message (bag) number, from 1
 
   double t_s() const { return static_cast<double>(stamp_us) * 1e-6; }
@@ -60,8 +61,9 @@ struct RobotLog {
   std::map<std::string, std::size_t> skipped;   // lines of unknown types, messages of other topics
 };
 
-// A decimal timestamp ("1134864629.895182", "-0.5", "70.18") as integer microseconds, rounded
-// half away from zero beyond 6 decimals; false for anything else (exponents, inf, overflow).
+// A decimal timestamp ("1134864629.895182", "-0.5", "70.18", also %g's "4.29497e+09") as integer
+// microseconds, computed in decimal (never through a double) and rounded half away from zero
+// beyond 6 decimals; false for anything else (inf, nan, hex, overflow).
 bool parse_stamp_us(std::string_view text, std::int64_t& us);
 // With exactly 6 decimals, as the logs print them.
 std::string format_stamp_us(std::int64_t us);

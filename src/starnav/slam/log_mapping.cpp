@@ -1,0 +1,131 @@
+#include "starnav/slam/log_mapping.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/io/file_bytes.hpp"
+
+namespace starnav {
+
+namespace {
+
+// The truth as odometry-like readings, for interpolation.
+std::vector<LogOdometry> truth_readings(const RobotLog& log) {
+  std::vector<LogOdometry> out;
+  for (const LogTruePose& t : log.truth) out.push_back({t.stamp_us, t.pose, 0.0, 0.0});
+  return sort_by_time(std::move(out));
+}
+
+LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
+                      const std::function<std::optional<Pose2>(const LogScan&, bool& sensor_pose)>& pose_of) {
+  OccupancyMapper mapper(params);
+  LogMapResult r;
+  for (const LogScan& scan : log.scans) {
+    bool is_sensor_pose = false;
+    const std::optional<Pose2> p = pose_of(scan, is_sensor_pose);
+    if (!p) {
+      ++r.scans_without_pose;
+      continue;
+    }
+    const Pose2 sensor = is_sensor_pose ? *p : laser_pose(log, *p);
+    const Pose2 base = is_sensor_pose ? sensor.compose(log.laser_in_base.value_or(Pose2()).inverse()) : *p;
+    mapper.add_scan(sensor, scan);
+    r.base_poses.push_back({scan.stamp_us, base});
+    ++r.scans_mapped;
+  }
+  r.grid = mapper.grid();
+  return r;
+}
+
+}  // namespace
+
+Pose2 laser_pose(const RobotLog& log, const Pose2& base) { return base.compose(log.laser_in_base.value_or(Pose2())); }
+
+LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyMappingParams& params) {
+  const std::vector<LogOdometry> odometry = sort_by_time(log.odometry);
+  const std::vector<LogOdometry> truth = truth_readings(log);
+  if (source == LogPoseSource::Truth && truth.empty()) throw Error("holds no ground truth (TRUEPOS lines)", log.path, 0, "--poses");
+  return map_with(log, params, [&](const LogScan& scan, bool& sensor_pose) -> std::optional<Pose2> {
+    if (source == LogPoseSource::Truth) return odometry_at(truth, scan.stamp_us);
+    if (source == LogPoseSource::Log && scan.laser_pose) {
+      sensor_pose = true;
+      return scan.laser_pose;
+    }
+    if (scan.odometry) return scan.odometry;
+    return odometry_at(odometry, scan.stamp_us);
+  });
+}
+
+std::vector<TrajectoryPose> odometry_trajectory(const RobotLog& log) {
+  const std::vector<LogOdometry> odometry = sort_by_time(log.odometry);
+  std::vector<TrajectoryPose> out;
+  for (const LogScan& scan : log.scans) {
+    const std::optional<Pose2> p = scan.odometry ? scan.odometry : odometry_at(odometry, scan.stamp_us);
+    if (p) out.push_back({scan.stamp_us, *p});
+  }
+  return out;
+}
+
+LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& trajectory, const OccupancyMappingParams& params) {
+  std::map<std::int64_t, Pose2> by_stamp;
+  for (const TrajectoryPose& p : trajectory) by_stamp.emplace(p.stamp_us, p.pose);
+  return map_with(log, params, [&](const LogScan& scan, bool&) -> std::optional<Pose2> {
+    const auto it = by_stamp.find(scan.stamp_us);
+    if (it == by_stamp.end()) return std::nullopt;
+    return it->second;
+  });
+}
+
+std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
+  const std::string text = read_file_bytes(path);
+  std::vector<TrajectoryPose> out;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    if (line_no == 1) {
+      if (line != "t_s,x_m,y_m,yaw_rad") throw Error("expected the header t_s,x_m,y_m,yaw_rad", path, 1);
+      continue;
+    }
+    std::vector<std::string_view> cols;
+    std::string_view rest(line);
+    for (std::size_t comma; (comma = rest.find(',')) != std::string_view::npos; rest.remove_prefix(comma + 1))
+      cols.push_back(rest.substr(0, comma));
+    cols.push_back(rest);
+    if (cols.size() != 4) throw Error("expected 4 columns t_s,x_m,y_m,yaw_rad, got " + std::to_string(cols.size()), path, line_no);
+    TrajectoryPose p;
+    if (!parse_stamp_us(cols[0], p.stamp_us))
+      throw Error("expected a time in seconds, got '" + printable(cols[0], 40) + "'", path, line_no, "t_s");
+    double v[3];
+    const char* names[3] = {"x_m", "y_m", "yaw_rad"};
+    for (int k = 0; k < 3; ++k) {
+      const std::string_view c = cols[k + 1];
+      const auto r = std::from_chars(c.data(), c.data() + c.size(), v[k]);
+      if (r.ec != std::errc() || r.ptr != c.data() + c.size() || !std::isfinite(v[k]))
+        throw Error("expected a finite number, got '" + printable(c, 40) + "'", path, line_no, names[k]);
+    }
+    p.pose = Pose2(v[0], v[1], wrap_angle(v[2]));
+    out.push_back(p);
+  }
+  if (out.empty()) throw Error("holds no pose", path);
+  return out;
+}
+
+std::string trajectory_csv(const std::vector<TrajectoryPose>& poses) {
+  std::string s = "t_s,x_m,y_m,yaw_rad\n";
+  for (const TrajectoryPose& p : poses)
+    s += format_stamp_us(p.stamp_us) + "," + format_number(p.pose.x) + "," + format_number(p.pose.y) + "," +
+         format_number(p.pose.yaw) + "\n";
+  return s;
+}
+
+}  // namespace starnav

@@ -1,0 +1,108 @@
+#pragma once
+// Occupancy grid mapping with known poses (Thrun, Burgard, Fox, Probabilistic Robotics ch. 9; spec
+// ren2022 section 3): each beam lowers the log-odds of the cells it crosses and raises the one it
+// ends in. The grid grows as the robot explores (no size given in advance).
+//
+// Per scan every cell is updated at most once (a hit wins over a pass-through), so a cell near the
+// sensor, crossed by many beams of one scan, is not driven to "free" by that scan alone (as
+// Cartographer's probability grids do). Beams are traced with an exact grid traversal
+// (Amanatides and Woo 1987): a cell is crossed when the segment from the sensor to the reading
+// passes through its interior. Readings below range_min are dropped; a reading at or beyond the
+// scan's range_max returned nothing: with no_return_clear_m > 0 the beam still clears the cells up
+// to that distance, else it is dropped. Readings beyond max_range_m (when > 0) are cut to it and
+// clear only.
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <vector>
+
+#include "starnav/core/geometry.hpp"
+#include "starnav/core/params.hpp"
+#include "starnav/logs/robot_log.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+
+namespace starnav {
+
+// The cells of side `resolution` (lattice corner at the origin) that the segment from `from` to
+// `to` passes through, in order from the one holding `from` to the one holding `to` (visited last,
+// with last = true): an exact traversal (Amanatides and Woo 1987); where the segment passes
+// exactly through a cell corner it steps in y first.
+template <class Visit>
+void for_each_cell_on_segment(const Vec2& from, const Vec2& to, double resolution, Visit&& visit) {
+  const double fx = from.x() / resolution, fy = from.y() / resolution, tx = to.x() / resolution, ty = to.y() / resolution;
+  std::int64_t ix = static_cast<std::int64_t>(std::floor(fx)), iy = static_cast<std::int64_t>(std::floor(fy));
+  const std::int64_t ex = static_cast<std::int64_t>(std::floor(tx)), ey = static_cast<std::int64_t>(std::floor(ty));
+  const double dx = tx - fx, dy = ty - fy;
+  const int sx = dx > 0 ? 1 : (dx < 0 ? -1 : 0), sy = dy > 0 ? 1 : (dy < 0 ? -1 : 0);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // The segment parameter (0..1) at the next vertical and horizontal cell boundary.
+  double t_x = sx > 0 ? (static_cast<double>(ix + 1) - fx) / dx : (sx < 0 ? (static_cast<double>(ix) - fx) / dx : inf);
+  double t_y = sy > 0 ? (static_cast<double>(iy + 1) - fy) / dy : (sy < 0 ? (static_cast<double>(iy) - fy) / dy : inf);
+  const double step_x = sx ? std::abs(1.0 / dx) : inf, step_y = sy ? std::abs(1.0 / dy) : inf;
+  // Exactly |ex - ix| + |ey - iy| boundary crossings; rounding cannot make the walk longer.
+  std::int64_t steps = std::abs(ex - ix) + std::abs(ey - iy);
+  for (; steps > 0; --steps) {
+    visit(ix, iy, false);
+    if (t_x < t_y) {
+      ix += sx;
+      t_x += step_x;
+    } else {
+      iy += sy;
+      t_y += step_y;
+    }
+  }
+  visit(ex, ey, true);
+}
+
+struct OccupancyMappingParams {
+  double resolution_m = 0.05;      // the paper's
+  double hit_probability = 0.7;    // inverse sensor model at the reading
+  double miss_probability = 0.4;   // ... along the beam before it
+  double clamp_min_probability = 0.12;  // log-odds bounds, so a cell can change its mind
+  double clamp_max_probability = 0.97;
+  double max_range_m = 0.0;        // 0: no cut besides the scan's range_max
+  double no_return_clear_m = 0.0;  // 0: no-return beams are dropped
+  void validate() const;           // Error naming the field
+};
+// The declared parameters (keys as the members).
+const ParamTable<OccupancyMappingParams>& occupancy_mapping_params();
+
+class OccupancyMapper {
+ public:
+  explicit OccupancyMapper(const OccupancyMappingParams& params = {});
+
+  // One scan taken from `sensor_pose` (the laser's pose in the map frame).
+  void add_scan(const Pose2& sensor_pose, const LogScan& scan);
+  // Beams in the sensor frame: angle, range; `range_max` as LogScan's.
+  void add_rays(const Pose2& sensor_pose, double angle_min, double angle_increment, const std::vector<float>& ranges,
+                double range_min, double range_max);
+
+  // The map: cells never observed unknown (-1), the others their occupancy probability in
+  // percent (0..100). Its origin is the first observed cell's corner, on the resolution's lattice.
+  // An empty mapper gives a 1 x 1 unknown grid at the origin.
+  OccupancyGrid grid() const;
+  std::size_t scans() const { return scans_; }
+  double log_odds_at(const Vec2& world) const;  // 0 when never observed or outside
+
+ private:
+  struct Cell {
+    float log_odds = 0.0f;
+    float before_scan = 0.0f;     // log_odds before the current scan's update
+    std::uint32_t last_scan = 0;  // scan number of the last update (0: never)
+    bool observed = false;
+    bool last_hit = false;
+  };
+  Cell& cell(std::int64_t ix, std::int64_t iy);  // grows the grid
+  void update(std::int64_t ix, std::int64_t iy, bool hit);
+  void trace(const Vec2& from, const Vec2& to, bool hit);
+
+  OccupancyMappingParams params_;
+  float hit_ = 0, miss_ = 0, lo_ = 0, hi_ = 0;
+  // Cells of [x0, x0 + w) x [y0, y0 + h) on the lattice of cells of `resolution` with corner (0, 0).
+  std::int64_t x0_ = 0, y0_ = 0, w_ = 0, h_ = 0;
+  std::vector<Cell> cells_;
+  std::uint32_t scans_ = 0;
+};
+
+}  // namespace starnav

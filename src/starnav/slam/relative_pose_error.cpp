@@ -1,0 +1,165 @@
+#include "starnav/slam/relative_pose_error.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/io/file_bytes.hpp"
+
+namespace starnav {
+
+namespace {
+
+std::int64_t decimals_unit_us(std::string_view stamp) {
+  const std::size_t dot = stamp.find('.');
+  const std::size_t decimals = dot == std::string_view::npos ? 0 : stamp.size() - dot - 1;
+  std::int64_t unit = 1;
+  for (std::size_t d = std::min<std::size_t>(decimals, 6); d < 6; ++d) unit *= 10;
+  return unit;
+}
+
+ErrorStats stats(const std::vector<double>& v) {
+  ErrorStats s;
+  s.count = v.size();
+  if (v.empty()) return s;
+  double sum = 0.0;
+  for (double x : v) sum += x, s.max = std::max(s.max, x);
+  s.mean = sum / static_cast<double>(v.size());
+  if (v.size() > 1) {
+    double ss = 0.0;
+    for (double x : v) ss += (x - s.mean) * (x - s.mean);
+    s.sd = std::sqrt(ss / static_cast<double>(v.size() - 1));
+  }
+  return s;
+}
+
+// The pose nearest in time to t within `tolerance`, or null.
+const TrajectoryPose* nearest(const std::vector<TrajectoryPose>& sorted, std::int64_t t, std::int64_t tolerance) {
+  const auto it = std::lower_bound(sorted.begin(), sorted.end(), t,
+                                   [](const TrajectoryPose& p, std::int64_t x) { return p.stamp_us < x; });
+  const TrajectoryPose* best = nullptr;
+  std::int64_t best_d = tolerance + 1;
+  for (auto c = it == sorted.begin() ? it : it - 1; c != sorted.end() && c <= it; ++c) {
+    const std::int64_t d = std::abs(c->stamp_us - t);
+    if (d < best_d) best_d = d, best = &*c;
+  }
+  return best_d <= tolerance ? best : nullptr;
+}
+
+}  // namespace
+
+std::vector<PoseRelation> parse_relations(std::string_view text, const std::string& path) {
+  std::vector<PoseRelation> out;
+  std::size_t begin = 0;
+  int line_no = 0;
+  static const char* kColumns[8] = {"t_i", "t_j", "dx", "dy", "dz", "droll", "dpitch", "dyaw"};
+  while (begin < text.size()) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view line = text.substr(begin, end - begin);
+    begin = end + 1;
+    ++line_no;
+    std::vector<std::string_view> f;
+    for (std::size_t i = 0; i < line.size();) {
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+      const std::size_t s = i;
+      while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+      if (i > s) f.push_back(line.substr(s, i - s));
+    }
+    if (f.empty() || f[0][0] == '#') continue;
+    if (f.size() != 8) throw Error("expected 8 columns t_i t_j dx dy dz droll dpitch dyaw, got " + std::to_string(f.size()), path, line_no);
+    PoseRelation r;
+    r.line = line_no;
+    if (!parse_stamp_us(f[0], r.t_i_us)) throw Error("expected a time, got '" + printable(f[0], 40) + "'", path, line_no, "t_i");
+    if (!parse_stamp_us(f[1], r.t_j_us)) throw Error("expected a time, got '" + printable(f[1], 40) + "'", path, line_no, "t_j");
+    r.tolerance_us = std::max(decimals_unit_us(f[0]), decimals_unit_us(f[1]));
+    double v[6];
+    for (int k = 0; k < 6; ++k) {
+      const std::string_view c = f[static_cast<std::size_t>(k + 2)];
+      const auto res = std::from_chars(c.data(), c.data() + c.size(), v[k]);
+      if (res.ec != std::errc() || res.ptr != c.data() + c.size() || !std::isfinite(v[k]))
+        throw Error("expected a finite number, got '" + printable(c, 40) + "'", path, line_no, kColumns[k + 2]);
+    }
+    r.delta = Pose2(v[0], v[1], wrap_angle(v[5]));
+    out.push_back(r);
+  }
+  if (out.empty()) throw Error("holds no relation", path);
+  return out;
+}
+
+std::vector<PoseRelation> read_relations(const std::string& path) { return parse_relations(read_file_bytes(path), path); }
+
+RelativePoseError relative_pose_error(const std::vector<TrajectoryPose>& trajectory, const std::vector<PoseRelation>& relations,
+                                      const Pose2& offset) {
+  std::vector<TrajectoryPose> sorted = trajectory;
+  std::sort(sorted.begin(), sorted.end(), [](const TrajectoryPose& a, const TrajectoryPose& b) { return a.stamp_us < b.stamp_us; });
+  RelativePoseError e;
+  e.relations = relations.size();
+  std::vector<double> trans, rot;
+  for (const PoseRelation& r : relations) {
+    const TrajectoryPose* a = nearest(sorted, r.t_i_us, r.tolerance_us);
+    const TrajectoryPose* b = nearest(sorted, r.t_j_us, r.tolerance_us);
+    if (!a || !b) {
+      ++e.unmatched;
+      continue;
+    }
+    const Pose2 xi = a->pose.compose(offset), xj = b->pose.compose(offset);
+    const Pose2 delta = xi.inverse().compose(xj);
+    const Pose2 err = r.delta.inverse().compose(delta);
+    trans.push_back(std::hypot(err.x, err.y));
+    rot.push_back(rad_to_deg(std::abs(wrap_angle(err.yaw))));
+  }
+  e.translation_m = stats(trans);
+  e.rotation_deg = stats(rot);
+  return e;
+}
+
+namespace {
+
+std::string stats_text(const ErrorStats& s, int precision, const char* unit) {
+  return format_fixed(s.mean, precision) + " ± " + format_fixed(s.sd, precision) + " " + unit + " (max " +
+         format_fixed(s.max, precision) + ")";
+}
+
+nlohmann::ordered_json stats_json(const ErrorStats& s) {
+  return {{"mean", s.mean}, {"sd", s.sd}, {"max", s.max}, {"count", s.count}};
+}
+
+nlohmann::ordered_json error_json(const RelativePoseError& e) {
+  nlohmann::ordered_json j;
+  j["translation_m"] = stats_json(e.translation_m);
+  j["rotation_deg"] = stats_json(e.rotation_deg);
+  j["relations"] = e.relations;
+  j["unmatched"] = e.unmatched;
+  return j;
+}
+
+}  // namespace
+
+std::string rpe_text(const RelativePoseError& base, const std::optional<RelativePoseError>& laser, const Pose2& offset) {
+  std::ostringstream out;
+  out << "relations:   " << base.relations << " (" << base.translation_m.count << " evaluated, " << base.unmatched
+      << " with an end not in the trajectory)\n";
+  out << "base:        translation " << stats_text(base.translation_m, 4, "m") << ", rotation "
+      << stats_text(base.rotation_deg, 3, "deg") << "\n";
+  if (laser)
+    out << "laser:       translation " << stats_text(laser->translation_m, 4, "m") << ", rotation "
+        << stats_text(laser->rotation_deg, 3, "deg") << " (mount " << format_number(offset.x) << ", "
+        << format_number(offset.y) << " m, " << format_number(rad_to_deg(offset.yaw)) << " deg)\n";
+  return out.str();
+}
+
+std::string rpe_json(const RelativePoseError& base, const std::optional<RelativePoseError>& laser, const Pose2& offset) {
+  nlohmann::ordered_json j;
+  j["base"] = error_json(base);
+  j["laser"] = laser ? error_json(*laser) : nlohmann::ordered_json(nullptr);
+  j["laser_offset"] = {{"x_m", offset.x}, {"y_m", offset.y}, {"yaw_rad", offset.yaw}};
+  return j.dump() + "\n";
+}
+
+}  // namespace starnav

@@ -1,0 +1,235 @@
+// Occupancy mapping with known poses: the grid traversal against a brute-force walk along the
+// segment, the log-odds update against its closed form (one update per cell and scan, hits over
+// pass-throughs), a room mapped from analytic scans against its walls, growth and its bound, maps
+// from logs (poses of the log, truth, a trajectory file), and on ../shared/ the intel corrected
+// log mapped so that its own readings land on occupied cells.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/rng.hpp"
+#include "starnav/logs/log_file.hpp"
+#include "starnav/slam/log_mapping.hpp"
+#include "starnav/slam/occupancy_mapping.hpp"
+#include "support/test_support.hpp"
+
+namespace starnav {
+namespace {
+
+using CellKey = std::pair<std::int64_t, std::int64_t>;
+
+// Length (in cells) of the part of segment a-b inside cell c (Liang-Barsky clipping).
+double length_inside(const Vec2& a, const Vec2& b, const CellKey& c) {
+  double t0 = 0.0, t1 = 1.0;
+  const double d[2] = {b.x() - a.x(), b.y() - a.y()}, p0[2] = {a.x(), a.y()};
+  const double lo[2] = {static_cast<double>(c.first), static_cast<double>(c.second)};
+  for (int k = 0; k < 2; ++k) {
+    if (d[k] == 0.0) {
+      if (p0[k] < lo[k] || p0[k] > lo[k] + 1) return 0.0;
+      continue;
+    }
+    double ta = (lo[k] - p0[k]) / d[k], tb = (lo[k] + 1 - p0[k]) / d[k];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+  }
+  return t1 > t0 ? (t1 - t0) * std::hypot(d[0], d[1]) : 0.0;
+}
+
+TEST(GridTraversal, VisitsTheCellsABruteForceWalkFindsInOrder) {
+  Rng rng(7);
+  int extra_total = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const Vec2 a(rng.uniform(-20, 20), rng.uniform(-20, 20));
+    const Vec2 b = trial % 10 == 0 ? Vec2(a.x() + rng.uniform(-0.4, 0.4), a.y()) : Vec2(rng.uniform(-20, 20), rng.uniform(-20, 20));
+    std::vector<CellKey> dda;
+    for_each_cell_on_segment(a, b, 1.0, [&](std::int64_t x, std::int64_t y, bool) { dda.push_back({x, y}); });
+    // Brute force: 200,000 samples along the segment.
+    std::set<CellKey> brute;
+    const int n = 200000;
+    for (int k = 0; k < n; ++k) {
+      const Vec2 p = a + ((k + 0.5) / n) * (b - a);
+      brute.insert({static_cast<std::int64_t>(std::floor(p.x())), static_cast<std::int64_t>(std::floor(p.y()))});
+    }
+    const std::set<CellKey> dda_set(dda.begin(), dda.end());
+    ASSERT_EQ(dda_set.size(), dda.size()) << "a cell visited twice";
+    for (const CellKey& c : brute) EXPECT_TRUE(dda_set.count(c)) << "missed a cell, trial " << trial;
+    // Cells the samples did not hit: only slivers thinner than the sampling step.
+    const double step = (b - a).norm() / n;
+    for (const CellKey& c : dda_set)
+      if (!brute.count(c)) {
+        ++extra_total;
+        EXPECT_LT(length_inside(a, b, c), 2 * step) << "trial " << trial;
+      }
+    // 4-connected, from a's cell to b's.
+    EXPECT_EQ(dda.front(), CellKey(std::floor(a.x()), std::floor(a.y())));
+    EXPECT_EQ(dda.back(), CellKey(std::floor(b.x()), std::floor(b.y())));
+    for (std::size_t i = 1; i < dda.size(); ++i)
+      EXPECT_EQ(std::abs(dda[i].first - dda[i - 1].first) + std::abs(dda[i].second - dda[i - 1].second), 1);
+  }
+  EXPECT_LT(extra_total, 20);
+}
+
+double logit(double p) { return std::log(p / (1 - p)); }
+
+TEST(OccupancyMapper, OneUpdatePerCellAndScanAndHitsWinOverPassThroughs) {
+  OccupancyMappingParams p;
+  p.resolution_m = 0.1;
+  OccupancyMapper m(p);
+  // 50 beams from (0.05, 0.05) fanning out over 10 degrees: all cross the sensor's neighbour cells.
+  std::vector<float> ranges(50, 2.0f);
+  m.add_rays(Pose2(0.05, 0.05, 0.0), -deg_to_rad(5), deg_to_rad(10) / 49, ranges, 0.0, 10.0);
+  EXPECT_NEAR(m.log_odds_at({0.25, 0.05}), logit(0.4), 1e-6);  // once, not 50 times
+  EXPECT_NEAR(m.log_odds_at({2.05, 0.05}), logit(0.7), 1e-6);
+  // Second scan: beam 0 passes through (0.55, 0.05) and beam 1 ends there.
+  m.add_rays(Pose2(0.05, 0.05, 0.0), 0.0, 0.0, {1.0f, 0.52f}, 0.0, 10.0);
+  EXPECT_NEAR(m.log_odds_at({0.55, 0.05}), logit(0.4) + logit(0.7), 1e-6);
+  // Clamping.
+  for (int i = 0; i < 100; ++i) m.add_rays(Pose2(0.05, 0.05, 0.0), 0.0, 0.0, {2.0f}, 0.0, 10.0);
+  EXPECT_NEAR(m.log_odds_at({2.05, 0.05}), logit(0.97), 1e-6);
+  EXPECT_NEAR(m.log_odds_at({1.05, 0.05}), logit(0.12), 1e-6);
+  EXPECT_EQ(m.log_odds_at({-50, -50}), 0.0);
+}
+
+// Distance from p along direction a to the walls of [0, w] x [0, h] (p inside).
+double to_walls(const Vec2& p, double a, double w, double h) {
+  const double c = std::cos(a), s = std::sin(a);
+  double t = 1e9;
+  if (c > 1e-12) t = std::min(t, (w - p.x()) / c);
+  if (c < -1e-12) t = std::min(t, -p.x() / c);
+  if (s > 1e-12) t = std::min(t, (h - p.y()) / s);
+  if (s < -1e-12) t = std::min(t, -p.y() / s);
+  return t;
+}
+
+TEST(OccupancyMapper, AMappedRoomHasItsWallsOccupiedItsInsideFreeAndItsOutsideUnknown) {
+  const double w = 4.0, h = 3.0;
+  OccupancyMappingParams p;  // 0.05 m
+  OccupancyMapper m(p);
+  // Five scans: each lowers a free cell's log-odds by logit(0.4), and map_server's free threshold
+  // (0.196) needs four of them.
+  for (const Pose2& pose : {Pose2(1.0, 1.0, 0.3), Pose2(3.0, 2.0, -2.0), Pose2(2.0, 1.5, 1.0), Pose2(0.8, 2.2, 2.5),
+                            Pose2(3.2, 0.7, -0.4)}) {
+    std::vector<float> ranges;
+    const int n = 720;
+    const double inc = 2 * kPi / n;
+    for (int i = 0; i < n; ++i) {
+      const double d = to_walls(pose.translation(), pose.yaw - kPi + i * inc, w, h);
+      // Every 10th beam returns nothing (a no-return value beyond range_max).
+      ranges.push_back(i % 10 == 0 ? 30.0f : static_cast<float>(d + 1e-4));
+    }
+    m.add_rays(pose, -kPi, inc, ranges, 0.1, 25.0);
+  }
+  const OccupancyGrid g = m.grid();
+  auto value = [&](double x, double y) {
+    const Vec2 c = g.geometry().world_to_cell_continuous({x, y});
+    return g.at(static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y())));
+  };
+  for (double s = 0.1; s < 3.9; s += 0.2) {
+    EXPECT_GE(value(s, h + 0.01), 65) << "north wall at x " << s;
+    EXPECT_GE(value(s, -0.01), 65) << "south wall at x " << s;  // readings end just beyond y = 0
+  }
+  for (double s = 0.1; s < 2.9; s += 0.2) {
+    EXPECT_GE(value(w + 0.01, s), 65) << "east wall at y " << s;
+    EXPECT_GE(value(-0.01, s), 65) << "west wall at y " << s;
+  }
+  for (double x = 0.3; x < 3.7; x += 0.25)
+    for (double y = 0.3; y < 2.7; y += 0.25) EXPECT_LE(value(x, y), 19) << x << ", " << y;
+  // Nothing beyond the walls: the grid ends within a cell or two of them.
+  EXPECT_GE(g.origin().x, -0.1 - 1e-9);
+  EXPECT_GE(g.origin().y, -0.1 - 1e-9);
+  EXPECT_LE(g.origin().x + g.width() * g.resolution(), w + 0.1 + 1e-9);
+  EXPECT_NEAR(std::fmod(std::abs(g.origin().x), 0.05), 0.0, 1e-9);  // on the lattice
+}
+
+TEST(OccupancyMapper, GrowsFarAndRefusesAbsurdExtents) {
+  OccupancyMapper m;
+  m.add_rays(Pose2(0, 0, 0), 0, 0, {1.0f}, 0, 10);
+  m.add_rays(Pose2(150, -80, 0), 0, 0, {1.0f}, 0, 10);
+  EXPECT_GT(m.log_odds_at({151.02, -79.98}), 0.0);
+  EXPECT_GT(m.log_odds_at({1.02, 0.02}), 0.0);
+  EXPECT_THROW(m.add_rays(Pose2(1e7, 1e7, 0), 0, 0, {1.0f}, 0, 10), Error);
+  EXPECT_THROW(m.add_rays(Pose2(NAN, 0, 0), 0, 0, {1.0f}, 0, 10), Error);
+  OccupancyMappingParams bad;
+  bad.hit_probability = 0.3;
+  EXPECT_THROW(OccupancyMapper{bad}, Error);
+}
+
+const char* kLoggedRoom =
+    "PARAM robot_frontlaser_offset 0.2 h 0\n"
+    "ODOM 1.0 1.0 0.0 0 0 0 1.000000 h 0\n"
+    "TRUEPOS 1.5 1.0 0.0 1.0 1.0 0.0 1.000000 h 0\n"
+    "ODOM 1.0 1.0 0.0 0 0 0 2.000000 h 0\n"
+    "TRUEPOS 1.5 1.0 0.0 1.0 1.0 0.0 2.000000 h 0\n"
+    "RAWLASER1 0 0.0 0.0 0.0 20.0 0.01 0 1 2.0 0 1.500000 h 0\n";
+
+TEST(LogMapping, PosesFromTheLogTheTruthOrATrajectoryFile) {
+  const RobotLog log = read_carmen_log(kLoggedRoom, "room.clf");
+  OccupancyMappingParams p;
+  // Odometry (1, 1) + the 0.2 m mount: the reading ends at x = 3.2.
+  const LogMapResult odo = map_log(log, LogPoseSource::Log, p);
+  ASSERT_EQ(odo.scans_mapped, 1u);
+  EXPECT_NEAR(odo.base_poses[0].pose.x, 1.0, 1e-12);
+  auto occupied_at = [](const OccupancyGrid& g, double x) {
+    const Vec2 c = g.geometry().world_to_cell_continuous({x, 1.0});
+    return g.at(static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))) >= 65;
+  };
+  EXPECT_TRUE(occupied_at(odo.grid, 3.22));
+  const LogMapResult truth = map_log(log, LogPoseSource::Truth, p);
+  EXPECT_TRUE(occupied_at(truth.grid, 3.72));
+  const test::ScratchDir dir;
+  test::write_text(dir.file("t.csv"), "t_s,x_m,y_m,yaw_rad\n1.500000,0.5,1.0,0.0\n9.000000,0,0,0\n");
+  const LogMapResult file = map_log(log, read_trajectory_csv(dir.file("t.csv")), p);
+  EXPECT_TRUE(occupied_at(file.grid, 2.72));
+  EXPECT_EQ(trajectory_csv(file.base_poses), "t_s,x_m,y_m,yaw_rad\n1.500000,0.5,1,0\n");
+  test::write_text(dir.file("t2.csv"), "t_s,x_m,y_m,yaw_rad\n1.500000,0.5,1.0\n");
+  EXPECT_THROW(read_trajectory_csv(dir.file("t2.csv")), Error);
+  test::write_text(dir.file("t3.csv"), "t_s,x_m,y_m,yaw_rad\n1.5,nan,1.0,0\n");
+  try {
+    read_trajectory_csv(dir.file("t3.csv"));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.field(), "x_m");
+  }
+  EXPECT_THROW(map_log(read_carmen_log("ODOM 0 0 0 0 0 0 1.0 h 0\n", "x.clf"), LogPoseSource::Truth, p), Error);
+}
+
+TEST(LogMapping, TheIntelCorrectedLogsReadingsLandOnItsOccupiedCells) {
+  STARNAV_SKIP_WITHOUT_SHARED("datasets/carmen_radish_corrected/intel-corrected.log.gz");
+  const RobotLog log = read_robot_log(test::shared_path("datasets/carmen_radish_corrected/intel-corrected.log.gz"));
+  ASSERT_EQ(log.scans.size(), 910u);
+  const LogMapResult r = map_log(log, LogPoseSource::Log, OccupancyMappingParams{});
+  ASSERT_EQ(r.scans_mapped, 910u);
+  // Independent of the map's pixels: every 7th scan's own readings, projected from its pose, land
+  // on an occupied cell or next to one (a wall seen from many sides is a band of cells).
+  std::size_t hits = 0, on_occupied = 0, near_occupied = 0;
+  const GridGeometry& g = r.grid.geometry();
+  auto occupied = [&](int x, int y) { return g.contains(x, y) && r.grid(x, y) >= 65; };
+  for (std::size_t i = 0; i < log.scans.size(); i += 7) {
+    const LogScan& s = log.scans[i];
+    for (std::size_t b = 0; b < s.ranges_m.size(); ++b) {
+      if (!s.returned(b) || s.ranges_m[b] > 20.0f) continue;
+      const Vec2 p = s.laser_pose->transform(double(s.ranges_m[b]) * Vec2(std::cos(s.angle(b)), std::sin(s.angle(b))));
+      const Vec2 c = g.world_to_cell_continuous(p);
+      const int x = static_cast<int>(std::floor(c.x())), y = static_cast<int>(std::floor(c.y()));
+      ++hits;
+      on_occupied += occupied(x, y);
+      bool near = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) near = near || occupied(x + dx, y + dy);
+      near_occupied += near;
+    }
+  }
+  EXPECT_GT(hits, 15000u);
+  EXPECT_GT(static_cast<double>(on_occupied) / static_cast<double>(hits), 0.7) << on_occupied << " of " << hits;
+  EXPECT_GT(static_cast<double>(near_occupied) / static_cast<double>(hits), 0.95) << near_occupied << " of " << hits;
+}
+
+}  // namespace
+}  // namespace starnav
