@@ -9,6 +9,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/text_lines.hpp"
 
 namespace starnav {
 
@@ -76,19 +77,6 @@ class Fields {
 
 // Laser readings per line: far above any real scanner (the SICK LMS 1xx family has 1141).
 constexpr std::size_t kMaxBeams = 100000;
-
-template <class Visit>
-void for_each_line(std::string_view text, Visit&& visit) {
-  std::size_t begin = 0;
-  int line_no = 0;
-  while (begin < text.size()) {
-    std::size_t end = text.find('\n', begin);
-    if (end == std::string_view::npos) end = text.size();
-    ++line_no;
-    visit(text.substr(begin, end - begin), line_no);
-    begin = end + 1;
-  }
-}
 
 bool blank_or_comment(std::string_view line) {
   const std::size_t i = line.find_first_not_of(" \t\r");

@@ -254,7 +254,7 @@ DecodedScan decode_laser_scan(ByteReader& r) {
   if (n > r.remaining() / 4) r.fail("ranges", std::to_string(n) + " ranges do not fit the message");
   s.ranges_m.resize(n);
   const std::string_view raw = r.take(std::size_t{n} * 4, "ranges");
-  std::memcpy(s.ranges_m.data(), raw.data(), raw.size());
+  if (n > 0) std::memcpy(s.ranges_m.data(), raw.data(), raw.size());  // an empty vector's data() may be null
   if (!std::isfinite(s.angle_min_rad) || !std::isfinite(s.angle_increment_rad))
     r.fail("angle_increment", "beam angles are not finite");
   if (std::isnan(s.range_max_m)) r.fail("range_max", "not a number");

@@ -9,6 +9,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
+#include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
@@ -85,19 +86,14 @@ LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& tra
 std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
   const std::string text = read_file_bytes(path);
   std::vector<TrajectoryPose> out;
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
+  for_each_line(text, [&](std::string_view line, int line_no) {
+    if (line.empty()) return;
     if (line_no == 1) {
       if (line != "t_s,x_m,y_m,yaw_rad") throw Error("expected the header t_s,x_m,y_m,yaw_rad", path, 1);
-      continue;
+      return;
     }
     std::vector<std::string_view> cols;
-    std::string_view rest(line);
+    std::string_view rest = line;
     for (std::size_t comma; (comma = rest.find(',')) != std::string_view::npos; rest.remove_prefix(comma + 1))
       cols.push_back(rest.substr(0, comma));
     cols.push_back(rest);
@@ -115,7 +111,7 @@ std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
     }
     p.pose = Pose2(v[0], v[1], wrap_angle(v[2]));
     out.push_back(p);
-  }
+  });
   if (out.empty()) throw Error("holds no pose", path);
   return out;
 }

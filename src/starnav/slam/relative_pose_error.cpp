@@ -9,6 +9,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
+#include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
@@ -55,15 +56,8 @@ const TrajectoryPose* nearest(const std::vector<TrajectoryPose>& sorted, std::in
 
 std::vector<PoseRelation> parse_relations(std::string_view text, const std::string& path) {
   std::vector<PoseRelation> out;
-  std::size_t begin = 0;
-  int line_no = 0;
   static const char* kColumns[8] = {"t_i", "t_j", "dx", "dy", "dz", "droll", "dpitch", "dyaw"};
-  while (begin < text.size()) {
-    std::size_t end = text.find('\n', begin);
-    if (end == std::string_view::npos) end = text.size();
-    const std::string_view line = text.substr(begin, end - begin);
-    begin = end + 1;
-    ++line_no;
+  for_each_line(text, [&](std::string_view line, int line_no) {
     std::vector<std::string_view> f;
     for (std::size_t i = 0; i < line.size();) {
       while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
@@ -71,7 +65,7 @@ std::vector<PoseRelation> parse_relations(std::string_view text, const std::stri
       while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
       if (i > s) f.push_back(line.substr(s, i - s));
     }
-    if (f.empty() || f[0][0] == '#') continue;
+    if (f.empty() || f[0][0] == '#') return;
     if (f.size() != 8) throw Error("expected 8 columns t_i t_j dx dy dz droll dpitch dyaw, got " + std::to_string(f.size()), path, line_no);
     PoseRelation r;
     r.line = line_no;
@@ -87,7 +81,7 @@ std::vector<PoseRelation> parse_relations(std::string_view text, const std::stri
     }
     r.delta = Pose2(v[0], v[1], wrap_angle(v[5]));
     out.push_back(r);
-  }
+  });
   if (out.empty()) throw Error("holds no relation", path);
   return out;
 }
