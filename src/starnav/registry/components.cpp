@@ -17,13 +17,18 @@ namespace starnav {
 #define STARNAV_LOCALIZERS(X) \
   X(ground_truth_localizer) /* estimate/ground_truth_localizer.cpp */
 
-// (Slam and ScanMatcher implementations come with the SLAM issues: STARNAV_SLAM(X), STARNAV_SCAN_MATCHERS(X).)
+#define STARNAV_SCAN_MATCHERS(X) \
+  X(correlative_scan_matcher) /* slam/correlative_scan_matcher.cpp */
+
+// (Slam implementations come with the SLAM issue: STARNAV_SLAM(X).)
 
 #define STARNAV_DECLARE_CONTROLLER(f) LocalControllerDef f();
 #define STARNAV_DECLARE_LOCALIZER(f) LocalizerDef f();
+#define STARNAV_DECLARE_SCAN_MATCHER(f) ScanMatcherDef f();
 #define STARNAV_LIST(f) f(),
 STARNAV_LOCAL_CONTROLLERS(STARNAV_DECLARE_CONTROLLER)
 STARNAV_LOCALIZERS(STARNAV_DECLARE_LOCALIZER)
+STARNAV_SCAN_MATCHERS(STARNAV_DECLARE_SCAN_MATCHER)
 
 const std::vector<GlobalPlannerDef>& global_planners() {
   static const std::vector<GlobalPlannerDef> all = {
@@ -59,7 +64,7 @@ const std::vector<SlamDef>& slam_components() {
 }
 
 const std::vector<ScanMatcherDef>& scan_matchers() {
-  static const std::vector<ScanMatcherDef> all = {};
+  static const std::vector<ScanMatcherDef> all = {STARNAV_SCAN_MATCHERS(STARNAV_LIST)};
   return all;
 }
 
@@ -97,6 +102,10 @@ const LocalControllerDef& find_local_controller(const std::string& name, const s
 }
 const LocalizerDef& find_localizer(const std::string& name, const std::string& field, std::string* warning) {
   return find_in(localizers(), name, field, warning, "localizer");
+}
+
+const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(scan_matchers(), name, field, warning, "scan matcher");
 }
 
 std::vector<ComponentInfo> all_components() {

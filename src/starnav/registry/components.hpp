@@ -29,6 +29,8 @@ const LocalControllerDef& find_local_controller(const std::string& name, const s
                                                 std::string* warning = nullptr);
 const LocalizerDef& find_localizer(const std::string& name, const std::string& field = "localizer",
                                    std::string* warning = nullptr);
+const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::string& field = "scan_matcher",
+                                        std::string* warning = nullptr);
 
 // The names of a role, in registry order.
 std::vector<std::string> component_names(Role role);
