@@ -80,5 +80,29 @@ TEST(CliMapBuild, MapsALogWithKnownPosesIntoAMapServerMap) {
   }
 }
 
+TEST(CliSlam, RunWritesATrajectoryPerScanAndEvalReadsIt) {
+  const test::ScratchDir dir;
+  std::string log;
+  for (int i = 0; i < 6; ++i)
+    log += "ODOM " + std::to_string(0.01 * i) + " 0 0 0 0 0 " + std::to_string(i) + ".000000 h 0\n" +
+           "FLASER 5 2.0 2.1 2.2 2.1 2.0 0 0 0 0 0 0 " + std::to_string(i) + ".500000 h 0\n";
+  test::write_text(dir.file("run.clf"), log);
+  test::write_text(dir.file("r.relations"), "0.500000 5.500000 0.05 0 0 0 0 0\n");
+  const test::CliResult r = test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("out"), "--json", "--quiet",
+                                           "--relations", dir.file("r.relations")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["poses"], 6);
+  EXPECT_EQ(j["rpe_translation_m"]["count"], 1);
+  const std::string traj = test::read_text(dir.file("out/trajectory.csv"));
+  EXPECT_EQ(std::count(traj.begin(), traj.end(), '\n'), 7);
+  const test::CliResult e = test::run_cli({"slam", "eval", dir.file("out/trajectory.csv"), dir.file("r.relations"), "--json"});
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_EQ(nlohmann::json::parse(e.out)["base"]["translation_m"]["count"], 1);
+  EXPECT_EQ(test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("out")}).exit_code, 2);  // results there
+  EXPECT_EQ(test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("o2"), "--set", "window_nodes=0"}).exit_code, 2);
+  EXPECT_EQ(test::run_cli({"slam", "eval", dir.file("run.clf"), dir.file("r.relations")}).exit_code, 2);
+}
+
 }  // namespace
 }  // namespace starnav

@@ -11,40 +11,10 @@
 #include "starnav/registry/components.hpp"
 #include "starnav/slam/correlative_scan_matcher.hpp"
 #include "starnav/slam/occupancy_mapping.hpp"
+#include "room_fixture.hpp"
 
 namespace starnav {
 namespace {
-
-// A 6 m x 4 m room with a 1 m x 0.5 m box and a pillar: segments in the world frame.
-struct Segment {
-  Vec2 a, b;
-};
-const std::vector<Segment> kRoom = {
-    {{0, 0}, {6, 0}}, {{6, 0}, {6, 4}}, {{6, 4}, {0, 4}}, {{0, 4}, {0, 0}},
-    {{4, 1}, {5, 1}}, {{5, 1}, {5, 1.5}}, {{5, 1.5}, {4, 1.5}}, {{4, 1.5}, {4, 1}},
-    {{1.5, 3.0}, {1.8, 3.0}}, {{1.8, 3.0}, {1.8, 3.3}}, {{1.8, 3.3}, {1.5, 3.3}}, {{1.5, 3.3}, {1.5, 3.0}},
-};
-
-// Ray-casts 360 beams from `pose`: hit points in the sensor frame.
-std::vector<Vec2> scan_from(const Pose2& pose, int beams = 360) {
-  std::vector<Vec2> out;
-  for (int i = 0; i < beams; ++i) {
-    const double a = pose.yaw - kPi + 2 * kPi * i / beams;
-    const Vec2 d(std::cos(a), std::sin(a));
-    double best = 1e9;
-    for (const Segment& s : kRoom) {
-      const Vec2 e = s.b - s.a;
-      const double den = d.x() * e.y() - d.y() * e.x();
-      if (std::abs(den) < 1e-12) continue;
-      const Vec2 w = s.a - pose.translation();
-      const double t = (w.x() * e.y() - w.y() * e.x()) / den;
-      const double u = (w.x() * d.y() - w.y() * d.x()) / den;
-      if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
-    }
-    if (best < 30) out.push_back(pose.inverse_transform(pose.translation() + best * d));
-  }
-  return out;
-}
 
 std::vector<Vec2> to_world(const Pose2& pose, const std::vector<Vec2>& pts) {
   std::vector<Vec2> out;
@@ -55,11 +25,11 @@ std::vector<Vec2> to_world(const Pose2& pose, const std::vector<Vec2>& pts) {
 TEST(CorrelativeScanMatcher, RecoversAKnownOffsetScanToScan) {
   CorrelativeScanMatcher m;
   const Pose2 ref(2.0, 2.0, 0.2);
-  const std::vector<Vec2> reference = scan_from(ref);
+  const std::vector<Vec2> reference = test::scan_from(ref);
   for (const Pose2& offset : {Pose2(0.12, -0.08, deg_to_rad(4)), Pose2(-0.2, 0.17, deg_to_rad(-12)), Pose2(0, 0, 0)}) {
     // The scan is taken at ref * offset; matched in ref's frame starting from the identity.
     const Pose2 truth = ref.compose(offset);
-    const std::vector<Vec2> scan = scan_from(truth);
+    const std::vector<Vec2> scan = test::scan_from(truth);
     const ScanMatch r = m.match(reference, scan, Pose2());
     EXPECT_TRUE(r.converged);
     EXPECT_NEAR(r.transform.x, offset.x, 0.015) << offset.x;
@@ -73,7 +43,7 @@ TEST(CorrelativeScanMatcher, RecoversAKnownOffsetScanToScan) {
 TEST(CorrelativeScanMatcher, MatchesAScanToAMappedRoom) {
   OccupancyMapper mapper;
   for (const Pose2& p : {Pose2(1, 1, 0), Pose2(3, 2.5, 1), Pose2(5.3, 3, 2), Pose2(2.5, 0.6, -1), Pose2(0.7, 3.5, 0.5)}) {
-    const std::vector<Vec2> pts = scan_from(p, 720);
+    const std::vector<Vec2> pts = test::scan_from(p, 720);
     // Back to beams for the mapper: beam k of 720 from -pi.
     std::vector<float> all(720, 100.0f);
     for (const Vec2& q : pts) {
@@ -85,7 +55,7 @@ TEST(CorrelativeScanMatcher, MatchesAScanToAMappedRoom) {
   const OccupancyGrid map = mapper.grid();
   CorrelativeScanMatcher m;
   const Pose2 truth(3.3, 1.9, 0.6);
-  const ScanMatch r = m.match_to_map(map, scan_from(truth), Pose2(3.1, 2.1, 0.6 + deg_to_rad(8)));
+  const ScanMatch r = m.match_to_map(map, test::scan_from(truth), Pose2(3.1, 2.1, 0.6 + deg_to_rad(8)));
   EXPECT_TRUE(r.converged);
   EXPECT_NEAR(r.transform.x, truth.x, 0.02);
   EXPECT_NEAR(r.transform.y, truth.y, 0.02);
@@ -99,8 +69,8 @@ TEST(CorrelativeScanMatcher, PrunedSearchEqualsTheExhaustiveOne) {
   c.window_angular_rad = deg_to_rad(6);
   CorrelativeScanMatcher m(c);
   const Pose2 ref(2.0, 2.0, 0.0);
-  const std::vector<Vec2> reference = to_world(ref, scan_from(ref));
-  const std::vector<Vec2> scan = scan_from(Pose2(2.07, 1.95, deg_to_rad(2.5)));
+  const std::vector<Vec2> reference = to_world(ref, test::scan_from(ref));
+  const std::vector<Vec2> scan = test::scan_from(Pose2(2.07, 1.95, deg_to_rad(2.5)));
   const CorrelativeScanMatcher::Field f = m.field_of_points(reference, {-1, -1}, {7, 5});
   const ScanMatch r = m.match_to_field(f, scan, ref);
   // Exhaustive over the documented lattice.
@@ -127,7 +97,7 @@ TEST(CorrelativeScanMatcher, PrunedSearchEqualsTheExhaustiveOne) {
 
 TEST(CorrelativeScanMatcher, ReportsNoMatchAndRefusesBadInput) {
   CorrelativeScanMatcher m;
-  const std::vector<Vec2> reference = scan_from(Pose2(2, 2, 0));
+  const std::vector<Vec2> reference = test::scan_from(Pose2(2, 2, 0));
   // A scan of a far-away wall the reference never saw.
   std::vector<Vec2> scan;
   for (int i = 0; i < 50; ++i) scan.push_back({20.0, -2.0 + 0.08 * i});

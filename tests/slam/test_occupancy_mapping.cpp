@@ -44,14 +44,14 @@ double length_inside(const Vec2& a, const Vec2& b, const CellKey& c) {
 TEST(GridTraversal, VisitsTheCellsABruteForceWalkFindsInOrder) {
   Rng rng(7);
   int extra_total = 0;
-  for (int trial = 0; trial < 400; ++trial) {
+  for (int trial = 0; trial < 200; ++trial) {
     const Vec2 a(rng.uniform(-20, 20), rng.uniform(-20, 20));
     const Vec2 b = trial % 10 == 0 ? Vec2(a.x() + rng.uniform(-0.4, 0.4), a.y()) : Vec2(rng.uniform(-20, 20), rng.uniform(-20, 20));
     std::vector<CellKey> dda;
     for_each_cell_on_segment(a, b, 1.0, [&](std::int64_t x, std::int64_t y, bool) { dda.push_back({x, y}); });
-    // Brute force: 200,000 samples along the segment.
+    // Brute force: 100,000 samples along the segment.
     std::set<CellKey> brute;
-    const int n = 200000;
+    const int n = 100000;
     for (int k = 0; k < n; ++k) {
       const Vec2 p = a + ((k + 0.5) / n) * (b - a);
       brute.insert({static_cast<std::int64_t>(std::floor(p.x())), static_cast<std::int64_t>(std::floor(p.y()))});
@@ -72,7 +72,7 @@ TEST(GridTraversal, VisitsTheCellsABruteForceWalkFindsInOrder) {
     for (std::size_t i = 1; i < dda.size(); ++i)
       EXPECT_EQ(std::abs(dda[i].first - dda[i - 1].first) + std::abs(dda[i].second - dda[i - 1].second), 1);
   }
-  EXPECT_LT(extra_total, 20);
+  EXPECT_LT(extra_total, 20);  // slivers are rare
 }
 
 double logit(double p) { return std::log(p / (1 - p)); }

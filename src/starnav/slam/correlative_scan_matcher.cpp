@@ -34,17 +34,33 @@ std::vector<float> block_max(const std::vector<float>& fine, int w, int h) {
   return out;
 }
 
+// `points` (field coordinates, metres from the origin; empty: the obstacle cells' centres) are
+// where the reference really is: a cell's value is measured to the nearest obstacle cell's point,
+// not to its centre, so the field carries no half-cell bias.
 CorrelativeScanMatcher::Field make_field(std::vector<std::uint8_t> mask, int w, int h, double resolution, const Vec2& origin,
-                                         double sigma) {
+                                         double sigma, const std::vector<Vec2>& points = {}) {
   CorrelativeScanMatcher::Field f;
   f.resolution = resolution;
   f.origin = origin;
   f.width = w;
   f.height = h;
-  const std::vector<double> d2 = squared_distance_transform(mask, w, h);
+  std::vector<std::int32_t> nearest;
+  const std::vector<double> d2 = squared_distance_transform(mask, w, h, points.empty() ? nullptr : &nearest);
   f.fine.resize(d2.size());
-  const double k = resolution * resolution / (2.0 * sigma * sigma);
-  for (std::size_t i = 0; i < d2.size(); ++i) f.fine[i] = std::isfinite(d2[i]) ? static_cast<float>(std::exp(-d2[i] * k)) : 0.0f;
+  const double k = 1.0 / (2.0 * sigma * sigma);
+  for (std::size_t i = 0; i < d2.size(); ++i) {
+    if (!std::isfinite(d2[i])) {
+      f.fine[i] = 0.0f;
+      continue;
+    }
+    double d2m = d2[i] * resolution * resolution;
+    if (!points.empty()) {
+      const Vec2 centre((static_cast<double>(i % static_cast<std::size_t>(w)) + 0.5) * resolution,
+                        (static_cast<double>(i / static_cast<std::size_t>(w)) + 0.5) * resolution);
+      d2m = (centre - points[static_cast<std::size_t>(nearest[i])]).squaredNorm();
+    }
+    f.fine[i] = static_cast<float>(std::exp(-d2m * k));
+  }
   f.coarse = block_max(f.fine, w, h);
   return f;
 }
@@ -104,11 +120,20 @@ CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_points(std::span<
                 "resolution_m");
   const int w = static_cast<int>(wx), h = static_cast<int>(wy);
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
+  // Per occupied cell the mean of its points (field coordinates).
+  std::vector<Vec2> sum(mask.size(), Vec2::Zero());
+  std::vector<std::uint32_t> count(mask.size(), 0);
   for (const Vec2& p : points) {
     const int x = static_cast<int>(std::floor((p.x() - origin.x()) / r)), y = static_cast<int>(std::floor((p.y() - origin.y()) / r));
-    if (x >= 0 && y >= 0 && x < w && y < h) mask[static_cast<std::size_t>(y * w + x)] = 1;
+    if (x < 0 || y < 0 || x >= w || y >= h) continue;
+    const std::size_t i = static_cast<std::size_t>(y * w + x);
+    mask[i] = 1;
+    sum[i] += p - origin;
+    ++count[i];
   }
-  return make_field(std::move(mask), w, h, r, origin, c_.sigma_m);
+  for (std::size_t i = 0; i < sum.size(); ++i)
+    if (count[i]) sum[i] /= static_cast<double>(count[i]);
+  return make_field(std::move(mask), w, h, r, origin, c_.sigma_m, sum);
 }
 
 CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_map(const OccupancyGrid& map) const {

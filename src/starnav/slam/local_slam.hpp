@@ -1,0 +1,49 @@
+#pragma once
+// The local half of a graph SLAM (the front end of Cartographer's design, Hess et al. 2016): each
+// scan is matched, from the odometry's guess, against a local map of the scans kept just before
+// it, with the correlative matcher; the scan is kept (a node) when the robot has moved far enough
+// since the last node, and the local map is the likelihood field of the last `window_nodes`
+// nodes' points. Every scan gets a pose (the benchmark's relations refer to any scan); drift
+// accumulates without loop closure, which the global half (pose graph, loop closure) removes.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "starnav/core/params.hpp"
+#include "starnav/logs/robot_log.hpp"
+#include "starnav/slam/correlative_scan_matcher.hpp"
+#include "starnav/slam/log_mapping.hpp"
+
+namespace starnav {
+
+struct LocalSlamConfig {
+  double min_range_m = 0.1;          // readings used by the matcher
+  double max_range_m = 30.0;
+  double voxel_m = 0.05;             // scan points thinned to one per voxel before matching
+  double node_distance_m = 0.2;      // keep a scan as a node after this much motion ...
+  double node_angle_rad = 0.0873;    // ... or this much turning (5 deg)
+  int window_nodes = 25;             // nodes in the local map
+  int rebuild_every = 2;             // nodes between rebuilds of the local map's field
+  CorrelativeMatcherConfig matcher;  // window, field resolution and spread
+  void validate() const;
+};
+const ParamTable<LocalSlamConfig>& local_slam_params();
+
+struct LocalSlamResult {
+  std::vector<TrajectoryPose> poses;  // one base pose per scan with a usable odometry, in scan order
+  std::vector<std::size_t> nodes;     // indices into poses of the kept scans
+  std::size_t matched = 0, unmatched = 0;  // scans the matcher converged on, or not (odometry kept)
+  double cpu_s = 0.0;                 // thread CPU time of the run
+};
+
+// Runs over every scan of `log` in file order. Scans without an odometry pose (neither in the
+// line nor interpolated) are left out. `progress(done, total)` is called every 100 scans.
+LocalSlamResult run_local_slam(const RobotLog& log, const LocalSlamConfig& config,
+                               const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+// The points of a scan in its sensor frame: returned readings within [min, max] range, thinned
+// to one per voxel (the first in beam order).
+std::vector<Vec2> scan_points(const LogScan& scan, double min_range_m, double max_range_m, double voxel_m);
+
+}  // namespace starnav

@@ -1,0 +1,55 @@
+#pragma once
+// A furnished room for the SLAM tests, and exact scans of it by ray casting.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/geometry.hpp"
+
+namespace starnav::test {
+
+// A 6 m x 4 m room with a 1 m x 0.5 m box and a pillar: segments in the world frame.
+struct Segment {
+  Vec2 a, b;
+};
+inline const std::vector<Segment> kRoom = {
+    {{0, 0}, {6, 0}}, {{6, 0}, {6, 4}}, {{6, 4}, {0, 4}}, {{0, 4}, {0, 0}},
+    {{4, 1}, {5, 1}}, {{5, 1}, {5, 1.5}}, {{5, 1.5}, {4, 1.5}}, {{4, 1.5}, {4, 1}},
+    {{1.5, 3.0}, {1.8, 3.0}}, {{1.8, 3.0}, {1.8, 3.3}}, {{1.8, 3.3}, {1.5, 3.3}}, {{1.5, 3.3}, {1.5, 3.0}},
+};
+
+// Ray-casts `beams` beams from `pose`: beam i at -pi + 2 pi i / beams in the sensor frame, `no_return` where
+// nothing is hit.
+inline std::vector<float> ranges_from(const Pose2& pose, int beams, float no_return) {
+  std::vector<float> out(static_cast<std::size_t>(beams), no_return);
+  for (int i = 0; i < beams; ++i) {
+    const double a = pose.yaw - kPi + 2 * kPi * i / beams;
+    const Vec2 d(std::cos(a), std::sin(a));
+    double best = 1e9;
+    for (const Segment& s : kRoom) {
+      const Vec2 e = s.b - s.a;
+      const double den = d.x() * e.y() - d.y() * e.x();
+      if (std::abs(den) < 1e-12) continue;
+      const Vec2 w = s.a - pose.translation();
+      const double t = (w.x() * e.y() - w.y() * e.x()) / den;
+      const double u = (w.x() * d.y() - w.y() * d.x()) / den;
+      if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
+    }
+    if (best < 30) out[static_cast<std::size_t>(i)] = static_cast<float>(best);
+  }
+  return out;
+}
+
+// The hit points of `beams` beams from `pose`, in the sensor frame.
+inline std::vector<Vec2> scan_from(const Pose2& pose, int beams = 360) {
+  const std::vector<float> r = ranges_from(pose, beams, 100.0f);
+  std::vector<Vec2> out;
+  for (int i = 0; i < beams; ++i) {
+    const double a = -kPi + 2 * kPi * i / beams;
+    if (r[static_cast<std::size_t>(i)] < 30.0f) out.push_back(static_cast<double>(r[static_cast<std::size_t>(i)]) * Vec2(std::cos(a), std::sin(a)));
+  }
+  return out;
+}
+
+}  // namespace starnav::test
