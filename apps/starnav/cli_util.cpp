@@ -84,6 +84,16 @@ void rethrow_with_flag(const Error& e, const std::vector<std::pair<std::string, 
   throw Error(e.message(), {}, 0, flag);
 }
 
+std::vector<ParamSetting> parse_set_options(const std::vector<std::string>& sets) {
+  std::vector<ParamSetting> out;
+  for (const std::string& s : sets) {
+    const std::size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error("expected KEY=VALUE, got '" + printable(s, 60) + "'", {}, 0, "--set");
+    out.push_back({s.substr(0, eq), s.substr(eq + 1), {}, 0, "--set " + s.substr(0, eq)});
+  }
+  return out;
+}
+
 void check_output_path(const std::string& path, bool force, const std::string& flag) {
   namespace fs = std::filesystem;
   if (path.empty()) throw Error("empty output path", {}, 0, flag);

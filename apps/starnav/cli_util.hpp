@@ -12,6 +12,7 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/grid_geometry.hpp"
+#include "starnav/core/params.hpp"
 #include "starnav/io/map_file.hpp"
 
 namespace starnav::cli {
@@ -35,6 +36,10 @@ Cell parse_endpoint_cell(const std::string& text, const std::string& flag, bool 
 // The library Error `e` again, its field renamed to the flag the user typed: "a_b" -> "--a-b",
 // or as `renamed` says.
 [[noreturn]] void rethrow_with_flag(const Error& e, const std::vector<std::pair<std::string, std::string>>& renamed = {});
+
+// `--set KEY=VALUE` options as settings of a declared parameter table (each setting's field is
+// "--set KEY", so errors name the option); Error (field "--set") for text without '='.
+std::vector<ParamSetting> parse_set_options(const std::vector<std::string>& sets);
 
 // Parses a non-negative integer written in decimal digits only (no sign); throws Error naming
 // `flag`: "expected <what>, got '...'" or out of range above 2^64 - 1.

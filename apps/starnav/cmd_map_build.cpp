@@ -40,16 +40,13 @@ struct MapBuildOptions {
 void run_map_build(const MapBuildOptions& o, Context& ctx) {
   OccupancyMappingParams params;
   params.resolution_m = o.resolution;
-  const auto& table = occupancy_mapping_params();
-  for (const std::string& s : o.sets) {
-    const std::size_t eq = s.find('=');
-    if (eq == std::string::npos || eq == 0) throw Error("expected key=value, got '" + printable(s, 60) + "'", {}, 0, "--set");
-    table.apply(params, ParamSetting{s.substr(0, eq), s.substr(eq + 1), {}, 0, "--set " + s.substr(0, eq)});
-  }
+  const std::vector<ParamSetting> settings = parse_set_options(o.sets);
+  params = configured(occupancy_mapping_params(), settings, {}, params);
   try {
     params.validate();
   } catch (const Error& e) {
-    throw Error(e.message(), {}, 0, e.field() == "resolution_m" ? "--resolution" : "--set " + e.field());
+    if (e.field() == "resolution_m") throw Error(e.message(), {}, 0, "--resolution");
+    rethrow_at_setting(e, settings);
   }
   if (!o.out.empty()) {
     check_output_path(o.out, o.force, "--out");

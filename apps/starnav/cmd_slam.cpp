@@ -74,16 +74,12 @@ struct SlamRunOptions {
 
 void run_slam(const SlamRunOptions& o, Context& ctx) {
   namespace fs = std::filesystem;
-  LocalSlamConfig config;
-  for (const std::string& s : o.sets) {
-    const std::size_t eq = s.find('=');
-    if (eq == std::string::npos || eq == 0) throw Error("expected key=value, got '" + printable(s, 60) + "'", {}, 0, "--set");
-    local_slam_params().apply(config, ParamSetting{s.substr(0, eq), s.substr(eq + 1), {}, 0, "--set " + s.substr(0, eq)});
-  }
+  const std::vector<ParamSetting> settings = parse_set_options(o.sets);
+  const LocalSlamConfig config = configured(local_slam_params(), settings, {});
   try {
     config.validate();
   } catch (const Error& e) {
-    throw Error(e.message(), {}, 0, "--set " + e.field());
+    rethrow_at_setting(e, settings);
   }
   if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
   const fs::path dir(o.out);
