@@ -113,7 +113,7 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
   j["real_time_factor"] = r.cpu_s > 0 ? duration / r.cpu_s : 0.0;
   if (!relations.empty()) {
     const RelativePoseError e = relative_pose_error(r.poses, relations);
-    j["rpe_translation_m"] = {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"max", e.translation_m.max}, {"count", e.translation_m.count}};
+    j["rpe_translation_m"] = {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"max", e.translation_m.max}, {"count", e.translation_m.n}};
     j["rpe_rotation_deg"] = {{"mean", e.rotation_deg.mean}, {"sd", e.rotation_deg.sd}, {"max", e.rotation_deg.max}};
     j["rpe_unmatched"] = e.unmatched;
   }

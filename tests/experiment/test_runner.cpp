@@ -18,7 +18,7 @@
 #include "starnav/experiment/movingai_experiment.hpp"
 #include "starnav/experiment/navigation_experiment.hpp"
 #include "starnav/experiment/runner.hpp"
-#include "starnav/experiment/statistics.hpp"
+#include "starnav/core/statistics.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {

@@ -32,7 +32,7 @@ TEST(RelativePoseError, ZeroOnTheTruthAndKnownValuesOnAPerturbedTrajectory) {
   std::vector<PoseRelation> rel;
   for (int k = 0; k + 1 < 8; ++k) rel.push_back(relation(k * 1'000'000, (k + 1) * 1'000'000, truth[k].pose.inverse().compose(truth[k + 1].pose)));
   const RelativePoseError zero = relative_pose_error(truth, rel);
-  EXPECT_EQ(zero.translation_m.count, 7u);
+  EXPECT_EQ(zero.translation_m.n, 7u);
   EXPECT_NEAR(zero.translation_m.max, 0.0, 1e-12);
   EXPECT_NEAR(zero.rotation_deg.max, 0.0, 1e-9);
   // Moving the whole trajectory rigidly changes no relation.
@@ -78,7 +78,7 @@ TEST(RelativePoseError, StampsMatchWithinOneUnitOfTheLastDecimal) {
   const RelativePoseError e = relative_pose_error(t, rel);
   // 1.000000 is 2 us from the nearest pose: unmatched at 6 decimals; 1.00001 (5 decimals) takes
   // the nearest within 10 us (1.000015); 1.000003 is 1 us from 1.000002: matched.
-  EXPECT_EQ(e.translation_m.count, 2u);
+  EXPECT_EQ(e.translation_m.n, 2u);
   EXPECT_EQ(e.unmatched, 1u);
   EXPECT_NEAR(e.translation_m.max, std::hypot(5.0, 5.0), 1e-12);  // (5, 5) to (1, 0) is (-4, -5), against (1, 0)
 }
@@ -119,7 +119,7 @@ TEST(RelativePoseError, OdometryAloneGivesTheErrorsTheSourcesState) {
     const RobotLog log = read_robot_log(test::shared_path(r.log));
     const RelativePoseError e = relative_pose_error(odometry_trajectory(log), read_relations(test::shared_path(r.relations)));
     EXPECT_EQ(e.unmatched, 0u) << r.log;
-    EXPECT_EQ(e.translation_m.count, r.count) << r.log;
+    EXPECT_EQ(e.translation_m.n, r.count) << r.log;
     EXPECT_NEAR(e.translation_m.mean, r.trans_m, 0.006) << r.log;
     EXPECT_NEAR(e.rotation_deg.mean, r.rot_deg, 0.06) << r.log;
   }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -10,11 +9,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "starnav/core/cpu_time.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/experiment/runner.hpp"
-#include "starnav/experiment/statistics.hpp"
+#include "starnav/core/statistics.hpp"
 #include "starnav/io/movingai.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/inflation.hpp"
@@ -28,14 +28,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
-
-// CPU time of the calling thread: a shared machine's other processes disturb it less than wall
-// time (the same measure as bench/bench_search_core.cpp).
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
 
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -165,9 +157,9 @@ AblationRun run_query(GridPlanner& planner, const AblationQuery& q, int repeat, 
   PlanResult r;
   run.time_ms = std::numeric_limits<double>::infinity();
   for (int i = 0; i < repeat; ++i) {
-    const double t0 = thread_cpu_ms();
+    const double t0 = thread_cpu_s();
     r = planner.plan(q.start, q.goal);
-    run.time_ms = std::min(run.time_ms, thread_cpu_ms() - t0);
+    run.time_ms = std::min(run.time_ms, 1e3 * (thread_cpu_s() - t0));
     walls.push_back(r.time_ms);
   }
   run.wall_ms = sample_stats(std::move(walls)).median;

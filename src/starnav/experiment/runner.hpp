@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "starnav/experiment/statistics.hpp"
+#include "starnav/core/statistics.hpp"
 
 namespace starnav {
 

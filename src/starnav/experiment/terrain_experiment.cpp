@@ -14,7 +14,7 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/experiment/detail/terrain_json.hpp"
 #include "starnav/experiment/runner.hpp"
-#include "starnav/experiment/statistics.hpp"
+#include "starnav/core/statistics.hpp"
 #include "starnav/experiment/terrain_report.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/terrain/terrain_generator.hpp"

@@ -82,7 +82,7 @@ int header_dimension(MovingAiLines& lines, std::string_view keyword, const std::
   return n;
 }
 
-std::vector<std::string_view> split_fields(std::string_view line, bool on_tabs) {
+std::vector<std::string_view> split_scen_fields(std::string_view line, bool on_tabs) {
   std::vector<std::string_view> fields;
   if (on_tabs) {
     std::size_t start = 0;
@@ -272,7 +272,7 @@ MovingAiScenario parse_movingai_scenario(std::string_view text, const std::strin
       scen.space_separated = line.find('\t') == std::string_view::npos;
       separator_known = true;
     }
-    const std::vector<std::string_view> fields = split_fields(line, !scen.space_separated);
+    const std::vector<std::string_view> fields = split_scen_fields(line, !scen.space_separated);
     if (fields.size() != 9)
       throw Error("expected 9 " + std::string(scen.space_separated ? "space" : "tab") +
                       "-separated fields (bucket map width height start_x start_y goal_x goal_y length), found " +

@@ -18,15 +18,8 @@ namespace {
 // The fields of one line and where it is, for errors.
 class Fields {
  public:
-  Fields(std::string_view line, const std::string& path, int line_no) : path_(path), line_(line_no) {
-    std::size_t i = 0;
-    while (i < line.size()) {
-      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-      const std::size_t begin = i;
-      while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-      if (i > begin) tokens_.push_back(line.substr(begin, i - begin));
-    }
-  }
+  Fields(std::string_view line, const std::string& path, int line_no)
+      : tokens_(split_fields(line)), path_(path), line_(line_no) {}
   std::size_t size() const { return tokens_.size(); }
   std::string_view operator[](std::size_t i) const { return tokens_[i]; }
   const std::string& type() const {
@@ -45,10 +38,7 @@ class Fields {
   double number(std::size_t i, const char* field) const {
     if (i >= tokens_.size()) fail(field, "missing");
     double v = 0.0;
-    const std::string_view t = tokens_[i];
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !std::isfinite(v))
-      fail(field, "expected a finite number, got '" + printable(t, 40) + "'");
+    if (!parse_finite_number(tokens_[i], v)) fail(field, "expected a finite number, got '" + printable(tokens_[i], 40) + "'");
     return v;
   }
   std::size_t count(std::size_t i, const char* field, std::size_t max) const {

@@ -105,6 +105,10 @@ std::optional<Pose2> odometry_at(const std::vector<LogOdometry>& sorted, std::in
                wrap_angle(a.pose.yaw + f * wrap_angle(b.pose.yaw - a.pose.yaw)));
 }
 
+std::optional<Pose2> scan_odometry(const LogScan& scan, const std::vector<LogOdometry>& sorted) {
+  return scan.odometry ? scan.odometry : odometry_at(sorted, scan.stamp_us);
+}
+
 RobotLogSummary summarise_log(const RobotLog& log) {
   RobotLogSummary s;
   s.scans = log.scans.size();

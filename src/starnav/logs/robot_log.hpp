@@ -72,6 +72,9 @@ std::string format_stamp_us(std::int64_t us);
 // short way round), the nearest reading outside their span; nullopt without odometry. `sorted`
 // must be in time order (sort_by_time).
 std::optional<Pose2> odometry_at(const std::vector<LogOdometry>& sorted, std::int64_t stamp_us);
+// The odometry pose at `scan`: the one its own line carries (FLASER, ROBOTLASER1), else
+// odometry_at(sorted, its stamp).
+std::optional<Pose2> scan_odometry(const LogScan& scan, const std::vector<LogOdometry>& sorted);
 // The readings in time order (stable: equal stamps keep the log's order).
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry);
 

@@ -1,24 +1,14 @@
 #include "starnav/slam/local_slam.hpp"
 
 #include <cmath>
-#include <ctime>
 #include <deque>
 #include <unordered_set>
 
 #include "starnav/core/angle.hpp"
+#include "starnav/core/cpu_time.hpp"
 #include "starnav/core/error.hpp"
 
 namespace starnav {
-
-namespace {
-
-double thread_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
-
-}  // namespace
 
 const ParamTable<LocalSlamConfig>& local_slam_params() {
   static const ParamTable<LocalSlamConfig> table = [] {
@@ -93,7 +83,7 @@ LocalSlamResult run_local_slam(const RobotLog& log, const LocalSlamConfig& c,
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
     if (progress && k % 100 == 0) progress(k, log.scans.size());
     const LogScan& scan = log.scans[k];
-    const std::optional<Pose2> odom = scan.odometry ? scan.odometry : odometry_at(odometry, scan.stamp_us);
+    const std::optional<Pose2> odom = scan_odometry(scan, odometry);
     if (!odom) continue;
     // The guess: the last pose moved by the odometry's increment since.
     Pose2 pose = last_pose ? last_pose->compose(last_odom->inverse().compose(*odom)) : *odom;

@@ -1,7 +1,6 @@
 #include "starnav/slam/log_mapping.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -58,8 +57,7 @@ LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyM
       sensor_pose = true;
       return scan.laser_pose;
     }
-    if (scan.odometry) return scan.odometry;
-    return odometry_at(odometry, scan.stamp_us);
+    return scan_odometry(scan, odometry);
   });
 }
 
@@ -67,7 +65,7 @@ std::vector<TrajectoryPose> odometry_trajectory(const RobotLog& log) {
   const std::vector<LogOdometry> odometry = sort_by_time(log.odometry);
   std::vector<TrajectoryPose> out;
   for (const LogScan& scan : log.scans) {
-    const std::optional<Pose2> p = scan.odometry ? scan.odometry : odometry_at(odometry, scan.stamp_us);
+    const std::optional<Pose2> p = scan_odometry(scan, odometry);
     if (p) out.push_back({scan.stamp_us, *p});
   }
   return out;
@@ -105,8 +103,7 @@ std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
     const char* names[3] = {"x_m", "y_m", "yaw_rad"};
     for (int k = 0; k < 3; ++k) {
       const std::string_view c = cols[k + 1];
-      const auto r = std::from_chars(c.data(), c.data() + c.size(), v[k]);
-      if (r.ec != std::errc() || r.ptr != c.data() + c.size() || !std::isfinite(v[k]))
+      if (!parse_finite_number(c, v[k]))
         throw Error("expected a finite number, got '" + printable(c, 40) + "'", path, line_no, names[k]);
     }
     p.pose = Pose2(v[0], v[1], wrap_angle(v[2]));

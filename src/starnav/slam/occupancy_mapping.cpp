@@ -90,7 +90,6 @@ void OccupancyMapper::update(std::int64_t ix, std::int64_t iy, bool hit) {
   }
   c.last_scan = scans_;
   c.last_hit = hit;
-  c.observed = true;
   c.log_odds = std::clamp(c.log_odds + (hit ? hit_ : miss_), lo_, hi_);
 }
 
@@ -143,7 +142,7 @@ OccupancyGrid OccupancyMapper::grid() const {
   std::int64_t bx0 = std::numeric_limits<std::int64_t>::max(), by0 = bx0, bx1 = std::numeric_limits<std::int64_t>::min(), by1 = bx1;
   for (std::int64_t y = 0; y < h_; ++y)
     for (std::int64_t x = 0; x < w_; ++x)
-      if (cells_[static_cast<std::size_t>(y * w_ + x)].observed) {
+      if (cells_[static_cast<std::size_t>(y * w_ + x)].observed()) {
         bx0 = std::min(bx0, x), bx1 = std::max(bx1, x);
         by0 = std::min(by0, y), by1 = std::max(by1, y);
       }
@@ -160,7 +159,7 @@ OccupancyGrid OccupancyMapper::grid() const {
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const Cell& c = cells_[static_cast<std::size_t>((by0 + y) * w_ + (bx0 + x))];
-      if (!c.observed) continue;
+      if (!c.observed()) continue;
       const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(c.log_odds)));
       out(x, y) = static_cast<std::int8_t>(std::lround(100.0 * p));
     }

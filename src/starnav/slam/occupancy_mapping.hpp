@@ -89,9 +89,9 @@ class OccupancyMapper {
   struct Cell {
     float log_odds = 0.0f;
     float before_scan = 0.0f;     // log_odds before the current scan's update
-    std::uint32_t last_scan = 0;  // scan number of the last update (0: never)
-    bool observed = false;
+    std::uint32_t last_scan = 0;  // scan number of the last update (0: never; scans count from 1)
     bool last_hit = false;
+    bool observed() const { return last_scan != 0; }
   };
   Cell& cell(std::int64_t ix, std::int64_t iy);  // grows the grid
   void update(std::int64_t ix, std::int64_t iy, bool hit);

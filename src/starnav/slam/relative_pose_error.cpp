@@ -1,10 +1,10 @@
 #include "starnav/slam/relative_pose_error.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
@@ -22,21 +22,6 @@ std::int64_t decimals_unit_us(std::string_view stamp) {
   std::int64_t unit = 1;
   for (std::size_t d = std::min<std::size_t>(decimals, 6); d < 6; ++d) unit *= 10;
   return unit;
-}
-
-ErrorStats stats(const std::vector<double>& v) {
-  ErrorStats s;
-  s.count = v.size();
-  if (v.empty()) return s;
-  double sum = 0.0;
-  for (double x : v) sum += x, s.max = std::max(s.max, x);
-  s.mean = sum / static_cast<double>(v.size());
-  if (v.size() > 1) {
-    double ss = 0.0;
-    for (double x : v) ss += (x - s.mean) * (x - s.mean);
-    s.sd = std::sqrt(ss / static_cast<double>(v.size() - 1));
-  }
-  return s;
 }
 
 // The pose nearest in time to t within `tolerance`, or null.
@@ -58,13 +43,7 @@ std::vector<PoseRelation> parse_relations(std::string_view text, const std::stri
   std::vector<PoseRelation> out;
   static const char* kColumns[8] = {"t_i", "t_j", "dx", "dy", "dz", "droll", "dpitch", "dyaw"};
   for_each_line(text, [&](std::string_view line, int line_no) {
-    std::vector<std::string_view> f;
-    for (std::size_t i = 0; i < line.size();) {
-      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-      const std::size_t s = i;
-      while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-      if (i > s) f.push_back(line.substr(s, i - s));
-    }
+    const std::vector<std::string_view> f = split_fields(line);
     if (f.empty() || f[0][0] == '#') return;
     if (f.size() != 8) throw Error("expected 8 columns t_i t_j dx dy dz droll dpitch dyaw, got " + std::to_string(f.size()), path, line_no);
     PoseRelation r;
@@ -75,8 +54,7 @@ std::vector<PoseRelation> parse_relations(std::string_view text, const std::stri
     double v[6];
     for (int k = 0; k < 6; ++k) {
       const std::string_view c = f[static_cast<std::size_t>(k + 2)];
-      const auto res = std::from_chars(c.data(), c.data() + c.size(), v[k]);
-      if (res.ec != std::errc() || res.ptr != c.data() + c.size() || !std::isfinite(v[k]))
+      if (!parse_finite_number(c, v[k]))
         throw Error("expected a finite number, got '" + printable(c, 40) + "'", path, line_no, kColumns[k + 2]);
     }
     r.delta = Pose2(v[0], v[1], wrap_angle(v[5]));
@@ -108,20 +86,20 @@ RelativePoseError relative_pose_error(const std::vector<TrajectoryPose>& traject
     trans.push_back(std::hypot(err.x, err.y));
     rot.push_back(rad_to_deg(std::abs(wrap_angle(err.yaw))));
   }
-  e.translation_m = stats(trans);
-  e.rotation_deg = stats(rot);
+  e.translation_m = sample_stats(std::move(trans));
+  e.rotation_deg = sample_stats(std::move(rot));
   return e;
 }
 
 namespace {
 
-std::string stats_text(const ErrorStats& s, int precision, const char* unit) {
+std::string stats_text(const SampleStats& s, int precision, const char* unit) {
   return format_fixed(s.mean, precision) + " ± " + format_fixed(s.sd, precision) + " " + unit + " (max " +
          format_fixed(s.max, precision) + ")";
 }
 
-nlohmann::ordered_json stats_json(const ErrorStats& s) {
-  return {{"mean", s.mean}, {"sd", s.sd}, {"max", s.max}, {"count", s.count}};
+nlohmann::ordered_json stats_json(const SampleStats& s) {
+  return {{"mean", s.mean}, {"sd", s.sd}, {"max", s.max}, {"count", s.n}};
 }
 
 nlohmann::ordered_json error_json(const RelativePoseError& e) {
@@ -137,7 +115,7 @@ nlohmann::ordered_json error_json(const RelativePoseError& e) {
 
 std::string rpe_text(const RelativePoseError& base, const std::optional<RelativePoseError>& laser, const Pose2& offset) {
   std::ostringstream out;
-  out << "relations:   " << base.relations << " (" << base.translation_m.count << " evaluated, " << base.unmatched
+  out << "relations:   " << base.relations << " (" << base.translation_m.n << " evaluated, " << base.unmatched
       << " with an end not in the trajectory)\n";
   out << "base:        translation " << stats_text(base.translation_m, 4, "m") << ", rotation "
       << stats_text(base.rotation_deg, 3, "deg") << "\n";

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
+#include "starnav/core/statistics.hpp"
 #include "starnav/slam/log_mapping.hpp"
 
 namespace starnav {
@@ -31,14 +32,9 @@ struct PoseRelation {
 std::vector<PoseRelation> parse_relations(std::string_view text, const std::string& path);
 std::vector<PoseRelation> read_relations(const std::string& path);
 
-struct ErrorStats {
-  std::size_t count = 0;
-  double mean = 0.0, sd = 0.0, max = 0.0;  // sd with n - 1
-};
-
 struct RelativePoseError {
-  ErrorStats translation_m;
-  ErrorStats rotation_deg;
+  SampleStats translation_m;  // of the evaluated relations (n of them)
+  SampleStats rotation_deg;
   std::size_t relations = 0;   // in the file
   std::size_t unmatched = 0;   // relations with an end not in the trajectory
 };

@@ -1,4 +1,4 @@
-#include "starnav/experiment/statistics.hpp"
+#include "starnav/core/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,6 @@
 #pragma once
-// Sample statistics of the experiments: what every `starnav bench` table and summary reports.
+// Sample statistics: what every `starnav bench` table and summary reports, and every error
+// summary (the SLAM benchmark's relative-pose error).
 #include <cstddef>
 #include <vector>
 
