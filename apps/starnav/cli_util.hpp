@@ -66,6 +66,8 @@ class ProgressBar {
   // `done` of the total finished; `what` names the current item.
   void update(std::size_t done, const std::string& what);
   void finish();
+  // For work whose size is known only once it starts.
+  void set_total(std::size_t total) { total_ = total; }
 
  private:
   std::string label_;

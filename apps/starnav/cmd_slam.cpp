@@ -18,7 +18,7 @@
 #include "starnav/core/error.hpp"
 #include "starnav/io/ros_map.hpp"
 #include "starnav/logs/log_file.hpp"
-#include "starnav/slam/local_slam.hpp"
+#include "starnav/experiment/slam_report.hpp"
 #include "starnav/slam/log_mapping.hpp"
 #include "starnav/slam/relative_pose_error.hpp"
 
@@ -66,6 +66,7 @@ struct SlamRunOptions {
   std::string out;
   std::vector<std::string> sets;
   std::string relations;
+  std::string method = "graph";
   bool flaser_angles = false;
   bool json = false;
   bool force = false;
@@ -74,61 +75,29 @@ struct SlamRunOptions {
 
 void run_slam(const SlamRunOptions& o, Context& ctx) {
   namespace fs = std::filesystem;
-  const std::vector<ParamSetting> settings = parse_set_options(o.sets);
-  const LocalSlamConfig config = configured(local_slam_params(), settings, {});
-  try {
-    config.validate();
-  } catch (const Error& e) {
-    rethrow_at_setting(e, settings);
-  }
+  SlamRunRequest q;
+  q.log = o.log;
+  q.read.flaser_beam_angles = o.flaser_angles;
+  q.method = o.method;
+  q.settings = parse_set_options(o.sets);
+  q.relations = o.relations;
   if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
   const fs::path dir(o.out);
   if (fs::exists(dir))
-    for (const char* f : {"trajectory.csv", "map.yaml", "map.pgm", "summary.json"})
+    for (const char* f : {"trajectory.csv", "map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"})
       if (fs::exists(dir / f) && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
-  std::vector<PoseRelation> relations;
-  if (!o.relations.empty()) relations = read_relations(o.relations);
-  LogReadOptions read;
-  read.flaser_beam_angles = o.flaser_angles;
-  const RobotLog log = read_robot_log(o.log, read);
-  ProgressBar bar("slam", log.scans.size(), o.quiet);
-  const LocalSlamResult r = run_local_slam(log, config, [&](std::size_t done, std::size_t) { bar.update(done, "scans"); });
+  ProgressBar bar("slam", 1, o.quiet);
+  const SlamRunResult r = run_slam_on_file(q, [&](std::size_t done, std::size_t total) {
+    bar.set_total(total);
+    bar.update(done, "scans");
+  });
   bar.finish();
-  if (r.poses.empty()) throw Error("no scan has an odometry pose to start from", o.log, 0, "LOG");
-  fs::create_directories(dir);
-  write_text_file((dir / "trajectory.csv").string(), trajectory_csv(r.poses), "--out");
-  const LogMapResult map = map_log(log, r.poses, OccupancyMappingParams{});
-  write_ros_map(map.grid, (dir / "map.yaml").string());
-  const RobotLogSummary s = summarise_log(log);
-  const double duration = static_cast<double>(s.last_us - s.first_us) * 1e-6;
-  nlohmann::ordered_json j;
-  j["log"] = o.log;
-  j["scans"] = log.scans.size();
-  j["poses"] = r.poses.size();
-  j["nodes"] = r.nodes.size();
-  j["matched"] = r.matched;
-  j["unmatched"] = r.unmatched;
-  j["cpu_s"] = r.cpu_s;
-  j["log_duration_s"] = duration;
-  j["real_time_factor"] = r.cpu_s > 0 ? duration / r.cpu_s : 0.0;
-  if (!relations.empty()) {
-    const RelativePoseError e = relative_pose_error(r.poses, relations);
-    j["rpe_translation_m"] = {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"max", e.translation_m.max}, {"count", e.translation_m.n}};
-    j["rpe_rotation_deg"] = {{"mean", e.rotation_deg.mean}, {"sd", e.rotation_deg.sd}, {"max", e.rotation_deg.max}};
-    j["rpe_unmatched"] = e.unmatched;
-  }
-  write_text_file((dir / "summary.json").string(), j.dump(1) + "\n", "--out");
+  write_slam_outputs(r, o.out);
   if (o.json) {
-    std::cout << j.dump() << "\n";
+    std::cout << slam_summary_json(r).dump() << "\n";
   } else {
-    std::cout << "slam: " << r.poses.size() << " poses, " << r.nodes.size() << " nodes, " << r.matched << " scans matched, "
-              << r.unmatched << " on odometry; " << format_fixed(r.cpu_s, 2) << " s CPU for " << format_fixed(duration, 1)
-              << " s of log (" << format_fixed(j["real_time_factor"].get<double>(), 1) << "x real time)\n";
-    if (!relations.empty())
-      std::cout << "rpe: translation " << format_fixed(j["rpe_translation_m"]["mean"].get<double>(), 4) << " m, rotation "
-                << format_fixed(j["rpe_rotation_deg"]["mean"].get<double>(), 3) << " deg over "
-                << j["rpe_translation_m"]["count"].get<std::size_t>() << " relations\n";
-    std::cout << "wrote " << (dir / "trajectory.csv").string() << ", map.yaml, summary.json\n";
+    std::cout << slam_summary_text(r);
+    std::cout << "wrote " << (dir / "trajectory.csv").string() << ", map.yaml, map.pgm, pose_graph.json, map.png, summary.json\n";
   }
   ctx.exit_code = 0;
 }
@@ -151,13 +120,14 @@ void register_slam_commands(CLI::App& app, Context& ctx) {
   eval->callback([e, &ctx] { run_slam_eval(*e, ctx); });
 
   auto ro = std::make_shared<SlamRunOptions>();
-  auto* run = slam->add_subcommand("run", "2D SLAM on a robot log: scan-to-local-map matching from odometry (docs/slam.md); "
-                                          "writes trajectory.csv, map.yaml + pgm, summary.json");
+  auto* run = slam->add_subcommand("run", "2D SLAM on a robot log: local matching, submaps, loop closure, pose graph (docs/slam.md);\n"
+                                          "writes trajectory.csv, map.yaml + pgm, pose_graph.json, map.png, summary.json");
   run->add_option("LOG", ro->log, "the log (CARMEN .clf/.gz, ROS 1 .bag, text extract)")->required();
   run->add_option("--out", ro->out, "output folder")->required();
   run->add_option("--set", ro->sets, "a parameter key=value (repeatable; keys in docs/slam.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   run->add_option("--relations", ro->relations, "also evaluate against this benchmark relation file");
+  run->add_option("--method", ro->method, "the SLAM method (starnav components --role slam)")->default_str("graph");
   run->add_flag("--flaser-angles", ro->flaser_angles, "bags converted from CARMEN FLASER logs: FLASER's beam angles");
   run->add_flag("--json", ro->json, "print the summary as one JSON object");
   run->add_flag("--force", ro->force, "overwrite the outputs in --out");

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -93,14 +94,18 @@ TEST(CliSlam, RunWritesATrajectoryPerScanAndEvalReadsIt) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["poses"], 6);
-  EXPECT_EQ(j["rpe_translation_m"]["count"], 1);
+  EXPECT_EQ(j["rpe_base"]["count"], 1);
+  for (const char* f : {"map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir.file(std::string("out/") + f))) << f;
+  const auto graph = nlohmann::json::parse(test::read_text(dir.file("out/pose_graph.json")));
+  EXPECT_EQ(graph["nodes"].size(), j["nodes"].get<std::size_t>());
   const std::string traj = test::read_text(dir.file("out/trajectory.csv"));
   EXPECT_EQ(std::count(traj.begin(), traj.end(), '\n'), 7);
   const test::CliResult e = test::run_cli({"slam", "eval", dir.file("out/trajectory.csv"), dir.file("r.relations"), "--json"});
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_EQ(nlohmann::json::parse(e.out)["base"]["translation_m"]["count"], 1);
   EXPECT_EQ(test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("out")}).exit_code, 2);  // results there
-  EXPECT_EQ(test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("o2"), "--set", "window_nodes=0"}).exit_code, 2);
+  EXPECT_EQ(test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("o2"), "--set", "local.window_nodes=0"}).exit_code, 2);
   EXPECT_EQ(test::run_cli({"slam", "eval", dir.file("run.clf"), dir.file("r.relations")}).exit_code, 2);
 }
 

@@ -21,13 +21,13 @@ inline const std::vector<Segment> kRoom = {
 
 // Ray-casts `beams` beams from `pose`: beam i at -pi + 2 pi i / beams in the sensor frame, `no_return` where
 // nothing is hit.
-inline std::vector<float> ranges_from(const Pose2& pose, int beams, float no_return) {
+inline std::vector<float> ranges_from(const Pose2& pose, int beams, float no_return, const std::vector<Segment>& world = kRoom) {
   std::vector<float> out(static_cast<std::size_t>(beams), no_return);
   for (int i = 0; i < beams; ++i) {
     const double a = pose.yaw - kPi + 2 * kPi * i / beams;
     const Vec2 d(std::cos(a), std::sin(a));
     double best = 1e9;
-    for (const Segment& s : kRoom) {
+    for (const Segment& s : world) {
       const Vec2 e = s.b - s.a;
       const double den = d.x() * e.y() - d.y() * e.x();
       if (std::abs(den) < 1e-12) continue;
@@ -39,6 +39,26 @@ inline std::vector<float> ranges_from(const Pose2& pose, int beams, float no_ret
     if (best < 30) out[static_cast<std::size_t>(i)] = static_cast<float>(best);
   }
   return out;
+}
+
+// A square ring corridor 3 m wide between a 20 m x 14 m outer wall and a 14 m x 8 m inner block,
+// with 0.3 m posts along both walls at uneven spacing (so no stretch of it is a featureless
+// corridor).
+inline std::vector<Segment> ring_world() {
+  std::vector<Segment> w = {{{0, 0}, {20, 0}}, {{20, 0}, {20, 14}}, {{20, 14}, {0, 14}}, {{0, 14}, {0, 0}},
+                            {{3, 3}, {17, 3}}, {{17, 3}, {17, 11}}, {{17, 11}, {3, 11}}, {{3, 11}, {3, 3}}};
+  const auto post = [&w](double x, double y) {
+    const double h = 0.15;
+    w.push_back({{x - h, y - h}, {x + h, y - h}});
+    w.push_back({{x + h, y - h}, {x + h, y + h}});
+    w.push_back({{x + h, y + h}, {x - h, y + h}});
+    w.push_back({{x - h, y + h}, {x - h, y - h}});
+  };
+  for (double x : {2.1, 4.9, 6.3, 9.8, 12.2, 13.1, 16.4, 18.7}) post(x, 0.15), post(x + 0.7, 3.0 - 0.15 + 0.3 * (x > 10));
+  for (double x : {1.4, 3.8, 7.7, 8.6, 11.9, 15.2, 17.9}) post(x, 13.85), post(x + 0.5, 11.15);
+  for (double y : {1.7, 4.4, 6.1, 9.3, 12.6}) post(0.15, y), post(19.85, y + 0.4);
+  for (double y : {4.2, 5.9, 8.8}) post(2.85, y), post(17.15, y - 0.6);
+  return w;
 }
 
 // The hit points of `beams` beams from `pose`, in the sensor frame.

@@ -1,6 +1,5 @@
-// The SLAM-side role interfaces with test doubles: a brute-force scan matcher (exhaustive search
-// over a pose grid, the reference any real matcher is checked against) and an odometry-only SLAM.
-// They show the interfaces can be implemented and used as the SLAM issues will.
+// The scan-matcher interface with a test double: a brute-force scan matcher (exhaustive search
+// over a pose grid, the reference any real matcher is checked against).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +9,6 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/slam/scan_matcher.hpp"
-#include "starnav/slam/slam.hpp"
 
 namespace starnav {
 namespace {
@@ -50,21 +48,6 @@ class BruteForceMatcher final : public ScanMatcher {
   }
 };
 
-// Trusts odometry: every scan is a node at its odometry pose.
-class OdometrySlam final : public Slam {
- public:
-  std::string_view name() const override { return "odometry_only"; }
-  bool add(const SlamScan& s) override {
-    poses_.push_back({s.t_s, s.odometry});
-    return true;
-  }
-  std::vector<SlamPose> trajectory() const override { return poses_; }
-  OccupancyGrid map(double resolution_m) const override { return OccupancyGrid(GridGeometry{1, 1, resolution_m, {}}, -1); }
-
- private:
-  std::vector<SlamPose> poses_;
-};
-
 TEST(ScanMatcherInterface, ABruteForceDoubleRecoversAKnownTransform) {
   std::vector<Vec2> room;  // an L-shaped corner, 8 cm spacing
   for (int i = 0; i <= 25; ++i) room.emplace_back(0.08 * i, 0.0);
@@ -88,21 +71,6 @@ TEST(ScanMatcherInterface, ABruteForceDoubleRecoversAKnownTransform) {
   EXPECT_EQ(r.iterations, 11 * 11 * 11);
   EXPECT_FALSE(matcher.supports_map());
   EXPECT_THROW(matcher.match_to_map(OccupancyGrid(GridGeometry{2, 2, 0.1, {}}, 0), scan, Pose2()), Error);
-}
-
-TEST(SlamInterface, AnOdometryDoubleKeepsEveryScanAtItsOdometryPose) {
-  OdometrySlam s;
-  Slam& slam = s;
-  for (int i = 0; i < 5; ++i) {
-    SlamScan scan;
-    scan.t_s = 0.1 * i;
-    scan.odometry = Pose2(0.2 * i, 0.0, 0.0);
-    scan.points = {Vec2(1.0, 0.0)};
-    EXPECT_TRUE(slam.add(scan));
-  }
-  ASSERT_EQ(slam.trajectory().size(), 5u);
-  EXPECT_EQ(slam.trajectory()[3].pose.x, 0.2 * 3);
-  EXPECT_EQ(slam.map(0.05).geometry().resolution, 0.05);
 }
 
 }  // namespace

@@ -132,6 +132,25 @@ class ParamTable {
   }
 
   // Replaces the default shown in docs when it comes from elsewhere (e.g. "robot.max_step_m").
+  // Every parameter of `sub` under `prefix.`, bound to the nested configuration `access` gives.
+  template <class Sub, class Access>
+  ParamTable& nest(const std::string& prefix, const ParamTable<Sub>& sub, Access access) {
+    const std::size_t strip = prefix.size() + 1;
+    for (const auto& e : sub.entries_) {
+      ParamSpec s = e.spec;
+      s.key = prefix + "." + s.key;
+      add(std::move(s),
+          [set = e.set, access, strip](Config& c, const ParamSetting& v) {
+            ParamSetting inner = v;
+            inner.key = v.key.substr(strip);
+            set(ref(c, access), inner);
+          },
+          [get = e.get, access](const Config& c) { return get(cref(c, access)); });
+      entries_.back().rule = e.rule;
+    }
+    return *this;
+  }
+
   ParamTable& default_rule(const std::string& key, std::string rule) {
     for (Entry& e : entries_)
       if (e.spec.key == key) e.rule = std::move(rule);
@@ -193,6 +212,8 @@ class ParamTable {
 
   std::vector<Entry> entries_;
 
+  template <class>
+  friend class ParamTable;
 };
 
 

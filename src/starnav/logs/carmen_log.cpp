@@ -166,6 +166,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
       od.tv_mps = f.number(4, "tv");
       od.rv_radps = f.number(5, "rv");
       od.stamp_us = f.stamp(7, "ipc_timestamp");
+      od.source_index = static_cast<std::size_t>(line_no);
       log.odometry.push_back(od);
     } else if (type == "TRUEPOS") {
       f.need(8, "x y theta odom_x odom_y odom_theta ipc_timestamp");
@@ -213,6 +214,7 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
       od.pose = Pose2(f.number(2, "x"), f.number(3, "y"), wrap_angle(f.number(4, "theta")));
       od.tv_mps = f.number(5, "tv");
       od.rv_radps = f.number(6, "rv");
+      od.source_index = static_cast<std::size_t>(line_no);
       log.odometry.push_back(od);
     } else {
       ++log.skipped[f.type()];

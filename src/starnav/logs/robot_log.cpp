@@ -105,8 +105,34 @@ std::optional<Pose2> odometry_at(const std::vector<LogOdometry>& sorted, std::in
                wrap_angle(a.pose.yaw + f * wrap_angle(b.pose.yaw - a.pose.yaw)));
 }
 
-std::optional<Pose2> scan_odometry(const LogScan& scan, const std::vector<LogOdometry>& sorted) {
-  return scan.odometry ? scan.odometry : odometry_at(sorted, scan.stamp_us);
+std::vector<std::optional<Pose2>> scan_odometry(const RobotLog& log) {
+  std::vector<std::optional<Pose2>> out(log.scans.size());
+  const auto in_order = [](const auto& items) {
+    for (std::size_t i = 1; i < items.size(); ++i)
+      if (items[i].stamp_us < items[i - 1].stamp_us) return false;
+    return true;
+  };
+  bool indexed = true;
+  for (const LogOdometry& o : log.odometry) indexed = indexed && o.source_index > 0;
+  for (const LogScan& s : log.scans) indexed = indexed && s.source_index > 0;
+  const bool by_time = (in_order(log.scans) && in_order(log.odometry)) || !indexed;
+  const std::vector<LogOdometry> sorted = by_time ? sort_by_time(log.odometry) : std::vector<LogOdometry>{};
+  // File order: readings by source index.
+  std::vector<LogOdometry> filed = by_time ? std::vector<LogOdometry>{} : log.odometry;
+  std::stable_sort(filed.begin(), filed.end(), [](const LogOdometry& a, const LogOdometry& b) { return a.source_index < b.source_index; });
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    const LogScan& scan = log.scans[k];
+    if (scan.odometry) {
+      out[k] = scan.odometry;
+    } else if (by_time) {
+      out[k] = odometry_at(sorted, scan.stamp_us);
+    } else if (!filed.empty()) {
+      const auto after = std::lower_bound(filed.begin(), filed.end(), scan.source_index,
+                                          [](const LogOdometry& o, std::size_t i) { return o.source_index < i; });
+      out[k] = (after == filed.begin() ? *after : *(after - 1)).pose;
+    }
+  }
+  return out;
 }
 
 RobotLogSummary summarise_log(const RobotLog& log) {

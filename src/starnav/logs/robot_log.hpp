@@ -42,6 +42,7 @@ struct LogOdometry {
   Pose2 pose;              // odom frame
   double tv_mps = 0.0;     // forward speed, where the log has it
   double rv_radps = 0.0;   // yaw rate
+  std::size_t source_index = 0;  // line or message number, from 1 (as LogScan's; 0: unknown)
 };
 
 struct LogTruePose {
@@ -72,9 +73,12 @@ std::string format_stamp_us(std::int64_t us);
 // short way round), the nearest reading outside their span; nullopt without odometry. `sorted`
 // must be in time order (sort_by_time).
 std::optional<Pose2> odometry_at(const std::vector<LogOdometry>& sorted, std::int64_t stamp_us);
-// The odometry pose at `scan`: the one its own line carries (FLASER, ROBOTLASER1), else
-// odometry_at(sorted, its stamp).
-std::optional<Pose2> scan_odometry(const LogScan& scan, const std::vector<LogOdometry>& sorted);
+// The odometry pose at each scan of `log` (nullopt: none). The pose a scan's own line carries
+// (FLASER, ROBOTLASER1) first; else, when the log's scans and odometry are each in time order,
+// the odometry interpolated at the scan's stamp; else (stamps that are arrival times and go
+// backwards, as intel's) the last odometry reading before the scan in the file (the first after
+// it for scans before any), since time order scrambles such readings.
+std::vector<std::optional<Pose2>> scan_odometry(const RobotLog& log);
 // The readings in time order (stable: equal stamps keep the log's order).
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry);
 

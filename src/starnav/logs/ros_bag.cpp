@@ -404,6 +404,7 @@ RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const Lo
     } else if (c.topic == odom_topic) {
       DecodedOdometry d = decode_odometry(r);
       if (base_frame.empty()) base_frame = strip_slash(d.child_frame_id);
+      d.odometry.source_index = index;
       log.odometry.push_back(d.odometry);
     } else if (c.type == "tf2_msgs/TFMessage" && strip_slash(c.topic) == "tf_static") {
       decode_tf(r, statics);

@@ -20,15 +20,18 @@ namespace starnav {
 #define STARNAV_SCAN_MATCHERS(X) \
   X(correlative_scan_matcher) /* slam/correlative_scan_matcher.cpp */
 
-// (Slam implementations come with the SLAM issue: STARNAV_SLAM(X).)
+#define STARNAV_SLAM(X) \
+  X(graph_slam) /* slam/graph_slam.cpp */
 
 #define STARNAV_DECLARE_CONTROLLER(f) LocalControllerDef f();
 #define STARNAV_DECLARE_LOCALIZER(f) LocalizerDef f();
 #define STARNAV_DECLARE_SCAN_MATCHER(f) ScanMatcherDef f();
+#define STARNAV_DECLARE_SLAM(f) SlamDef f();
 #define STARNAV_LIST(f) f(),
 STARNAV_LOCAL_CONTROLLERS(STARNAV_DECLARE_CONTROLLER)
 STARNAV_LOCALIZERS(STARNAV_DECLARE_LOCALIZER)
 STARNAV_SCAN_MATCHERS(STARNAV_DECLARE_SCAN_MATCHER)
+STARNAV_SLAM(STARNAV_DECLARE_SLAM)
 
 const std::vector<GlobalPlannerDef>& global_planners() {
   static const std::vector<GlobalPlannerDef> all = {
@@ -59,7 +62,7 @@ const std::vector<LocalizerDef>& localizers() {
 }
 
 const std::vector<SlamDef>& slam_components() {
-  static const std::vector<SlamDef> all = {};
+  static const std::vector<SlamDef> all = {STARNAV_SLAM(STARNAV_LIST)};
   return all;
 }
 
@@ -106,6 +109,10 @@ const LocalizerDef& find_localizer(const std::string& name, const std::string& f
 
 const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::string& field, std::string* warning) {
   return find_in(scan_matchers(), name, field, warning, "scan matcher");
+}
+
+const SlamDef& find_slam(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(slam_components(), name, field, warning, "SLAM method");
 }
 
 std::vector<ComponentInfo> all_components() {

@@ -31,6 +31,7 @@ const LocalizerDef& find_localizer(const std::string& name, const std::string& f
                                    std::string* warning = nullptr);
 const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::string& field = "scan_matcher",
                                         std::string* warning = nullptr);
+const SlamDef& find_slam(const std::string& name, const std::string& field = "slam", std::string* warning = nullptr);
 
 // The names of a role, in registry order.
 std::vector<std::string> component_names(Role role);

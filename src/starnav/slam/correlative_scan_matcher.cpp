@@ -15,22 +15,33 @@ namespace {
 // The most cells a likelihood field may have (a reference spread over kilometres is refused).
 constexpr std::int64_t kMaxFieldCells = std::int64_t{1} << 26;
 
-// Sliding maximum over [x, x + 4) x [y, y + 4): an upper bound of the fine values a block of 4 x 4
-// translations can reach from one base cell.
-std::vector<float> block_max(const std::vector<float>& fine, int w, int h) {
-  std::vector<float> rows(fine.size()), out(fine.size());
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      float m = 0.0f;
-      for (int k = 0; k < 4 && x + k < w; ++k) m = std::max(m, fine[static_cast<std::size_t>(y * w + x + k)]);
-      rows[static_cast<std::size_t>(y * w + x)] = m;
-    }
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      float m = 0.0f;
-      for (int k = 0; k < 4 && y + k < h; ++k) m = std::max(m, rows[static_cast<std::size_t>((y + k) * w + x)]);
-      out[static_cast<std::size_t>(y * w + x)] = m;
-    }
+// The bounds of blocks 2, 4, ..., 2^depth cells wide (padded grids: level k starts at cell
+// -(2^k - 1)), each from the one below in float and stored rounded up to 1/255.
+std::vector<std::vector<std::uint8_t>> block_bounds(const std::vector<float>& fine, int w, int h, int depth) {
+  std::vector<std::vector<std::uint8_t>> out;
+  std::vector<float> below = fine;
+  int below_pad = 0;
+  for (int k = 1; k <= depth; ++k) {
+    const int half = 1 << (k - 1), pad = (1 << k) - 1;
+    const int bw = w + below_pad, wk = w + pad, hk = h + pad;
+    const auto at = [&](int x, int y) -> float {  // level k-1 at unpadded cell (x, y)
+      const int px = x + below_pad, py = y + below_pad;
+      return px >= 0 && py >= 0 && px < bw && py < h + below_pad ? below[static_cast<std::size_t>(py) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(px)] : 0.0f;
+    };
+    std::vector<float> level(static_cast<std::size_t>(wk) * static_cast<std::size_t>(hk));
+    std::vector<std::uint8_t> q(level.size());
+    for (int py = 0; py < hk; ++py)
+      for (int px = 0; px < wk; ++px) {
+        const int x = px - pad, y = py - pad;
+        const float m = std::max(std::max(at(x, y), at(x + half, y)), std::max(at(x, y + half), at(x + half, y + half)));
+        const std::size_t i = static_cast<std::size_t>(py) * static_cast<std::size_t>(wk) + static_cast<std::size_t>(px);
+        level[i] = m;
+        q[i] = static_cast<std::uint8_t>(std::min(255.0f, std::ceil(m * 255.0f)));
+      }
+    out.push_back(std::move(q));
+    below.swap(level);
+    below_pad = pad;
+  }
   return out;
 }
 
@@ -38,7 +49,7 @@ std::vector<float> block_max(const std::vector<float>& fine, int w, int h) {
 // where the reference really is: a cell's value is measured to the nearest obstacle cell's point,
 // not to its centre, so the field carries no half-cell bias.
 CorrelativeScanMatcher::Field make_field(std::vector<std::uint8_t> mask, int w, int h, double resolution, const Vec2& origin,
-                                         double sigma, const std::vector<Vec2>& points = {}) {
+                                         double sigma, int depth, const std::vector<Vec2>& points = {}) {
   CorrelativeScanMatcher::Field f;
   f.resolution = resolution;
   f.origin = origin;
@@ -61,13 +72,105 @@ CorrelativeScanMatcher::Field make_field(std::vector<std::uint8_t> mask, int w, 
     }
     f.fine[i] = static_cast<float>(std::exp(-d2m * k));
   }
-  f.coarse = block_max(f.fine, w, h);
+  f.bounds = block_bounds(f.fine, w, h, depth);
   return f;
 }
 
 struct Candidate {
   double score = -1.0;
-  int angle = 0, ix = 0, iy = 0;
+  int angle = 0, ix = 0, iy = 0, level = 0;
+};
+
+// Depth-first branch and bound over (angle, x, y) lattice offsets from the guess: a candidate at
+// level k stands for the 2^k x 2^k translations from (ix, iy); its score bounds theirs.
+class BranchAndBound {
+ public:
+  // A leaf's score is its mean likelihood times exp(-(cell_weight (ix^2 + iy^2) + step_weight a^2))
+  // (a prior around the guess; 1 when both weights are 0); bounds stay the plain likelihoods, which
+  // are never below.
+  BranchAndBound(const CorrelativeScanMatcher::Field& field, std::span<const Vec2> scan, const Pose2& guess, double step_a,
+                 int n_a, int n_l, double cell_weight, double step_weight)
+      : f_(field), n_points_(scan.size()), n_a_(n_a), n_l_(n_l), inv_n_(1.0 / static_cast<double>(scan.size())),
+        cell_weight_(cell_weight), step_weight_(step_weight) {
+    base_.resize(static_cast<std::size_t>(2 * n_a + 1) * n_points_ * 2);
+    for (int a = -n_a; a <= n_a; ++a) {
+      const double yaw = guess.yaw + a * step_a;
+      const double cs = std::cos(yaw), sn = std::sin(yaw);
+      int* b = &base_[static_cast<std::size_t>(a + n_a) * n_points_ * 2];
+      for (std::size_t i = 0; i < n_points_; ++i) {
+        const double x = guess.x + cs * scan[i].x() - sn * scan[i].y(), y = guess.y + sn * scan[i].x() + cs * scan[i].y();
+        b[2 * i] = static_cast<int>(std::floor((x - f_.origin.x()) / f_.resolution));
+        b[2 * i + 1] = static_cast<int>(std::floor((y - f_.origin.y()) / f_.resolution));
+      }
+    }
+  }
+
+  // The best leaf scoring at least `floor` (score -1 when none does).
+  Candidate run(double floor) {
+    best_ = Candidate{};
+    floor_ = floor;
+    const int top = f_.depth(), step = 1 << top;
+    std::vector<Candidate> cands;
+    for (int a = -n_a_; a <= n_a_; ++a)
+      for (int x = -n_l_; x <= n_l_; x += step)
+        for (int y = -n_l_; y <= n_l_; y += step) cands.push_back(scored(a, x, y, top));
+    descend(cands);
+    return best_;
+  }
+
+ private:
+  Candidate scored(int a, int x, int y, int level) const {
+    const int* b = &base_[static_cast<std::size_t>(a + n_a_) * n_points_ * 2];
+    const int w = f_.width, h = f_.height;
+    double s = 0.0;
+    if (level == 0) {
+      for (std::size_t i = 0; i < n_points_; ++i) {
+        const int cx = b[2 * i] + x, cy = b[2 * i + 1] + y;
+        if (cx >= 0 && cy >= 0 && cx < w && cy < h) s += f_.fine[static_cast<std::size_t>(cy) * static_cast<std::size_t>(w) + static_cast<std::size_t>(cx)];
+      }
+      if (cell_weight_ > 0 || step_weight_ > 0)
+        s *= std::exp(-(cell_weight_ * (x * x + y * y) + step_weight_ * a * a));
+    } else {
+      const std::vector<std::uint8_t>& g = f_.bounds[static_cast<std::size_t>(level - 1)];
+      const int pad = (1 << level) - 1, wk = w + pad, hk = h + pad;
+      std::uint32_t sum = 0;
+      for (std::size_t i = 0; i < n_points_; ++i) {
+        const int px = b[2 * i] + x + pad, py = b[2 * i + 1] + y + pad;
+        if (px >= 0 && py >= 0 && px < wk && py < hk) sum += g[static_cast<std::size_t>(py) * static_cast<std::size_t>(wk) + static_cast<std::size_t>(px)];
+      }
+      s = sum / 255.0;
+    }
+    return {s * inv_n_, a, x, y, level};
+  }
+
+  static int correction(const Candidate& c) { return std::abs(c.angle) + std::abs(c.ix) + std::abs(c.iy); }
+
+  void descend(std::vector<Candidate>& cands) {
+    std::sort(cands.begin(), cands.end(), [](const Candidate& p, const Candidate& q) { return p.score > q.score; });
+    for (const Candidate& c : cands) {
+      if (c.score < floor_ || c.score < best_.score) break;
+      if (c.level == 0) {
+        // Ties go to the smaller correction (nearer the guess).
+        if (c.score > best_.score || correction(c) < correction(best_)) best_ = c;
+        continue;
+      }
+      const int half = 1 << (c.level - 1);
+      std::vector<Candidate> children;
+      for (int dx : {0, half})
+        for (int dy : {0, half})
+          if (c.ix + dx <= n_l_ && c.iy + dy <= n_l_) children.push_back(scored(c.angle, c.ix + dx, c.iy + dy, c.level - 1));
+      descend(children);
+    }
+  }
+
+  const CorrelativeScanMatcher::Field& f_;
+  std::size_t n_points_;
+  int n_a_, n_l_;
+  double inv_n_;
+  double cell_weight_, step_weight_;
+  std::vector<int> base_;
+  Candidate best_;
+  double floor_ = -1.0;
 };
 
 }  // namespace
@@ -82,6 +185,10 @@ const ParamTable<CorrelativeMatcherConfig>& correlative_matcher_params() {
     t.real("window_angular_deg", &C::window_angular_rad, closed(0.0, 180.0), "deg", "search +- this in yaw", kPi / 180.0);
     t.real("min_score", &C::min_score, closed(0.0, 1.0), "", "least score (mean likelihood) to call a match converged");
     t.boolean("refine", &C::refine, "refine the best lattice pose by Gauss-Newton");
+    t.real("prior_linear_weight", &C::prior_linear_weight, closed(0.0, 1e6), "1/m^2",
+           "pull toward the guess: scores times exp(-w d^2), d the shift from the guess (0: none)");
+    t.real("prior_angular_weight", &C::prior_angular_weight, closed(0.0, 1e6), "1/rad^2",
+           "pull toward the guess's yaw: scores times exp(-w dyaw^2) (0: none)");
     return t;
   }();
   return table;
@@ -94,6 +201,8 @@ void CorrelativeMatcherConfig::validate() const {
   require(std::isfinite(window_angular_rad) && window_angular_rad >= 0 && window_angular_rad <= kPi, "window_angular_deg",
           "must be in [0, 180] deg");
   require(min_score >= 0 && min_score <= 1, "min_score", "must be in [0, 1]");
+  require(std::isfinite(prior_linear_weight) && prior_linear_weight >= 0, "prior_linear_weight", "must be >= 0");
+  require(std::isfinite(prior_angular_weight) && prior_angular_weight >= 0, "prior_angular_weight", "must be >= 0");
 }
 
 CorrelativeScanMatcher::CorrelativeScanMatcher(const CorrelativeMatcherConfig& config) : c_(config) { c_.validate(); }
@@ -111,7 +220,8 @@ double CorrelativeScanMatcher::Field::value(const Vec2& world) const {
 }
 
 CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_points(std::span<const Vec2> points, const Vec2& lo,
-                                                                      const Vec2& hi) const {
+                                                                      const Vec2& hi, int depth) const {
+  require(depth >= 0 && depth <= 10, "depth", "must be in [0, 10]");
   const double r = c_.resolution_m;
   const Vec2 origin(std::floor(lo.x() / r) * r, std::floor(lo.y() / r) * r);
   const double wx = std::ceil((hi.x() - origin.x()) / r) + 1, wy = std::ceil((hi.y() - origin.y()) / r) + 1;
@@ -133,14 +243,15 @@ CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_points(std::span<
   }
   for (std::size_t i = 0; i < sum.size(); ++i)
     if (count[i]) sum[i] /= static_cast<double>(count[i]);
-  return make_field(std::move(mask), w, h, r, origin, c_.sigma_m, sum);
+  return make_field(std::move(mask), w, h, r, origin, c_.sigma_m, depth, sum);
 }
 
-CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_map(const OccupancyGrid& map) const {
+CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_map(const OccupancyGrid& map, int depth) const {
+  require(depth >= 0 && depth <= 10, "depth", "must be in [0, 10]");
   // The field on the map's own cells (its resolution replaces resolution_m).
   std::vector<std::uint8_t> mask(map.cell_count());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = map[i] >= 65;  // map_server's occupied threshold
-  return make_field(std::move(mask), map.width(), map.height(), map.resolution(), map.origin().translation(), c_.sigma_m);
+  return make_field(std::move(mask), map.width(), map.height(), map.resolution(), map.origin().translation(), c_.sigma_m, depth);
 }
 
 ScanMatch CorrelativeScanMatcher::match(std::span<const Vec2> reference, std::span<const Vec2> scan, const Pose2& guess) {
@@ -163,71 +274,60 @@ ScanMatch CorrelativeScanMatcher::match_to_map(const OccupancyGrid& map, std::sp
 }
 
 ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<const Vec2> scan, const Pose2& guess) const {
+  ScanMatch m = match_to_field(field, scan, guess,
+                               MatchWindow{c_.window_linear_m, c_.window_angular_rad, 0.0, c_.prior_linear_weight, c_.prior_angular_weight});
+  m.converged = m.score >= c_.min_score;
+  return m;
+}
+
+std::size_t CorrelativeScanMatcher::Field::bytes() const {
+  std::size_t n = fine.size() * sizeof(float);
+  for (const auto& b : bounds) n += b.size();
+  return n;
+}
+
+ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<const Vec2> scan, const Pose2& guess,
+                                                 const MatchWindow& window) const {
+  if (scan.empty()) throw Error("needs points in the scan", {}, 0, "scan");
   for (const Vec2& p : scan)
     if (!std::isfinite(p.x()) || !std::isfinite(p.y())) throw Error("scan point not finite", {}, 0, "scan");
   if (!std::isfinite(guess.x) || !std::isfinite(guess.y) || !std::isfinite(guess.yaw)) throw Error("guess not finite", {}, 0, "guess");
+  require(std::isfinite(window.linear_m) && window.linear_m >= 0 && window.linear_m <= 100, "window_linear_m", "must be in [0, 100] m");
+  require(std::isfinite(window.angular_rad) && window.angular_rad >= 0 && window.angular_rad <= kPi, "window_angular_deg",
+          "must be in [0, 180] deg");
   const double r = field.resolution;
   double d_max = r;
   for (const Vec2& p : scan) d_max = std::max(d_max, p.norm());
   // Olson's angular step: the farthest point moves at most one cell.
   const double step_a = std::acos(std::max(-1.0, 1.0 - r * r / (2.0 * d_max * d_max)));
-  const int n_a = static_cast<int>(std::ceil(c_.window_angular_rad / step_a));
-  const int n_l = static_cast<int>(std::ceil(c_.window_linear_m / r));
+  const int n_a = static_cast<int>(std::ceil(window.angular_rad / step_a));
+  const int n_l = static_cast<int>(std::ceil(window.linear_m / r));
   const double inv_n = 1.0 / static_cast<double>(scan.size());
-  Candidate best;
-  std::vector<int> base(scan.size() * 2);
-  const int w = field.width, h = field.height;
-  auto fine_at = [&](int x, int y) -> float {
-    return x >= 0 && y >= 0 && x < w && y < h ? field.fine[static_cast<std::size_t>(y * w + x)] : 0.0f;
-  };
-  auto coarse_at = [&](int x, int y) -> float {
-    // Blocks reaching in from outside the field: the nearest inside cell's bound covers them only
-    // in part, so use the global bound 1 there.
-    return x >= 0 && y >= 0 && x < w && y < h ? field.coarse[static_cast<std::size_t>(y * w + x)] : (x > -4 && y > -4 && x < w && y < h ? 1.0f : 0.0f);
-  };
-  for (int a = -n_a; a <= n_a; ++a) {
-    const double yaw = guess.yaw + a * step_a;
-    const double cs = std::cos(yaw), sn = std::sin(yaw);
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      const double x = guess.x + cs * scan[i].x() - sn * scan[i].y(), y = guess.y + sn * scan[i].x() + cs * scan[i].y();
-      base[2 * i] = static_cast<int>(std::floor((x - field.origin.x()) / r));
-      base[2 * i + 1] = static_cast<int>(std::floor((y - field.origin.y()) / r));
-    }
-    // Blocks of 4 x 4 translations, best bound first.
-    std::vector<std::pair<float, std::pair<int, int>>> blocks;
-    for (int bx = -n_l; bx <= n_l; bx += 4)
-      for (int by = -n_l; by <= n_l; by += 4) {
-        double bound = 0.0;
-        for (std::size_t i = 0; i < scan.size(); ++i) bound += coarse_at(base[2 * i] + bx, base[2 * i + 1] + by);
-        blocks.push_back({static_cast<float>(bound * inv_n), {bx, by}});
-      }
-    std::sort(blocks.begin(), blocks.end(), [](const auto& p, const auto& q) { return p.first > q.first; });
-    for (const auto& [bound, xy] : blocks) {
-      if (bound <= best.score) break;
-      for (int ix = xy.first; ix < xy.first + 4 && ix <= n_l; ++ix)
-        for (int iy = xy.second; iy < xy.second + 4 && iy <= n_l; ++iy) {
-          double s = 0.0;
-          for (std::size_t i = 0; i < scan.size(); ++i) s += fine_at(base[2 * i] + ix, base[2 * i + 1] + iy);
-          s *= inv_n;
-          // Ties go to the smaller correction (nearer the guess).
-          const auto cost = [&](int aa, int x, int y) { return std::abs(aa) + std::abs(x) + std::abs(y); };
-          if (s > best.score || (s == best.score && cost(a, ix, iy) < cost(best.angle, best.ix, best.iy))) best = {s, a, ix, iy};
-        }
-    }
-  }
+  BranchAndBound search(field, scan, guess, step_a, n_a, n_l, r * r * window.prior_linear_weight,
+                        step_a * step_a * window.prior_angular_weight);
+  const Candidate best = search.run(window.min_score > 0 ? window.min_score : -1.0);
   ScanMatch m;
+  if (best.score < 0) {  // nothing reached min_score
+    m.transform = guess;
+    m.score = 0.0;
+    return m;
+  }
   m.transform = Pose2(guess.x + best.ix * r, guess.y + best.iy * r, wrap_angle(guess.yaw + best.angle * step_a));
   m.score = best.score;
   if (c_.refine) {
     // Gauss-Newton on sum (1 - F(T p))^2 with the bilinear field; steps that do not lower the
     // cost are halved (at most 8 times).
+    // The prior adds n w |T - guess|^2 (translation and yaw weights).
+    const double n = static_cast<double>(scan.size());
+    const double wl = n * window.prior_linear_weight, wa = n * window.prior_angular_weight;
     auto cost_of = [&](const Pose2& t) {
       double e = 0.0;
       for (const Vec2& p : scan) {
         const double f = field.value(t.transform(p));
         e += (1 - f) * (1 - f);
       }
-      return e;
+      const double da = wrap_angle(t.yaw - guess.yaw);
+      return e + wl * ((t.x - guess.x) * (t.x - guess.x) + (t.y - guess.y) * (t.y - guess.y)) + wa * da * da;
     };
     Pose2 t = m.transform;
     double e = cost_of(t);
@@ -248,6 +348,8 @@ ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<c
         H += J * J.transpose();
         g += J * (1 - f);
       }
+      H += Eigen::Vector3d(wl, wl, wa).asDiagonal();
+      g += Eigen::Vector3d(wl * (t.x - guess.x), wl * (t.y - guess.y), wa * wrap_angle(t.yaw - guess.yaw));
       if (H.determinant() < 1e-12) break;
       Eigen::Vector3d delta = -H.ldlt().solve(g);
       bool improved = false;
@@ -271,7 +373,7 @@ ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<c
     if (f > 1e-3) d2 += -2.0 * c_.sigma_m * c_.sigma_m * std::log(f), ++matched;
   }
   m.rms_m = matched ? std::sqrt(d2 / static_cast<double>(matched)) : 0.0;
-  m.converged = m.score >= c_.min_score;
+  m.converged = m.score >= window.min_score;
   return m;
 }
 

@@ -3,16 +3,19 @@
 // scored against a likelihood field of the reference (each cell exp(-d^2 / 2 sigma^2), d the
 // distance to the nearest reference point or occupied cell), at every pose of a search window
 // around the guess (translations on the field's cells, rotations in steps that move the farthest
-// point by at most one cell), exhaustively and in two resolutions: a coarse field of cells 4x
-// larger whose values bound the fine ones from above (max over the cells they cover) prunes the
-// window as Cartographer's branch and bound does, without changing the answer. The best pose is
-// then refined off the lattice by Gauss-Newton on the bilinearly interpolated field.
+// point by at most one cell), exhaustively by branch and bound (Hess et al. 2016): fields of
+// blocks 2, 4, ... 2^depth cells wide hold the maximum of the fine cells a block of translations
+// can reach, so whole blocks of the window are dropped when their bound falls below the best
+// score found, without changing the answer. The best pose is then refined off the lattice by
+// Gauss-Newton on the bilinearly interpolated field. Local matching searches a small window
+// (depth 2); loop closure searches metres and the whole circle (depth up to 7).
 //
 // Score: the mean field value over the scan's points, 0..1 (1: every point on the reference).
 // Converged when the best score reaches min_score. The covariance (with refinement) is the
 // Gauss-Newton estimate: the inverse of J'J times the residuals' variance. rms_m is the RMS
 // distance of the points the field sees (value above 1e-3), read back from the field, so it
 // measures to reference cell centres: below one cell for a perfect match.
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -29,7 +32,21 @@ struct CorrelativeMatcherConfig {
   double window_angular_rad = deg_to_rad(20.0);  // +- this in yaw
   double min_score = 0.3;             // below: not converged
   bool refine = true;                 // Gauss-Newton after the lattice search
+  // A prior around the guess (0: none): lattice scores times exp(-(wl d^2 + wa dyaw^2)), and
+  // n (wl d^2 + wa dyaw^2) added to the refinement's cost, so that a scan that fits equally well
+  // anywhere along a corridor stays where the odometry put it.
+  double prior_linear_weight = 0.0;   // 1/m^2 (local SLAM: 10)
+  double prior_angular_weight = 0.0;  // 1/rad^2
   void validate() const;
+};
+
+// A search window around a guess: +- linear_m in x and y, +- angular_rad in yaw; poses scoring
+// below min_score are not searched for (they prune the tree from the start).
+struct MatchWindow {
+  double linear_m = 0.3;
+  double angular_rad = 0.349;
+  double min_score = 0.0;
+  double prior_linear_weight = 0.0, prior_angular_weight = 0.0;  // as CorrelativeMatcherConfig's
 };
 const ParamTable<CorrelativeMatcherConfig>& correlative_matcher_params();
 
@@ -46,13 +63,20 @@ class CorrelativeScanMatcher final : public ScanMatcher {
     double resolution = 0.0;
     Vec2 origin{0, 0};  // world position of cell (0, 0)'s corner
     int width = 0, height = 0;
-    std::vector<float> fine;    // width x height
-    std::vector<float> coarse;  // ceil(width/4) x ceil(height/4): max of the fine cells covered
+    std::vector<float> fine;  // width x height
+    // bounds[k - 1]: for blocks 2^k cells wide, the maximum of the fine cells over
+    // [x, x + 2^k) x [y, y + 2^k), x and y from -(2^k - 1) (padded), rounded up to 1/255.
+    std::vector<std::vector<std::uint8_t>> bounds;
     double value(const Vec2& world) const;  // bilinear, 0 outside
+    int depth() const { return static_cast<int>(bounds.size()); }
+    std::size_t bytes() const;
   };
-  Field field_of_points(std::span<const Vec2> points, const Vec2& lo, const Vec2& hi) const;
-  Field field_of_map(const OccupancyGrid& map) const;
+  // `depth`: the levels of bounds (2: enough for the local window; more for wide searches).
+  Field field_of_points(std::span<const Vec2> points, const Vec2& lo, const Vec2& hi, int depth = 2) const;
+  Field field_of_map(const OccupancyGrid& map, int depth = 2) const;
+  // The configured window and min_score.
   ScanMatch match_to_field(const Field& field, std::span<const Vec2> scan, const Pose2& guess) const;
+  ScanMatch match_to_field(const Field& field, std::span<const Vec2> scan, const Pose2& guess, const MatchWindow& window) const;
 
  private:
   CorrelativeMatcherConfig c_;

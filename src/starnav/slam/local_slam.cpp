@@ -21,16 +21,7 @@ const ParamTable<LocalSlamConfig>& local_slam_params() {
     t.real("node_angle_deg", &C::node_angle_rad, closed(0.0, 180.0), "deg", "turning that makes a scan a node", kPi / 180.0);
     t.integer("window_nodes", &C::window_nodes, closed(1, 1000), "", "nodes whose points make the local map");
     t.integer("rebuild_every", &C::rebuild_every, closed(1, 1000), "", "nodes between rebuilds of the local map");
-    t.real("matcher.resolution_m", [](C& c) -> double& { return c.matcher.resolution_m; }, closed(0.005, 1.0), "m",
-           "the matcher's field cell");
-    t.real("matcher.sigma_m", [](C& c) -> double& { return c.matcher.sigma_m; }, closed(0.005, 1.0), "m",
-           "the matcher's likelihood spread");
-    t.real("matcher.window_linear_m", [](C& c) -> double& { return c.matcher.window_linear_m; }, closed(0.0, 10.0), "m",
-           "the matcher's search window, +- in x and y");
-    t.real("matcher.window_angular_deg", [](C& c) -> double& { return c.matcher.window_angular_rad; }, closed(0.0, 180.0),
-           "deg", "the matcher's search window, +- in yaw", kPi / 180.0);
-    t.real("matcher.min_score", [](C& c) -> double& { return c.matcher.min_score; }, closed(0.0, 1.0), "",
-           "least score to take the matcher's pose");
+    t.nest("matcher", correlative_matcher_params(), &C::matcher);
     return t;
   }();
   return table;
@@ -66,60 +57,81 @@ std::vector<Vec2> scan_points(const LogScan& scan, double min_range_m, double ma
   return out;
 }
 
+LocalSlam::LocalSlam(const LocalSlamConfig& config) : c_(config), matcher_(config.matcher) { c_.validate(); }
+
+LocalSlam::Step LocalSlam::add(const std::vector<Vec2>& points, const Pose2& odom, const Pose2& mount, std::int64_t stamp_us) {
+  Step step;
+  const Pose2 odom_increment = last_odom_ ? last_odom_->inverse().compose(odom) : Pose2();
+  step.pose = last_pose_ ? last_pose_->compose(odom_increment) : odom;
+  const double dt = last_pose_ ? static_cast<double>(stamp_us - last_stamp_us_) * 1e-6 : 0.0;
+  std::optional<Pose2> steady;  // the constant-velocity guess, when the odometry disagrees with it
+  if (velocity_ && dt > 0 && dt < 2.0) {
+    const Pose2 v(velocity_->x * dt, velocity_->y * dt, velocity_->yaw * dt);
+    const Pose2 gap = v.inverse().compose(odom_increment);
+    if (gap.translation().norm() > 0.5 * c_.matcher.window_linear_m || std::abs(gap.yaw) > 0.5 * c_.matcher.window_angular_rad)
+      steady = last_pose_->compose(v);
+  }
+  if (have_field_ && points.size() >= 10) {
+    step.attempted = true;
+    ScanMatch m = matcher_.match_to_field(field_, points, step.pose.compose(mount));
+    if (steady) {
+      const ScanMatch alt = matcher_.match_to_field(field_, points, steady->compose(mount));
+      if (alt.score > m.score) m = alt, step.pose = *steady;
+    }
+    if (m.converged) {
+      step.pose = m.transform.compose(mount.inverse());
+      step.matched = true;
+    }
+  }
+  if (last_pose_ && dt > 1e-3) {
+    const Pose2 moved = last_pose_->inverse().compose(step.pose);
+    velocity_ = Pose2(moved.x / dt, moved.y / dt, moved.yaw / dt);
+  }
+  if (dt > 1e-3 || !last_pose_) last_stamp_us_ = stamp_us;
+  last_pose_ = step.pose;
+  last_odom_ = odom;
+  const bool node = !last_node_pose_ ||
+                    last_node_pose_->inverse().compose(step.pose).translation().norm() >= c_.node_distance_m ||
+                    std::abs(wrap_angle(step.pose.yaw - last_node_pose_->yaw)) >= c_.node_angle_rad;
+  if (!node || points.empty()) return step;
+  step.node = true;
+  last_node_pose_ = step.pose;
+  std::vector<Vec2> world;
+  world.reserve(points.size());
+  const Pose2 sensor = step.pose.compose(mount);
+  for (const Vec2& p : points) world.push_back(sensor.transform(p));
+  window_.push_back(std::move(world));
+  if (static_cast<int>(window_.size()) > c_.window_nodes) window_.pop_front();
+  if (!have_field_ || ++since_rebuild_ >= c_.rebuild_every) {
+    since_rebuild_ = 0;
+    const double margin = 3 * c_.matcher.sigma_m + c_.matcher.window_linear_m + c_.matcher.resolution_m;
+    std::vector<Vec2> all;
+    for (const auto& w : window_) all.insert(all.end(), w.begin(), w.end());
+    Vec2 lo = all.front(), hi = all.front();
+    for (const Vec2& p : all) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    field_ = matcher_.field_of_points(all, lo - Vec2::Constant(margin), hi + Vec2::Constant(margin));
+    have_field_ = true;
+  }
+  return step;
+}
+
 LocalSlamResult run_local_slam(const RobotLog& log, const LocalSlamConfig& c,
                                const std::function<void(std::size_t, std::size_t)>& progress) {
-  c.validate();
+  LocalSlam local(c);
   const double t0 = thread_cpu_s();
-  CorrelativeScanMatcher matcher(c.matcher);
   const Pose2 mount = log.laser_in_base.value_or(Pose2());
-  const std::vector<LogOdometry> odometry = sort_by_time(log.odometry);
+  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
   LocalSlamResult out;
-  std::optional<Pose2> last_odom, last_pose, last_node_pose;
-  std::deque<std::vector<Vec2>> window;  // world points of the last nodes
-  CorrelativeScanMatcher::Field field;
-  bool have_field = false;
-  int since_rebuild = 0;
-  const double margin = 3 * c.matcher.sigma_m + c.matcher.window_linear_m + c.matcher.resolution_m;
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
     if (progress && k % 100 == 0) progress(k, log.scans.size());
     const LogScan& scan = log.scans[k];
-    const std::optional<Pose2> odom = scan_odometry(scan, odometry);
+    const std::optional<Pose2>& odom = odometry[k];
     if (!odom) continue;
-    // The guess: the last pose moved by the odometry's increment since.
-    Pose2 pose = last_pose ? last_pose->compose(last_odom->inverse().compose(*odom)) : *odom;
-    const std::vector<Vec2> points = scan_points(scan, c.min_range_m, c.max_range_m, c.voxel_m);
-    if (have_field && points.size() >= 10) {
-      const ScanMatch m = matcher.match_to_field(field, points, pose.compose(mount));
-      if (m.converged) {
-        pose = m.transform.compose(mount.inverse());
-        ++out.matched;
-      } else {
-        ++out.unmatched;
-      }
-    }
-    last_pose = pose;
-    last_odom = odom;
-    out.poses.push_back({scan.stamp_us, pose});
-    const bool node = !last_node_pose || (last_node_pose->inverse().compose(pose).translation().norm() >= c.node_distance_m) ||
-                      std::abs(wrap_angle(pose.yaw - last_node_pose->yaw)) >= c.node_angle_rad;
-    if (!node || points.empty()) continue;
-    last_node_pose = pose;
-    out.nodes.push_back(out.poses.size() - 1);
-    std::vector<Vec2> world;
-    world.reserve(points.size());
-    const Pose2 sensor = pose.compose(mount);
-    for (const Vec2& p : points) world.push_back(sensor.transform(p));
-    window.push_back(std::move(world));
-    if (static_cast<int>(window.size()) > c.window_nodes) window.pop_front();
-    if (!have_field || ++since_rebuild >= c.rebuild_every) {
-      since_rebuild = 0;
-      std::vector<Vec2> all;
-      for (const auto& w : window) all.insert(all.end(), w.begin(), w.end());
-      Vec2 lo = all.front(), hi = all.front();
-      for (const Vec2& p : all) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-      field = matcher.field_of_points(all, lo - Vec2::Constant(margin), hi + Vec2::Constant(margin));
-      have_field = true;
-    }
+    const LocalSlam::Step step = local.add(scan_points(scan, c.min_range_m, c.max_range_m, c.voxel_m), *odom, mount, scan.stamp_us);
+    out.matched += step.matched;
+    out.unmatched += step.attempted && !step.matched;
+    out.poses.push_back({scan.stamp_us, step.pose});
+    if (step.node) out.nodes.push_back(out.poses.size() - 1);
   }
   if (progress) progress(log.scans.size(), log.scans.size());
   out.cpu_s = thread_cpu_s() - t0;

@@ -6,6 +6,8 @@
 // nodes' points. Every scan gets a pose (the benchmark's relations refer to any scan); drift
 // accumulates without loop closure, which the global half (pose graph, loop closure) removes.
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -25,10 +27,49 @@ struct LocalSlamConfig {
   double node_angle_rad = 0.0873;    // ... or this much turning (5 deg)
   int window_nodes = 25;             // nodes in the local map
   int rebuild_every = 2;             // nodes between rebuilds of the local map's field
-  CorrelativeMatcherConfig matcher;  // window, field resolution and spread
+  // Window, field resolution and spread; a prior toward the odometry's guess (weights 10 per m^2
+  // and per rad^2: a near-tie along a corridor goes to the guess).
+  CorrelativeMatcherConfig matcher = [] {
+    CorrelativeMatcherConfig m;
+    m.prior_linear_weight = 10.0;
+    m.prior_angular_weight = 10.0;
+    return m;
+  }();
   void validate() const;
 };
 const ParamTable<LocalSlamConfig>& local_slam_params();
+
+// The front end, one scan at a time: the local map's frame is the odometry's start, never
+// corrected by the back end (which keeps its own map frame).
+class LocalSlam {
+ public:
+  explicit LocalSlam(const LocalSlamConfig& config);
+  struct Step {
+    Pose2 pose;          // base_link in the local frame
+    bool node = false;   // kept: its points join the local map
+    bool matched = false, attempted = false;
+  };
+  // `points`: the scan's points in its sensor frame (scan_points); `odometry` the odometry pose at
+  // its time `stamp_us`; `mount` the sensor's pose on the base.
+  //
+  // The guess is the last pose moved by the odometry's increment. Where that increment and the
+  // motion at the last scans' velocity differ by more than half the search window (odometry that
+  // froze, then jumped: mit-csail has both), the scan is also matched from the constant-velocity
+  // guess, and the better score wins.
+  Step add(const std::vector<Vec2>& points, const Pose2& odometry, const Pose2& mount, std::int64_t stamp_us);
+  const LocalSlamConfig& config() const { return c_; }
+
+ private:
+  LocalSlamConfig c_;
+  CorrelativeScanMatcher matcher_;
+  std::optional<Pose2> last_odom_, last_pose_, last_node_pose_;
+  std::optional<Pose2> velocity_;  // the last scans' motion per second (body frame)
+  std::int64_t last_stamp_us_ = 0;
+  std::deque<std::vector<Vec2>> window_;  // world points of the last nodes
+  CorrelativeScanMatcher::Field field_;
+  bool have_field_ = false;
+  int since_rebuild_ = 0;
+};
 
 struct LocalSlamResult {
   std::vector<TrajectoryPose> poses;  // one base pose per scan with a usable odometry, in scan order

@@ -23,12 +23,13 @@ std::vector<LogOdometry> truth_readings(const RobotLog& log) {
 }
 
 LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
-                      const std::function<std::optional<Pose2>(const LogScan&, bool& sensor_pose)>& pose_of) {
+                      const std::function<std::optional<Pose2>(std::size_t, bool& sensor_pose)>& pose_of) {
   OccupancyMapper mapper(params);
   LogMapResult r;
-  for (const LogScan& scan : log.scans) {
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    const LogScan& scan = log.scans[k];
     bool is_sensor_pose = false;
-    const std::optional<Pose2> p = pose_of(scan, is_sensor_pose);
+    const std::optional<Pose2> p = pose_of(k, is_sensor_pose);
     if (!p) {
       ++r.scans_without_pose;
       continue;
@@ -48,33 +49,33 @@ LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
 Pose2 laser_pose(const RobotLog& log, const Pose2& base) { return base.compose(log.laser_in_base.value_or(Pose2())); }
 
 LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyMappingParams& params) {
-  const std::vector<LogOdometry> odometry = sort_by_time(log.odometry);
+  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
   const std::vector<LogOdometry> truth = truth_readings(log);
   if (source == LogPoseSource::Truth && truth.empty()) throw Error("holds no ground truth (TRUEPOS lines)", log.path, 0, "--poses");
-  return map_with(log, params, [&](const LogScan& scan, bool& sensor_pose) -> std::optional<Pose2> {
+  return map_with(log, params, [&](std::size_t k, bool& sensor_pose) -> std::optional<Pose2> {
+    const LogScan& scan = log.scans[k];
     if (source == LogPoseSource::Truth) return odometry_at(truth, scan.stamp_us);
     if (source == LogPoseSource::Log && scan.laser_pose) {
       sensor_pose = true;
       return scan.laser_pose;
     }
-    return scan_odometry(scan, odometry);
+    return odometry[k];
   });
 }
 
 std::vector<TrajectoryPose> odometry_trajectory(const RobotLog& log) {
-  const std::vector<LogOdometry> odometry = sort_by_time(log.odometry);
+  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
   std::vector<TrajectoryPose> out;
-  for (const LogScan& scan : log.scans) {
-    const std::optional<Pose2> p = scan_odometry(scan, odometry);
-    if (p) out.push_back({scan.stamp_us, *p});
-  }
+  for (std::size_t k = 0; k < log.scans.size(); ++k)
+    if (odometry[k]) out.push_back({log.scans[k].stamp_us, *odometry[k]});
   return out;
 }
 
 LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& trajectory, const OccupancyMappingParams& params) {
   std::map<std::int64_t, Pose2> by_stamp;
   for (const TrajectoryPose& p : trajectory) by_stamp.emplace(p.stamp_us, p.pose);
-  return map_with(log, params, [&](const LogScan& scan, bool&) -> std::optional<Pose2> {
+  return map_with(log, params, [&](std::size_t k, bool&) -> std::optional<Pose2> {
+    const LogScan& scan = log.scans[k];
     const auto it = by_stamp.find(scan.stamp_us);
     if (it == by_stamp.end()) return std::nullopt;
     return it->second;

@@ -1,0 +1,167 @@
+#include "starnav/experiment/slam_report.hpp"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/io/file_bytes.hpp"
+#include "starnav/io/ros_map.hpp"
+#include "starnav/logs/log_file.hpp"
+#include "starnav/registry/components.hpp"
+#include "starnav/slam/graph_slam.hpp"
+#include "starnav/viz/map_picture.hpp"
+
+namespace starnav {
+
+namespace {
+
+nlohmann::ordered_json rpe_object(const RelativePoseError& e) {
+  nlohmann::ordered_json j;
+  j["translation_m"] = {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"max", e.translation_m.max}};
+  j["rotation_deg"] = {{"mean", e.rotation_deg.mean}, {"sd", e.rotation_deg.sd}, {"max", e.rotation_deg.max}};
+  j["count"] = e.translation_m.n;
+  j["relations"] = e.relations;
+  j["unmatched"] = e.unmatched;
+  return j;
+}
+
+bool is_zero(const Pose2& p) { return p.x == 0.0 && p.y == 0.0 && p.yaw == 0.0; }
+
+}  // namespace
+
+std::size_t peak_rss_bytes() {
+  rusage u{};
+  if (getrusage(RUSAGE_SELF, &u) != 0) return 0;
+  return static_cast<std::size_t>(u.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::vector<PoseRelation> relations;
+  if (!q.relations.empty()) relations = read_relations(q.relations);
+  q.mapping.validate();
+  const RobotLog log = read_robot_log(q.log, q.read);
+  const SlamDef& def = find_slam(q.method, "--method");
+  std::unique_ptr<Slam> slam = def.make(SlamContext{q.log, 0}, q.settings);
+  SlamRunResult r;
+  r.log = q.log;
+  r.method = def.info.name;
+  r.scans = log.scans.size();
+  const RobotLogSummary s = summarise_log(log);
+  r.log_duration_s = static_cast<double>(s.last_us - s.first_us) * 1e-6;
+  r.laser_in_base = log.laser_in_base.value_or(Pose2());
+  const auto wall0 = std::chrono::steady_clock::now();
+  r.cpu_s = run_slam_on_log(*slam, log, progress);
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  r.trajectory = slam->trajectory();
+  if (r.trajectory.empty()) throw Error("no scan has an odometry pose to start from", q.log, 0, "LOG");
+  r.graph = slam->graph();
+  r.statistics = slam->statistics();
+  r.peak_rss_bytes = peak_rss_bytes();
+  r.map = map_log(log, r.trajectory, q.mapping).grid;
+  if (!relations.empty()) {
+    r.rpe = relative_pose_error(r.trajectory, relations);
+    if (!is_zero(r.laser_in_base)) r.rpe_laser = relative_pose_error(r.trajectory, relations, r.laser_in_base);
+  }
+  return r;
+}
+
+nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
+  nlohmann::ordered_json j;
+  j["log"] = r.log;
+  j["method"] = r.method;
+  j["scans"] = r.scans;
+  j["poses"] = r.trajectory.size();
+  j["nodes"] = r.graph.nodes.size();
+  std::size_t loops = 0;
+  for (const SlamGraphEdge& e : r.graph.edges) loops += e.kind != SlamEdgeKind::Local;
+  j["loop_closures"] = loops;
+  j["log_duration_s"] = r.log_duration_s;
+  j["cpu_s"] = r.cpu_s;
+  j["wall_s"] = r.wall_s;
+  j["real_time_factor"] = r.real_time_factor();
+  j["peak_rss_mb"] = static_cast<double>(r.peak_rss_bytes) / 1e6;
+  nlohmann::ordered_json st;
+  for (const auto& [k, v] : r.statistics) st[k] = v;
+  j["statistics"] = st;
+  j["laser_in_base"] = {r.laser_in_base.x, r.laser_in_base.y, r.laser_in_base.yaw};
+  if (r.rpe) j["rpe_base"] = rpe_object(*r.rpe);
+  if (r.rpe_laser) j["rpe_laser"] = rpe_object(*r.rpe_laser);
+  return j;
+}
+
+std::string slam_summary_text(const SlamRunResult& r) {
+  std::ostringstream o;
+  std::size_t loops = 0;
+  for (const SlamGraphEdge& e : r.graph.edges) loops += e.kind != SlamEdgeKind::Local;
+  o << "slam (" << r.method << "): " << r.trajectory.size() << " poses, " << r.graph.nodes.size() << " nodes, " << loops
+    << " loop closures; " << format_fixed(r.cpu_s, 2) << " s CPU for " << format_fixed(r.log_duration_s, 1) << " s of log ("
+    << format_fixed(r.real_time_factor(), 1) << "x real time), peak memory " << format_fixed(static_cast<double>(r.peak_rss_bytes) / 1e6, 0)
+    << " MB\n";
+  const auto line = [&](const char* what, const RelativePoseError& e) {
+    o << "rpe (" << what << "): translation " << format_fixed(e.translation_m.mean, 4) << " m (sd " << format_fixed(e.translation_m.sd, 4)
+      << "), rotation " << format_fixed(e.rotation_deg.mean, 3) << " deg (sd " << format_fixed(e.rotation_deg.sd, 3) << ") over "
+      << e.translation_m.n << " relations";
+    if (e.unmatched) o << ", " << e.unmatched << " unmatched";
+    o << "\n";
+  };
+  if (r.rpe) line("base", *r.rpe);
+  if (r.rpe_laser) line("laser", *r.rpe_laser);
+  return o.str();
+}
+
+std::string pose_graph_json(const SlamGraph& g) {
+  nlohmann::ordered_json j;
+  nlohmann::ordered_json nodes = nlohmann::ordered_json::array();
+  for (const TrajectoryPose& n : g.nodes) nodes.push_back({format_stamp_us(n.stamp_us), n.pose.x, n.pose.y, n.pose.yaw});
+  nlohmann::ordered_json edges = nlohmann::ordered_json::array();
+  for (const SlamGraphEdge& e : g.edges)
+    edges.push_back({{"from", e.from},
+                     {"to", e.to},
+                     {"kind", slam_edge_kind_name(e.kind)},
+                     {"measurement", {e.measurement.x, e.measurement.y, e.measurement.yaw}},
+                     {"score", e.score}});
+  j["node_fields"] = {"t_s", "x_m", "y_m", "yaw_rad"};
+  j["nodes"] = std::move(nodes);
+  j["edges"] = std::move(edges);
+  j["submap_anchors"] = g.submap_anchors;
+  return j.dump(1) + "\n";
+}
+
+void write_slam_picture(const SlamRunResult& r, const std::string& path) {
+  viz::PictureOptions options;
+  options.title = std::filesystem::path(r.log).filename().string() + ": " + r.method + " SLAM";
+  viz::MapPicture pic(r.map, options);
+  std::vector<Vec2> trajectory;
+  trajectory.reserve(r.trajectory.size());
+  for (const TrajectoryPose& p : r.trajectory) trajectory.push_back(p.pose.translation());
+  pic.add_polyline(std::move(trajectory), {.colour = {0, 114, 178, 255}, .width_px = 1.0, .opacity = 0.8}, "trajectory");
+  bool labelled = false;
+  for (const SlamGraphEdge& e : r.graph.edges) {
+    if (e.kind == SlamEdgeKind::Local) continue;
+    pic.add_polyline({r.graph.nodes[e.from].pose.translation(), r.graph.nodes[e.to].pose.translation()},
+                     {.colour = {213, 94, 0, 255}, .width_px = 0.8, .opacity = 0.6}, labelled ? "" : "loop closures");
+    labelled = true;
+  }
+  if (path.size() > 4 && path.substr(path.size() - 4) == ".svg") pic.write_svg(path);
+  else pic.write_png(path);
+}
+
+std::vector<std::string> write_slam_outputs(const SlamRunResult& r, const std::string& dir) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  const fs::path d(dir);
+  write_file_bytes((d / "trajectory.csv").string(), trajectory_csv(r.trajectory));
+  write_ros_map(r.map, (d / "map.yaml").string());
+  write_file_bytes((d / "pose_graph.json").string(), pose_graph_json(r.graph));
+  write_slam_picture(r, (d / "map.png").string());
+  write_file_bytes((d / "summary.json").string(), slam_summary_json(r).dump(1) + "\n");
+  return {"trajectory.csv", "map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"};
+}
+
+}  // namespace starnav

@@ -1,0 +1,64 @@
+#pragma once
+// `starnav slam run` as one library call: a log read, a registered SLAM method run over it, its
+// trajectory evaluated against a benchmark relation file (base and laser poses), the map rendered
+// from every scan at its SLAM pose, and the run's outputs: trajectory.csv, map.yaml + .pgm,
+// pose_graph.json, map.png (the map with the trajectory and the loop closures), summary.json.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "starnav/core/params.hpp"
+#include "starnav/logs/log_file.hpp"
+#include "starnav/logs/robot_log.hpp"
+#include "starnav/slam/relative_pose_error.hpp"
+#include "starnav/slam/slam.hpp"
+
+namespace starnav {
+
+struct SlamRunRequest {
+  std::string log;                        // path
+  LogReadOptions read;                    // reader options (FLASER beam angles)
+  std::string method = "graph";           // a registered SLAM method
+  std::vector<ParamSetting> settings;     // its parameters
+  std::string relations;                  // optional benchmark relation file
+  OccupancyMappingParams mapping;         // the written map
+};
+
+struct SlamRunResult {
+  std::string log;
+  std::string method;
+  std::size_t scans = 0;                 // in the log
+  double log_duration_s = 0.0;
+  std::vector<TrajectoryPose> trajectory;
+  SlamGraph graph;
+  std::vector<std::pair<std::string, double>> statistics;
+  OccupancyGrid map;
+  double cpu_s = 0.0, wall_s = 0.0;      // the SLAM run (thread CPU, wall), reading and mapping aside
+  std::size_t peak_rss_bytes = 0;        // of the process, after the run
+  Pose2 laser_in_base;
+  std::optional<RelativePoseError> rpe, rpe_laser;  // with relations; laser: when the mount is not zero
+  double real_time_factor() const { return cpu_s > 0 ? log_duration_s / cpu_s : 0.0; }
+};
+
+SlamRunResult run_slam_on_file(const SlamRunRequest& request,
+                               const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+nlohmann::ordered_json slam_summary_json(const SlamRunResult& r);
+std::string slam_summary_text(const SlamRunResult& r);
+// nodes (t_s, x, y, yaw), edges (from, to, kind, measurement, score), submap anchors.
+std::string pose_graph_json(const SlamGraph& graph);
+// The map with the trajectory (blue), loop closures (lines from the submap's anchor to the node).
+void write_slam_picture(const SlamRunResult& r, const std::string& path);
+// Every output into `dir` (created): trajectory.csv, map.yaml + map.pgm, pose_graph.json,
+// map.png, summary.json. Returns the names written.
+std::vector<std::string> write_slam_outputs(const SlamRunResult& r, const std::string& dir);
+
+// The process's peak resident set (bytes; 0 where unknown).
+std::size_t peak_rss_bytes();
+
+}  // namespace starnav

@@ -1,0 +1,337 @@
+#include "starnav/slam/graph_slam.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/cpu_time.hpp"
+#include "starnav/core/error.hpp"
+
+namespace starnav {
+
+namespace {
+
+Eigen::Matrix3d information(double sigma_m, double sigma_rad) {
+  return Eigen::Vector3d(1.0 / (sigma_m * sigma_m), 1.0 / (sigma_m * sigma_m), 1.0 / (sigma_rad * sigma_rad)).asDiagonal();
+}
+
+// Adds the thread CPU time of its scope to a counter.
+class CpuTimer {
+ public:
+  explicit CpuTimer(double& total) : total_(total), start_(thread_cpu_s()) {}
+  ~CpuTimer() { total_ += thread_cpu_s() - start_; }
+  CpuTimer(const CpuTimer&) = delete;
+  CpuTimer& operator=(const CpuTimer&) = delete;
+
+ private:
+  double& total_;
+  double start_;
+};
+
+}  // namespace
+
+double scan_constraint(std::span<const Vec2> points) {
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  std::size_t n = 0;
+  for (std::size_t i = 1; i + 1 < points.size(); ++i) {
+    const Vec2 d = points[i + 1] - points[i - 1];
+    // Neighbours on one surface only: near each other and near the point.
+    if (d.norm() > 0.5 || d.norm() < 1e-6 || (points[i] - points[i - 1]).norm() > 0.3) continue;
+    const Vec2 normal = Vec2(-d.y(), d.x()).normalized();
+    scatter += normal * normal.transpose();
+    ++n;
+  }
+  if (n < 10) return 0.0;
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter / static_cast<double>(n)).eigenvalues()(0);
+}
+
+std::string slam_edge_kind_name(SlamEdgeKind kind) {
+  switch (kind) {
+    case SlamEdgeKind::Local:
+      return "local";
+    case SlamEdgeKind::Loop:
+      return "loop";
+    case SlamEdgeKind::Global:
+      return "global";
+  }
+  return "local";
+}
+
+const ParamTable<GraphSlamConfig>& graph_slam_params() {
+  static const ParamTable<GraphSlamConfig> table = [] {
+    using C = GraphSlamConfig;
+    ParamTable<C> t;
+    t.nest("local", local_slam_params(), &C::local);
+    t.integer("submap_nodes", &C::submap_nodes, closed(2, 10000), "", "nodes per submap (a new submap starts every half)");
+    t.real("loop_max_distance_m", &C::loop_max_distance_m, closed(0.0, 1000.0), "m",
+           "closures are searched in submaps whose middle node lies this near the node's estimate");
+    t.real("loop_window_linear_m", &C::loop_window_linear_m, closed(0.0, 100.0), "m", "closure search window, +- in x and y");
+    t.real("loop_window_angular_deg", &C::loop_window_angular_rad, closed(0.0, 180.0), "deg", "closure search window, +- in yaw",
+           kPi / 180.0);
+    t.real("loop_min_score", &C::loop_min_score, closed(0.0, 1.0), "", "least mean likelihood of a closure");
+    t.real("loop_max_range_m", &C::loop_max_range_m, closed(0.1, 1000.0), "m", "scan points used for closures and submaps");
+    t.integer("loop_every_nodes", &C::loop_every_nodes, closed(1, 100000), "", "closures are searched on every n-th node");
+    t.integer("global_every_nodes", &C::global_every_nodes, closed(0, 100000), "",
+              "a wide search (whole circle) on every n-th node that found no closure (0: never)");
+    t.real("global_window_linear_m", &C::global_window_linear_m, closed(0.0, 100.0), "m", "the wide search's window, +- in x and y");
+    t.real("global_min_score", &C::global_min_score, closed(0.0, 1.0), "", "least mean likelihood of a wide search's closure");
+    t.real("loop_min_constraint", &C::loop_min_constraint, closed(0.0, 0.5), "",
+           "least scan constraint (smallest eigenvalue of the normals' mean scatter) of a node that searches for closures");
+    t.integer("search_depth", &C::search_depth, closed(0, 10), "", "levels of the branch and bound (blocks up to 2^depth cells)");
+    t.integer("optimise_every_nodes", &C::optimise_every_nodes, closed(1, 100000), "",
+              "the pose graph is optimised after this many nodes that brought closures");
+    t.real("local_sigma_m", &C::local_sigma_m, closed(1e-6, 100.0), "m", "standard deviation of consecutive nodes' relative position");
+    t.real("local_sigma_deg", &C::local_sigma_rad, closed(1e-6, 180.0), "deg", "... and of their relative yaw", kPi / 180.0);
+    t.real("loop_sigma_m", &C::loop_sigma_m, closed(1e-6, 100.0), "m", "standard deviation of a closure's position");
+    t.real("loop_sigma_deg", &C::loop_sigma_rad, closed(1e-6, 180.0), "deg", "... and of its yaw", kPi / 180.0);
+    t.choice(
+        "loop_loss", {"none", "huber", "cauchy"}, [](C& c, const std::string& v) { c.loop_loss = parse_robust_loss(v); },
+        [](const C& c) { return robust_loss_name(c.loop_loss); }, "robust loss of closures' edges");
+    t.real("loop_loss_scale", &C::loop_loss_scale, closed(1e-3, 1e6), "", "chi (in standard deviations) where the loss bends");
+    t.integer("field_cache", &C::field_cache, closed(1, 100000), "", "submap likelihood fields kept built");
+    return t;
+  }();
+  return table;
+}
+
+void GraphSlamConfig::validate() const {
+  local.validate();
+  require(submap_nodes >= 2, "submap_nodes", "must be at least 2");
+  require(std::isfinite(loop_max_distance_m) && loop_max_distance_m >= 0, "loop_max_distance_m", "must be >= 0");
+  require(std::isfinite(loop_window_linear_m) && loop_window_linear_m >= 0 && loop_window_linear_m <= 100, "loop_window_linear_m",
+          "must be in [0, 100] m");
+  require(std::isfinite(loop_window_angular_rad) && loop_window_angular_rad >= 0 && loop_window_angular_rad <= kPi,
+          "loop_window_angular_deg", "must be in [0, 180] deg");
+  require(loop_min_score > 0 && loop_min_score <= 1, "loop_min_score", "must be in (0, 1]");
+  require(global_min_score > 0 && global_min_score <= 1, "global_min_score", "must be in (0, 1]");
+  require(std::isfinite(loop_max_range_m) && loop_max_range_m > 0, "loop_max_range_m", "must be > 0");
+  require(loop_every_nodes >= 1, "loop_every_nodes", "must be >= 1");
+  require(global_every_nodes >= 0, "global_every_nodes", "must be >= 0");
+  require(std::isfinite(global_window_linear_m) && global_window_linear_m >= 0 && global_window_linear_m <= 100,
+          "global_window_linear_m", "must be in [0, 100] m");
+  require(loop_min_constraint >= 0 && loop_min_constraint <= 0.5, "loop_min_constraint", "must be in [0, 0.5]");
+  require(search_depth >= 0 && search_depth <= 10, "search_depth", "must be in [0, 10]");
+  require(optimise_every_nodes >= 1, "optimise_every_nodes", "must be >= 1");
+  for (const auto& [v, field] : {std::pair{local_sigma_m, "local_sigma_m"}, {local_sigma_rad, "local_sigma_deg"},
+                                 {loop_sigma_m, "loop_sigma_m"}, {loop_sigma_rad, "loop_sigma_deg"}, {loop_loss_scale, "loop_loss_scale"}})
+    require(std::isfinite(v) && v > 0, field, "must be > 0");
+  require(field_cache >= 1, "field_cache", "must be >= 1");
+}
+
+GraphSlam::GraphSlam(const GraphSlamConfig& config) : c_(config), local_(config.local), matcher_(config.local.matcher) {
+  c_.validate();
+}
+
+bool GraphSlam::add(const LogScan& scan, const Pose2& odometry, const Pose2& mount) {
+  ++stats_.scans;
+  const LocalSlamConfig& lc = c_.local;
+  std::vector<Vec2> points;
+  LocalSlam::Step step;
+  {
+    CpuTimer timer(stats_.local_cpu_s);
+    points = scan_points(scan, lc.min_range_m, lc.max_range_m, lc.voxel_m);
+    step = local_.add(points, odometry, mount, scan.stamp_us);
+  }
+  stats_.matched += step.matched;
+  stats_.unmatched += step.attempted && !step.matched;
+  ScanPose sp{scan.stamp_us, nodes_.empty() ? std::nullopt : std::optional<std::size_t>(nodes_.size() - 1), step.pose};
+  if (!step.node) {
+    scans_.push_back(sp);
+    return false;
+  }
+  const std::size_t n = nodes_.size();
+  Node node;
+  node.stamp_us = scan.stamp_us;
+  node.local = step.pose;
+  node.global = n == 0 ? step.pose : nodes_[n - 1].global.compose(nodes_[n - 1].local.inverse().compose(step.pose));
+  node.mount = mount;
+  for (const Vec2& p : points)
+    if (p.norm() <= c_.loop_max_range_m) node.points.push_back(p);
+  node.constraint = scan_constraint(node.points);
+  node.scan = scan;
+  nodes_.push_back(std::move(node));
+  sp.node = n;
+  scans_.push_back(sp);
+  ++stats_.nodes;
+  if (n > 0) {
+    const Pose2 z = nodes_[n - 1].local.inverse().compose(nodes_[n].local);
+    edges_.push_back({n - 1, n, z, information(c_.local_sigma_m, c_.local_sigma_rad), RobustLoss::None, 1.0});
+    graph_edges_.push_back({n - 1, n, SlamEdgeKind::Local, z, 0.0});
+  }
+  add_to_submaps(n);
+  {
+    CpuTimer timer(stats_.loop_cpu_s);
+    search_closures(n);
+  }
+  ++nodes_since_optimise_;
+  if (closures_since_optimise_ > 0 && nodes_since_optimise_ >= static_cast<std::size_t>(c_.optimise_every_nodes)) optimise();
+  return true;
+}
+
+void GraphSlam::add_to_submaps(std::size_t n) {
+  const std::size_t half = static_cast<std::size_t>(std::max(1, c_.submap_nodes / 2));
+  if (n % half == 0) {
+    submaps_.push_back({n, 0, {}, false});
+    ++stats_.submaps;
+  }
+  const Node& node = nodes_[n];
+  for (Submap& s : submaps_) {
+    if (s.finished || n < s.first) continue;
+    const Pose2 sensor = nodes_[s.first].local.inverse().compose(node.local).compose(node.mount);
+    for (const Vec2& p : node.points) s.points.push_back(sensor.transform(p));
+    if (++s.count >= static_cast<std::size_t>(c_.submap_nodes)) s.finished = true;
+  }
+}
+
+void GraphSlam::search_closures(std::size_t n) {
+  const bool loop_due = n % static_cast<std::size_t>(c_.loop_every_nodes) == 0;
+  const bool global_due = c_.global_every_nodes > 0 && n % static_cast<std::size_t>(c_.global_every_nodes) == 0;
+  if ((!loop_due && !global_due) || nodes_[n].points.size() < 10 || nodes_[n].constraint < c_.loop_min_constraint) return;
+  const Vec2 at = nodes_[n].global.translation();
+  // Submaps that ended at least a submap's length of nodes ago: nearer ones are tied by the local SLAM.
+  std::vector<std::pair<std::size_t, double>> eligible;
+  for (std::size_t s = 0; s < submaps_.size(); ++s) {
+    const Submap& m = submaps_[s];
+    if (!m.finished || m.first + m.count + static_cast<std::size_t>(c_.submap_nodes) > n) continue;
+    eligible.push_back({s, (nodes_[m.first + m.count / 2].global.translation() - at).norm()});
+  }
+  bool found = false;
+  if (loop_due)
+    for (const auto& [s, d] : eligible)
+      if (d <= c_.loop_max_distance_m) found = search_submap(n, s, false) || found;
+  if (!found && global_due)
+    for (const auto& [s, d] : eligible)
+      if (d <= c_.loop_max_distance_m + c_.global_window_linear_m) search_submap(n, s, true);
+}
+
+bool GraphSlam::search_submap(std::size_t n, std::size_t s, bool global) {
+  const Node& node = nodes_[n];
+  const std::size_t anchor = submaps_[s].first;
+  const CorrelativeScanMatcher::Field& field = submap_field(s);
+  const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
+  const MatchWindow window = global ? MatchWindow{c_.global_window_linear_m, kPi, c_.global_min_score}
+                                    : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score};
+  ++(global ? stats_.global_searches : stats_.loop_searches);
+  const ScanMatch m = matcher_.match_to_field(field, node.points, guess, window);
+  if (!m.converged) return false;
+  const Pose2 z = m.transform.compose(node.mount.inverse());
+  edges_.push_back({anchor, n, z, information(c_.loop_sigma_m, c_.loop_sigma_rad), c_.loop_loss, c_.loop_loss_scale});
+  graph_edges_.push_back({anchor, n, global ? SlamEdgeKind::Global : SlamEdgeKind::Loop, z, m.score});
+  ++(global ? stats_.global_closures : stats_.loop_closures);
+  ++closures_since_optimise_;
+  return true;
+}
+
+const CorrelativeScanMatcher::Field& GraphSlam::submap_field(std::size_t s) {
+  for (auto it = cache_.begin(); it != cache_.end(); ++it)
+    if (it->submap == s) {
+      cache_.splice(cache_.begin(), cache_, it);
+      return cache_.front().field;
+    }
+  const std::vector<Vec2>& points = submaps_[s].points;
+  Vec2 lo = points.front(), hi = points.front();
+  for (const Vec2& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec2 margin = Vec2::Constant(3 * c_.local.matcher.sigma_m + c_.local.matcher.resolution_m);
+  cache_.push_front({s, matcher_.field_of_points(points, lo - margin, hi + margin, c_.search_depth)});
+  while (cache_.size() > static_cast<std::size_t>(c_.field_cache)) cache_.pop_back();
+  std::size_t bytes = 0;
+  for (const CachedField& f : cache_) bytes += f.field.bytes();
+  stats_.peak_field_bytes = std::max(stats_.peak_field_bytes, bytes);
+  return cache_.front().field;
+}
+
+void GraphSlam::optimise() {
+  CpuTimer timer(stats_.optimise_cpu_s);
+  std::vector<Pose2> poses(nodes_.size());
+  for (std::size_t i = 0; i < nodes_.size(); ++i) poses[i] = nodes_[i].global;
+  optimise_pose_graph(poses, edges_);
+  for (std::size_t i = 0; i < nodes_.size(); ++i) nodes_[i].global = poses[i];
+  ++stats_.optimisations;
+  closures_since_optimise_ = 0;
+  nodes_since_optimise_ = 0;
+}
+
+void GraphSlam::finish() {
+  if (closures_since_optimise_ > 0) optimise();
+}
+
+std::vector<TrajectoryPose> GraphSlam::trajectory() const {
+  std::vector<TrajectoryPose> out;
+  if (nodes_.empty()) return out;
+  out.reserve(scans_.size());
+  for (const ScanPose& s : scans_) {
+    const Node& node = nodes_[s.node.value_or(0)];
+    out.push_back({s.stamp_us, node.global.compose(node.local.inverse().compose(s.local))});
+  }
+  return out;
+}
+
+OccupancyGrid GraphSlam::map(const OccupancyMappingParams& params) const {
+  OccupancyMapper mapper(params);
+  for (const Node& node : nodes_) mapper.add_scan(node.global.compose(node.mount), node.scan);
+  return mapper.grid();
+}
+
+SlamGraph GraphSlam::graph() const {
+  SlamGraph g;
+  for (const Node& node : nodes_) g.nodes.push_back({node.stamp_us, node.global});
+  g.edges = graph_edges_;
+  for (const Submap& s : submaps_) g.submap_anchors.push_back(s.first);
+  return g;
+}
+
+std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
+  const auto d = [](std::size_t v) { return static_cast<double>(v); };
+  const GraphSlamStats& s = stats_;
+  return {{"scans", d(s.scans)},
+          {"nodes", d(s.nodes)},
+          {"submaps", d(s.submaps)},
+          {"matched", d(s.matched)},
+          {"unmatched", d(s.unmatched)},
+          {"loop_searches", d(s.loop_searches)},
+          {"loop_closures", d(s.loop_closures)},
+          {"global_searches", d(s.global_searches)},
+          {"global_closures", d(s.global_closures)},
+          {"optimisations", d(s.optimisations)},
+          {"local_cpu_s", s.local_cpu_s},
+          {"loop_cpu_s", s.loop_cpu_s},
+          {"optimise_cpu_s", s.optimise_cpu_s},
+          {"peak_field_mb", d(s.peak_field_bytes) / 1e6}};
+}
+
+double run_slam_on_log(Slam& slam, const RobotLog& log, const std::function<void(std::size_t, std::size_t)>& progress) {
+  const double t0 = thread_cpu_s();
+  const Pose2 mount = log.laser_in_base.value_or(Pose2());
+  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    if (progress && k % 100 == 0) progress(k, log.scans.size());
+    if (odometry[k]) slam.add(log.scans[k], *odometry[k], mount);
+  }
+  slam.finish();
+  if (progress) progress(log.scans.size(), log.scans.size());
+  return thread_cpu_s() - t0;
+}
+
+SlamDef graph_slam() {
+  SlamDef d;
+  d.info.role = Role::Slam;
+  d.info.name = "graph";
+  d.info.section = "slam";
+  d.info.summary = "Graph SLAM of Cartographer's design: local scan-to-map matching, submaps, branch-and-bound loop closure, "
+                   "sparse pose-graph optimisation with robust losses";
+  d.info.params = graph_slam_params().specs();
+  d.make = [](const SlamContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Slam> {
+    const GraphSlamConfig config = configured(graph_slam_params(), settings, ctx.file);
+    try {
+      config.validate();
+    } catch (const Error& e) {
+      rethrow_at_setting(e, settings, ctx.file);
+    }
+    return std::make_unique<GraphSlam>(config);
+  };
+  return d;
+}
+
+}  // namespace starnav

@@ -1,0 +1,123 @@
+#pragma once
+// Graph SLAM of Cartographer's design (Hess et al. 2016): the local SLAM (scan-to-local-map
+// matching from odometry) makes nodes; consecutive nodes are grouped into submaps (rigid point
+// sets in their first node's frame; each node lies in two overlapping submaps); each node is
+// matched by branch and bound against the finished submaps near its estimate (loop closure, on
+// every `loop_every_nodes`-th node) and, at a lower rate, against all submaps in a wide window
+// over the whole circle (global closures); the pose graph (consecutive nodes joined by the local
+// SLAM's relative poses, loop closures under a robust loss) is optimised every
+// `optimise_every_nodes` nodes that brought closures, and at the end. Scans between nodes keep
+// their pose relative to the node before them.
+#include <cstddef>
+#include <list>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "starnav/core/params.hpp"
+#include "starnav/slam/local_slam.hpp"
+#include "starnav/slam/pose_graph.hpp"
+#include "starnav/slam/slam.hpp"
+
+namespace starnav {
+
+struct GraphSlamConfig {
+  LocalSlamConfig local;
+  int submap_nodes = 40;                  // nodes per submap (a new one starts every half)
+  double loop_max_distance_m = 8.0;       // submaps whose middle lies this near the node's estimate are searched
+  double loop_window_linear_m = 2.0;      // +- x, y around the estimate
+  double loop_window_angular_rad = 0.349; // +- yaw (20 deg)
+  double loop_min_score = 0.55;           // least mean likelihood of a closure
+  double loop_max_range_m = 15.0;         // scan points used for closures
+  int loop_every_nodes = 2;               // search on every n-th node
+  int global_every_nodes = 100;           // a wide search on every n-th node that found no closure
+  double global_window_linear_m = 8.0;    // +- x, y of the wide search (yaw: the whole circle)
+  double global_min_score = 0.75;
+  double loop_min_constraint = 0.2;       // least scan_constraint of a node that searches for closures
+  int search_depth = 7;                   // levels of the branch and bound (blocks up to 2^depth cells)
+  int optimise_every_nodes = 40;
+  double local_sigma_m = 0.02, local_sigma_rad = 0.0087;  // consecutive nodes' edges
+  double loop_sigma_m = 0.05, loop_sigma_rad = 0.0175;    // closures' edges
+  RobustLoss loop_loss = RobustLoss::Cauchy;
+  double loop_loss_scale = 2.0;           // chi where the loss bends
+  int field_cache = 48;                   // submap fields kept built
+  void validate() const;
+};
+const ParamTable<GraphSlamConfig>& graph_slam_params();
+
+struct GraphSlamStats {
+  std::size_t scans = 0, nodes = 0, submaps = 0;
+  std::size_t matched = 0, unmatched = 0;  // the local matcher's scans
+  std::size_t loop_searches = 0, loop_closures = 0, global_searches = 0, global_closures = 0;
+  std::size_t optimisations = 0;
+  double local_cpu_s = 0.0, loop_cpu_s = 0.0, optimise_cpu_s = 0.0;
+  std::size_t peak_field_bytes = 0;  // the submap fields held at once
+};
+
+class GraphSlam final : public Slam {
+ public:
+  explicit GraphSlam(const GraphSlamConfig& config = {});
+  std::string_view name() const override { return "graph"; }
+  bool add(const LogScan& scan, const Pose2& odometry, const Pose2& laser_in_base) override;
+  void finish() override;
+  std::vector<TrajectoryPose> trajectory() const override;
+  OccupancyGrid map(const OccupancyMappingParams& params) const override;
+  SlamGraph graph() const override;
+  std::vector<std::pair<std::string, double>> statistics() const override;
+  const GraphSlamStats& stats() const { return stats_; }
+
+ private:
+  struct Node {
+    std::int64_t stamp_us = 0;
+    Pose2 local, global;
+    Pose2 mount;
+    std::vector<Vec2> points;  // sensor frame, for closures (range-limited)
+    double constraint = 0.0;   // scan_constraint(points)
+    LogScan scan;              // for the map
+  };
+  struct Submap {
+    std::size_t first = 0, count = 0;  // node indices [first, first + count)
+    std::vector<Vec2> points;          // in the first node's base frame
+    bool finished = false;
+  };
+  struct ScanPose {
+    std::int64_t stamp_us = 0;
+    std::optional<std::size_t> node;  // the node before it (none: before the first node)
+    Pose2 local;
+  };
+  struct CachedField {
+    std::size_t submap = 0;
+    CorrelativeScanMatcher::Field field;
+  };
+  void add_to_submaps(std::size_t node);
+  void search_closures(std::size_t node);
+  bool search_submap(std::size_t node, std::size_t submap, bool global);
+  const CorrelativeScanMatcher::Field& submap_field(std::size_t submap);
+  void optimise();
+
+  GraphSlamConfig c_;
+  LocalSlam local_;
+  CorrelativeScanMatcher matcher_;
+  std::vector<Node> nodes_;
+  std::vector<Submap> submaps_;
+  std::vector<ScanPose> scans_;
+  std::vector<PoseGraphEdge> edges_;
+  std::vector<SlamGraphEdge> graph_edges_;
+  std::list<CachedField> cache_;  // most recent first
+  std::size_t closures_since_optimise_ = 0, nodes_since_optimise_ = 0;
+  GraphSlamStats stats_;
+};
+
+// How well a scan pins a pose down in every direction: the smallest eigenvalue of the mean of
+// n n^T over its points' normals (each from its neighbours in beam order), in [0, 0.5]: 0.5 for
+// normals spread evenly, near 0 for a corridor's two parallel walls, which leave the position
+// along the corridor free (the closures such scans would make slide along it).
+double scan_constraint(std::span<const Vec2> points);
+
+// Runs `slam` over every scan of `log` in file order (scans without an odometry pose are left
+// out), then finish(). `progress(done, total)` every 100 scans. Returns the thread CPU time.
+double run_slam_on_log(Slam& slam, const RobotLog& log, const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+SlamDef graph_slam();
+
+}  // namespace starnav
