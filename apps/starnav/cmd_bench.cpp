@@ -160,6 +160,7 @@ void register_bench_commands(CLI::App& app, Context& ctx) {
   mai->callback([opts, &ctx] { ctx.exit_code = run_bench_movingai(*opts); });
   register_bench_terrain(app, ctx);  // Liu 2024 (cmd_bench_terrain.cpp)
   register_bench_nav(app, ctx);      // Li 2019 navigation over seeds (cmd_bench_nav.cpp)
+  register_bench_slam(app, ctx);     // the Freiburg SLAM benchmark (cmd_bench_slam.cpp)
 }
 
 }  // namespace starnav::cli

@@ -79,49 +79,9 @@ TEST(ScanConstraint, TellsACorridorFromARoom) {
   EXPECT_EQ(scan_constraint(std::vector<Vec2>{{1, 0}, {2, 0}}), 0.0);
 }
 
-// A drive around the ring corridor and 8 m past the start, odometry over-reading turns by 3 %.
-RobotLog ring_drive(std::vector<Pose2>& truth) {
-  const std::vector<test::Segment> world = test::ring_world();
-  // The corridor's centre line: a rounded rectangle from (1.5, 1.5) to (18.5, 12.5).
-  std::vector<Pose2> path;
-  const double x0 = 1.5, y0 = 1.5, x1 = 18.5, y1 = 12.5, step = 0.1;
-  const auto leg = [&](Vec2 a, Vec2 b) {
-    const double yaw = std::atan2(b.y() - a.y(), b.x() - a.x());
-    const int n = static_cast<int>(std::round((b - a).norm() / step));
-    for (int k = 0; k < n; ++k) path.emplace_back(a.x() + (b.x() - a.x()) * k / n, a.y() + (b.y() - a.y()) * k / n, yaw);
-  };
-  leg({x0, y0}, {x1, y0});
-  leg({x1, y0}, {x1, y1});
-  leg({x1, y1}, {x0, y1});
-  leg({x0, y1}, {x0, y0});
-  leg({x0, y0}, {x0 + 8.0, y0});
-  RobotLog log;
-  Rng rng(9);
-  Pose2 odom = path.front();
-  for (std::size_t k = 0; k < path.size(); ++k) {
-    if (k > 0) {
-      const Pose2 d = path[k - 1].inverse().compose(path[k]);
-      odom = odom.compose(Pose2(d.x * 1.01, d.y, d.yaw * 1.03));
-    }
-    LogScan scan;
-    scan.stamp_us = static_cast<std::int64_t>(k) * 200'000;
-    scan.angle_min_rad = -kPi;
-    scan.angle_increment_rad = 2 * kPi / 360;
-    scan.range_max_m = 30.0;
-    scan.ranges_m = test::ranges_from(path[k], 360, 40.0f, world);
-    for (float& r : scan.ranges_m)
-      if (r < 30) r += static_cast<float>(0.01 * rng.normal());
-    scan.odometry = odom;
-    scan.source_index = k + 1;
-    log.scans.push_back(std::move(scan));
-  }
-  truth = path;
-  return log;
-}
-
 TEST(GraphSlam, LoopClosuresPullADriftingRingDriveBackOntoTheTruth) {
   std::vector<Pose2> truth;
-  const RobotLog log = ring_drive(truth);
+  const RobotLog log = test::ring_drive(truth);
   // Local matching off: the front end is the odometry, so what corrects it is the closures.
   GraphSlamConfig c;
   c.local.matcher.window_linear_m = 0.0;

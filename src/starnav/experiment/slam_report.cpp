@@ -1,10 +1,13 @@
 #include "starnav/experiment/slam_report.hpp"
 
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "starnav/core/angle.hpp"
@@ -36,12 +39,23 @@ bool is_zero(const Pose2& p) { return p.x == 0.0 && p.y == 0.0 && p.yaw == 0.0; 
 }  // namespace
 
 std::size_t peak_rss_bytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return static_cast<std::size_t>(std::strtoull(line.c_str() + 6, nullptr, 10)) * 1024;
   rusage u{};
   if (getrusage(RUSAGE_SELF, &u) != 0) return 0;
   return static_cast<std::size_t>(u.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
+void reset_peak_rss() {
+  malloc_trim(0);  // hand freed memory back, so the resident set starts from what is in use
+  std::ofstream clear("/proc/self/clear_refs");
+  if (clear) clear << "5";  // resets VmHWM to the current resident set
+}
+
 SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void(std::size_t, std::size_t)>& progress) {
+  reset_peak_rss();
   std::vector<PoseRelation> relations;
   if (!q.relations.empty()) relations = read_relations(q.relations);
   q.mapping.validate();
@@ -62,8 +76,8 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   if (r.trajectory.empty()) throw Error("no scan has an odometry pose to start from", q.log, 0, "LOG");
   r.graph = slam->graph();
   r.statistics = slam->statistics();
-  r.peak_rss_bytes = peak_rss_bytes();
   r.map = map_log(log, r.trajectory, q.mapping).grid;
+  r.peak_rss_bytes = peak_rss_bytes();
   if (!relations.empty()) {
     r.rpe = relative_pose_error(r.trajectory, relations);
     if (!is_zero(r.laser_in_base)) r.rpe_laser = relative_pose_error(r.trajectory, relations, r.laser_in_base);

@@ -39,7 +39,7 @@ struct SlamRunResult {
   std::vector<std::pair<std::string, double>> statistics;
   OccupancyGrid map;
   double cpu_s = 0.0, wall_s = 0.0;      // the SLAM run (thread CPU, wall), reading and mapping aside
-  std::size_t peak_rss_bytes = 0;        // of the process, after the run
+  std::size_t peak_rss_bytes = 0;        // of the process while reading, running and mapping
   Pose2 laser_in_base;
   std::optional<RelativePoseError> rpe, rpe_laser;  // with relations; laser: when the mount is not zero
   double real_time_factor() const { return cpu_s > 0 ? log_duration_s / cpu_s : 0.0; }
@@ -58,7 +58,9 @@ void write_slam_picture(const SlamRunResult& r, const std::string& path);
 // map.png, summary.json. Returns the names written.
 std::vector<std::string> write_slam_outputs(const SlamRunResult& r, const std::string& dir);
 
-// The process's peak resident set (bytes; 0 where unknown).
+// The process's peak resident set since the last reset_peak_rss() (Linux VmHWM; bytes, 0 where
+// unknown), and its reset (where the kernel allows it; otherwise the peak since the start).
 std::size_t peak_rss_bytes();
+void reset_peak_rss();
 
 }  // namespace starnav

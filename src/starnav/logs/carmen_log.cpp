@@ -5,10 +5,12 @@
 #include <limits>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <vector>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/core/text_lines.hpp"
 
 namespace starnav {
@@ -233,6 +235,87 @@ bool looks_like_odomscan_text(std::string_view text) {
     result = line.substr(i).rfind("ODOMETRY ", 0) == 0 || line.substr(i).rfind("LASERSCAN ", 0) == 0;
   });
   return result;
+}
+
+std::string carmen_log_text(const RobotLog& log, const std::string& host) {
+  const Pose2 mount = log.laser_in_base.value_or(Pose2());
+  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
+  // (stamp, kind, index): kind 0 odometry, 1 truth, 2 scan, so that at one stamp the odometry comes first.
+  std::vector<std::tuple<std::int64_t, int, std::size_t>> order;
+  for (std::size_t i = 0; i < log.odometry.size(); ++i) order.emplace_back(log.odometry[i].stamp_us, 0, i);
+  for (std::size_t i = 0; i < log.truth.size(); ++i) order.emplace_back(log.truth[i].stamp_us, 1, i);
+  for (std::size_t i = 0; i < log.scans.size(); ++i) order.emplace_back(log.scans[i].stamp_us, 2, i);
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+    return std::get<0>(a) != std::get<0>(b) ? std::get<0>(a) < std::get<0>(b) : std::get<1>(a) < std::get<1>(b);
+  });
+  // Appends, field by field (string concatenation chains trip GCC 12's -Wrestrict).
+  std::string out = "# CARMEN log written by starnav\n# ODOM x y theta tv rv accel; TRUEPOS true_x true_y true_theta odom_x odom_y odom_theta\n";
+  const auto field = [&out](const std::string& v) {
+    out += ' ';
+    out += v;
+  };
+  const auto pose = [&](const Pose2& p) {
+    field(format_fixed(p.x, 6));
+    field(format_fixed(p.y, 6));
+    field(format_fixed(p.yaw, 6));
+  };
+  const auto end_line = [&](std::int64_t stamp) {
+    field(format_stamp_us(stamp));
+    field(host);
+    field(format_stamp_us(stamp));
+    out += '\n';
+  };
+  if (log.laser_in_base) {
+    out += "PARAM robot_frontlaser_offset";
+    field(format_fixed(mount.x, 6));
+    field(host);
+    field("0.000000");
+    out += '\n';
+  }
+  for (const auto& [stamp, kind, i] : order) {
+    if (kind == 0) {
+      const LogOdometry& o = log.odometry[i];
+      out += "ODOM";
+      pose(o.pose);
+      field(format_fixed(o.tv_mps, 6));
+      field(format_fixed(o.rv_radps, 6));
+      field("0.000000");
+      end_line(stamp);
+    } else if (kind == 1) {
+      out += "TRUEPOS";
+      pose(log.truth[i].pose);
+      pose(log.truth[i].odometry);
+      end_line(stamp);
+    } else {
+      const LogScan& s = log.scans[i];
+      if (!odometry[i]) continue;  // no pose to write beside it
+      const std::size_t n = s.ranges_m.size();
+      LogScan layout;
+      set_flaser_beam_angles(layout, n);
+      const bool flaser = std::abs(layout.angle_min_rad - s.angle_min_rad) < 1e-9 && std::abs(layout.angle_increment_rad - s.angle_increment_rad) < 1e-9;
+      if (flaser) {
+        out += "FLASER";
+        field(std::to_string(n));
+      } else {
+        out += "ROBOTLASER1 0";
+        // The field of view from the increment as written, so that writing again keeps the bytes.
+        const std::string increment = format_fixed(s.angle_increment_rad, 12);
+        field(format_fixed(s.angle_min_rad, 12));
+        field(format_fixed(std::stod(increment) * static_cast<double>(n > 0 ? n - 1 : 0), 12));
+        field(increment);
+        field(format_fixed(s.range_max_m, 3));
+        field("0.010 0");
+        field(std::to_string(n));
+      }
+      for (std::size_t b = 0; b < n; ++b) field(format_fixed(s.returned(b) ? static_cast<double>(s.ranges_m[b]) : s.range_max_m, 3));
+      if (!flaser) field("0");  // no remissions
+      pose(s.laser_pose ? *s.laser_pose : odometry[i]->compose(mount));
+      pose(*odometry[i]);
+      if (!flaser) field("0.000000 0.000000 0.000000 0.000000 0.000000");
+      end_line(stamp);
+    }
+  }
+  return out;
 }
 
 }  // namespace starnav

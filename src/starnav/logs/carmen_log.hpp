@@ -47,4 +47,13 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
 // True when the first non-comment line of `text` is an ODOMETRY or LASERSCAN line.
 bool looks_like_odomscan_text(std::string_view text);
 
+// `log` as a CARMEN log, lines in time order (stable): PARAM robot_frontlaser_offset (the mount's
+// forward offset, when it has one), ODOM, TRUEPOS and one line per scan: FLASER when the scan has
+// FLASER's beam layout (above), else ROBOTLASER1 (it carries the start angle, resolution and
+// maximum range). A scan's odometry is the pose its line carries, else the odometry interpolated
+// at its stamp; the laser pose written beside it is the one the scan carries, else that pose moved
+// by the mount (so a log read and written again keeps its bytes). Beams that
+// returned nothing are written as range_max. Ranges with 3 decimals, poses with 6, stamps with 6.
+std::string carmen_log_text(const RobotLog& log, const std::string& host = "starnav");
+
 }  // namespace starnav
