@@ -154,14 +154,15 @@ void write_slam_picture(const SlamRunResult& r, const std::string& path) {
   std::vector<Vec2> trajectory;
   trajectory.reserve(r.trajectory.size());
   for (const TrajectoryPose& p : r.trajectory) trajectory.push_back(p.pose.translation());
-  pic.add_polyline(std::move(trajectory), {.colour = {0, 114, 178, 255}, .width_px = 1.0, .opacity = 0.8}, "trajectory");
   bool labelled = false;
   for (const SlamGraphEdge& e : r.graph.edges) {
     if (e.kind == SlamEdgeKind::Local) continue;
     pic.add_polyline({r.graph.nodes[e.from].pose.translation(), r.graph.nodes[e.to].pose.translation()},
-                     {.colour = {213, 94, 0, 255}, .width_px = 0.8, .opacity = 0.6}, labelled ? "" : "loop closures");
+                     {.colour = {213, 94, 0, 255}, .width_px = 0.5, .opacity = 0.12}, labelled ? "" : "loop closures");
     labelled = true;
   }
+  // The trajectory over the closures (there may be thousands of them, drawn faint).
+  pic.add_polyline(std::move(trajectory), {.colour = {0, 114, 178, 255}, .width_px = 1.2, .opacity = 0.9}, "trajectory");
   if (path.size() > 4 && path.substr(path.size() - 4) == ".svg") pic.write_svg(path);
   else pic.write_png(path);
 }
