@@ -11,4 +11,17 @@ inline double thread_cpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+// Adds the thread CPU time of its scope to a counter (seconds).
+class ScopedCpuTimer {
+ public:
+  explicit ScopedCpuTimer(double& total) : total_(total), start_(thread_cpu_s()) {}
+  ~ScopedCpuTimer() { total_ += thread_cpu_s() - start_; }
+  ScopedCpuTimer(const ScopedCpuTimer&) = delete;
+  ScopedCpuTimer& operator=(const ScopedCpuTimer&) = delete;
+
+ private:
+  double& total_;
+  double start_;
+};
+
 }  // namespace starnav

@@ -17,19 +17,6 @@ Eigen::Matrix3d information(double sigma_m, double sigma_rad) {
   return Eigen::Vector3d(1.0 / (sigma_m * sigma_m), 1.0 / (sigma_m * sigma_m), 1.0 / (sigma_rad * sigma_rad)).asDiagonal();
 }
 
-// Adds the thread CPU time of its scope to a counter.
-class CpuTimer {
- public:
-  explicit CpuTimer(double& total) : total_(total), start_(thread_cpu_s()) {}
-  ~CpuTimer() { total_ += thread_cpu_s() - start_; }
-  CpuTimer(const CpuTimer&) = delete;
-  CpuTimer& operator=(const CpuTimer&) = delete;
-
- private:
-  double& total_;
-  double start_;
-};
-
 }  // namespace
 
 double scan_constraint(std::span<const Vec2> points) {
@@ -130,7 +117,7 @@ bool GraphSlam::add(const LogScan& scan, const Pose2& odometry, const Pose2& mou
   std::vector<Vec2> points;
   LocalSlam::Step step;
   {
-    CpuTimer timer(stats_.local_cpu_s);
+    ScopedCpuTimer timer(stats_.local_cpu_s);
     points = scan_points(scan, lc.min_range_m, lc.max_range_m, lc.voxel_m);
     step = local_.add(points, odometry, mount, scan.stamp_us);
   }
@@ -162,7 +149,7 @@ bool GraphSlam::add(const LogScan& scan, const Pose2& odometry, const Pose2& mou
   }
   add_to_submaps(n);
   {
-    CpuTimer timer(stats_.loop_cpu_s);
+    ScopedCpuTimer timer(stats_.loop_cpu_s);
     search_closures(n);
   }
   ++nodes_since_optimise_;
@@ -243,7 +230,7 @@ const CorrelativeScanMatcher::Field& GraphSlam::submap_field(std::size_t s) {
 }
 
 void GraphSlam::optimise() {
-  CpuTimer timer(stats_.optimise_cpu_s);
+  ScopedCpuTimer timer(stats_.optimise_cpu_s);
   std::vector<Pose2> poses(nodes_.size());
   for (std::size_t i = 0; i < nodes_.size(); ++i) poses[i] = nodes_[i].global;
   optimise_pose_graph(poses, edges_);
