@@ -11,6 +11,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,9 @@
 #include "starnav/harness/navigation_pictures.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/harness/parameter_docs.hpp"
+#include "starnav/harness/robot_log_recorder.hpp"
 #include "starnav/harness/simulation_pictures.hpp"
+#include "starnav/logs/carmen_log.hpp"
 #include "starnav/sim/simulation.hpp"
 
 namespace starnav::cli {
@@ -108,6 +111,8 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
   prepare_out_dir(o.out);
   add_cloud_writer(run.simulation(), spec, o.out);
+  std::optional<RobotLogRecorder> recorder;
+  if (RobotLogRecorder::can_record(spec)) recorder.emplace(run.simulation());
 
   SimProgress bar(o.quiet, spec.duration_s);
   run.run([&bar](double f) { bar.update(f); });
@@ -115,6 +120,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 
   const fs::path dir(o.out);
   write_navigation_records(run, o.out);
+  if (recorder) write_text_file((dir / "log.clf").string(), carmen_log_text(recorder->log()), "--out");
   write_navigation_scene(run, (dir / "scene.svg").string());
   write_navigation_overlay(run, (dir / "overlay.svg").string());
   if (o.png) {
@@ -133,8 +139,8 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
                 static_cast<unsigned long long>(m.expanded_total), static_cast<long long>(m.collisions),
                 m.collisions == 1 ? "" : "s", m.deviation_mean_m, m.deviation_max_m);
     std::printf("wrote %s/{trajectory.csv, paths.csv, replans.csv, events.csv, steps.jsonl, map.yaml, map.pgm, "
-                "metrics.json, timing.json, scene.svg, overlay.svg%s}\n",
-                o.out.c_str(), o.png ? ", scene.png, overlay.png" : "");
+                "metrics.json, timing.json, scene.svg, overlay.svg%s%s}\n",
+                o.out.c_str(), o.png ? ", scene.png, overlay.png" : "", recorder ? ", log.clf" : "");
   }
   if (m.success) {
     ctx.exit_code = 0;
@@ -171,6 +177,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
   const double setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
   prepare_out_dir(o.out);
   add_cloud_writer(sim, spec, o.out);
+  std::optional<RobotLogRecorder> recorder;
+  if (RobotLogRecorder::can_record(spec)) recorder.emplace(sim);
 
   SimProgress bar(o.quiet, spec.duration_s);
   const auto t_run = Clock::now();
@@ -180,6 +188,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
 
   const fs::path dir(o.out);
   write_simulation_records(sim, o.out);
+  if (recorder) write_text_file((dir / "log.clf").string(), carmen_log_text(recorder->log()), "--out");
   const SimulationMetrics m = sim.metrics();
   SimulationTiming timing;
   timing.wall_s = wall_s;
@@ -200,8 +209,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
                 static_cast<long long>(m.collisions), m.collisions == 1 ? "" : "s", m.z_min_m, m.z_max_m);
     if (m.has_reference)
       std::printf("deviation from the reference line: mean %.4f m, max %.4f m\n", m.deviation_mean_m, m.deviation_max_m);
-    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, height_trace.svg, track.svg}\n",
-                o.out.c_str());
+    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, height_trace.svg, track.svg%s}\n",
+                o.out.c_str(), recorder ? ", log.clf" : "");
   }
   ctx.exit_code = 0;
 }

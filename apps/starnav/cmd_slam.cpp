@@ -21,6 +21,7 @@
 #include "starnav/experiment/slam_report.hpp"
 #include "starnav/slam/log_mapping.hpp"
 #include "starnav/slam/relative_pose_error.hpp"
+#include "starnav/slam/trajectory_error.hpp"
 
 namespace starnav::cli {
 
@@ -133,6 +134,37 @@ void register_slam_commands(CLI::App& app, Context& ctx) {
   run->add_flag("--force", ro->force, "overwrite the outputs in --out");
   run->add_flag("--quiet", ro->quiet, "no progress on stderr");
   run->callback([ro, &ctx] { run_slam(*ro, ctx); });
+
+  struct WallsOptions {
+    std::string truth;
+    std::vector<std::string> built;
+    std::size_t count = 12;
+    bool json = false;
+  };
+  auto wo = std::make_shared<WallsOptions>();
+  auto* walls = slam->add_subcommand("walls",
+                                     "distances between opposite walls in built maps against the true map (the paper's Tables 2-3):\n"
+                                     "free runs between two walls along rows and columns of the true map that every built map saw,\n"
+                                     "measured again in each (e.g. the odometry's map and the SLAM map side by side)");
+  walls->add_option("TRUTH", wo->truth, "the true map (map_server YAML)")->required();
+  walls->add_option("BUILT", wo->built, "built maps (map_server YAML) in the true map's frame")->required();
+  walls->add_option("--count", wo->count, "distances, spread over the map (default 12)");
+  walls->add_flag("--json", wo->json, "one JSON object instead of the table");
+  walls->callback([wo, &ctx] {
+    if (wo->count < 1 || wo->count > 10000) throw Error("expected a count in [1, 10000]", {}, 0, "--count");
+    const OccupancyGrid truth = read_ros_map(wo->truth);
+    std::vector<OccupancyGrid> built;
+    for (const std::string& b : wo->built) built.push_back(read_ros_map(b));
+    std::vector<const OccupancyGrid*> maps;
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < built.size(); ++i) maps.push_back(&built[i]), names.push_back(fs::path(wo->built[i]).stem().string());
+    WallDistanceOptions options;
+    options.count = wo->count;
+    const std::vector<WallDistance> probes = wall_distances(truth, maps, options);
+    if (probes.empty()) throw Error("no free run of 1 to 20 m between two walls of the true map was seen by every built map", wo->truth, 0, "BUILT");
+    std::cout << (wo->json ? wall_distances_json(probes, names) : wall_distances_text(probes, names));
+    ctx.exit_code = 0;
+  });
 
   auto od = std::make_shared<SlamOdometryOptions>();
   auto* odo = slam->add_subcommand("odometry", "the odometry-only trajectory of a log (one base pose per scan), the baseline SLAM improves on");

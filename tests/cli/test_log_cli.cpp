@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "starnav/io/ros_map.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -107,6 +108,49 @@ TEST(CliSlam, RunWritesATrajectoryPerScanAndEvalReadsIt) {
   EXPECT_EQ(test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("out")}).exit_code, 2);  // results there
   EXPECT_EQ(test::run_cli({"slam", "run", dir.file("run.clf"), "--out", dir.file("o2"), "--set", "local.window_nodes=0"}).exit_code, 2);
   EXPECT_EQ(test::run_cli({"slam", "eval", dir.file("run.clf"), dir.file("r.relations")}).exit_code, 2);
+}
+
+// The simulator records a CARMEN log of a run in a map world; SLAM maps it with its ground truth
+// beside; the wall distances of the built map against the world's map come out small.
+TEST(CliSimLog, SimWritesALogThatSlamMapsAgainstTheTruth) {
+  const test::ScratchDir dir;
+  OccupancyGrid g(GridGeometry{120, 80, 0.05, {}}, 0);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 120; ++x)
+      if (x < 2 || y < 2 || x >= 118 || y >= 78 || (x >= 70 && x < 80 && y >= 30 && y < 40)) g(x, y) = 100;
+  write_ros_map(g, dir.file("room.yaml"));
+  test::write_text(dir.file("s.yaml"), R"(name: room
+world:
+  occupancy_map: room.yaml
+robot:
+  drive: differential
+  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 20.0}
+sensors:
+  lidar: {preset: hokuyo_utm30lx, rate_hz: 10.0, mount: {x_m: 0.1, y_m: 0.0, z_m: 0.4}, noise_sigma_m: 0.005}
+  encoders: {rate_hz: 50.0, ticks_per_rev: 1024, slip_sigma: 0.05}
+sim: {dt_s: 0.01, seed: 1}
+commands:
+  - {duration_s: 6.0, vx_mps: 0.4, vy_mps: 0.0, wz_radps: 0.05}
+)");
+  const test::CliResult sim = test::run_cli({"sim", dir.file("s.yaml"), "--out", dir.file("run"), "--quiet"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_NE(sim.out.find("log.clf"), std::string::npos);
+  const test::CliResult info = test::run_cli({"log", "info", dir.file("run/log.clf"), "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto li = nlohmann::json::parse(info.out);
+  EXPECT_EQ(li["scans"], 61);  // 6 s at 10 Hz and the scan at 0
+  EXPECT_EQ(li["truth"], 61);
+  const test::CliResult slam = test::run_cli({"slam", "run", dir.file("run/log.clf"), "--out", dir.file("slam"), "--json", "--quiet"});
+  ASSERT_EQ(slam.exit_code, 0) << slam.err;
+  const auto j = nlohmann::json::parse(slam.out);
+  EXPECT_LT(j["ate"]["rmse_m"].get<double>(), 0.04);
+  EXPECT_LT(j["ate"]["rotation_deg"]["mean"].get<double>(), 0.3);
+  EXPECT_GT(j["ate_odometry"]["rotation_deg"]["mean"].get<double>(), j["ate"]["rotation_deg"]["mean"].get<double>());
+  const test::CliResult walls = test::run_cli({"slam", "walls", dir.file("room.yaml"), dir.file("slam/map.yaml"), "--json"});
+  ASSERT_EQ(walls.exit_code, 0) << walls.err;
+  const auto w = nlohmann::json::parse(walls.out);
+  EXPECT_GE(w["distances"].size(), 6u);
+  EXPECT_LT(w["mean_abs_error_m"][0].get<double>(), 0.06);
 }
 
 }  // namespace

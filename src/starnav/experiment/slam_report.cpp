@@ -78,6 +78,10 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   r.statistics = slam->statistics();
   r.map = map_log(log, r.trajectory, q.mapping).grid;
   r.peak_rss_bytes = peak_rss_bytes();
+  if (!log.truth.empty()) {
+    r.ate = absolute_trajectory_error(r.trajectory, log);
+    r.ate_odometry = absolute_trajectory_error(odometry_trajectory(log), log);
+  }
   if (!relations.empty()) {
     r.rpe = relative_pose_error(r.trajectory, relations);
     if (!is_zero(r.laser_in_base)) r.rpe_laser = relative_pose_error(r.trajectory, relations, r.laser_in_base);
@@ -104,6 +108,14 @@ nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
   for (const auto& [k, v] : r.statistics) st[k] = v;
   j["statistics"] = st;
   j["laser_in_base"] = {r.laser_in_base.x, r.laser_in_base.y, r.laser_in_base.yaw};
+  const auto ate = [](const AbsoluteTrajectoryError& e) {
+    return nlohmann::ordered_json{{"rmse_m", e.rmse_m},
+                                  {"translation_m", {{"mean", e.translation_m.mean}, {"max", e.translation_m.max}}},
+                                  {"rotation_deg", {{"mean", e.rotation_deg.mean}, {"max", e.rotation_deg.max}}},
+                                  {"poses", e.translation_m.n}};
+  };
+  if (r.ate) j["ate"] = ate(*r.ate);
+  if (r.ate_odometry) j["ate_odometry"] = ate(*r.ate_odometry);
   if (r.rpe) j["rpe_base"] = rpe_object(*r.rpe);
   if (r.rpe_laser) j["rpe_laser"] = rpe_object(*r.rpe_laser);
   return j;
@@ -124,6 +136,13 @@ std::string slam_summary_text(const SlamRunResult& r) {
     if (e.unmatched) o << ", " << e.unmatched << " unmatched";
     o << "\n";
   };
+  const auto ate_line = [&](const char* what, const AbsoluteTrajectoryError& e) {
+    o << "ate (" << what << "): RMSE " << format_fixed(e.rmse_m, 4) << " m, mean " << format_fixed(e.translation_m.mean, 4) << " m, max "
+      << format_fixed(e.translation_m.max, 4) << " m, yaw mean " << format_fixed(e.rotation_deg.mean, 3) << " deg over " << e.translation_m.n
+      << " poses\n";
+  };
+  if (r.ate) ate_line("slam", *r.ate);
+  if (r.ate_odometry) ate_line("odometry", *r.ate_odometry);
   if (r.rpe) line("base", *r.rpe);
   if (r.rpe_laser) line("laser", *r.rpe_laser);
   return o.str();

@@ -17,6 +17,7 @@
 #include "starnav/logs/robot_log.hpp"
 #include "starnav/slam/relative_pose_error.hpp"
 #include "starnav/slam/slam.hpp"
+#include "starnav/slam/trajectory_error.hpp"
 
 namespace starnav {
 
@@ -42,6 +43,8 @@ struct SlamRunResult {
   std::size_t peak_rss_bytes = 0;        // of the process while reading, running and mapping
   Pose2 laser_in_base;
   std::optional<RelativePoseError> rpe, rpe_laser;  // with relations; laser: when the mount is not zero
+  // Logs with ground truth (simulated): the absolute trajectory error of SLAM and of the odometry.
+  std::optional<AbsoluteTrajectoryError> ate, ate_odometry;
   double real_time_factor() const { return cpu_s > 0 ? log_duration_s / cpu_s : 0.0; }
 };
 

@@ -12,6 +12,8 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/io/map_file.hpp"
+#include "starnav/io/ros_map.hpp"
+#include "starnav/sim/occupancy_world.hpp"
 #include "starnav/sim/terrain_surface.hpp"
 
 namespace starnav {
@@ -793,6 +795,24 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
   {
     Fields w = fields_of(top.required("world"), doc);
     if (auto t = w.take("terrain")) s.terrain = parse_terrain(*t, doc, base_dir);
+    if (auto m = w.take("occupancy_map")) {
+      ScenarioOccupancyWorld o;
+      std::optional<Value> file;
+      if (m->node().IsMap()) {
+        Fields mf = fields_of(*m, doc);
+        file = mf.required("file");
+        if (auto h = mf.take("wall_height_m")) o.wall_height_m = h->in_range(0.01, 100.0);
+        mf.finish("file, wall_height_m");
+      } else {
+        file = *m;
+      }
+      o.file = file->string();
+      if (o.file.empty()) file->fail("empty path");
+      const fs::path p(o.file);
+      o.resolved_file = p.is_absolute() ? p.string() : (base_dir / p).lexically_normal().string();
+      o.source = {file->line(), file->field()};
+      s.occupancy_map = o;
+    }
     if (auto ol = w.take("obstacles")) {
       if (!ol->node().IsSequence()) ol->fail("expected a list of obstacles, found " + node_kind(ol->node()));
       std::set<std::string> names;
@@ -826,7 +846,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
         s.obstacles.push_back(std::move(o));
       }
     }
-    w.finish("terrain, obstacles");
+    w.finish("terrain, occupancy_map, obstacles");
   }
 
   std::optional<Fields> robot_fields, vehicle_fields;
@@ -1183,6 +1203,18 @@ WorldDescription build_world(const ScenarioSpec& spec) {
       ground.emplace(*d.terrain);
     } catch (const Error& e) {
       fail(e);
+    }
+  }
+  if (spec.occupancy_map) {
+    const ScenarioOccupancyWorld& m = *spec.occupancy_map;
+    try {
+      RosMapMetadata meta;
+      const OccupancyGrid grid = read_ros_map(m.resolved_file, &meta);
+      Obstacle walls = occupancy_walls(grid, meta.occupied_thresh * 100.0, m.wall_height_m, "occupancy_map");
+      if (!walls.parts.empty()) d.obstacles.push_back(std::move(walls));
+    } catch (const Error& e) {
+      const std::string what = e.file().empty() ? m.resolved_file + ": " + e.what() : std::string(e.what());
+      throw Error("cannot make the world from the occupancy map: " + what, spec.file, m.source.line, m.source.field);
     }
   }
   for (const ScenarioObstacle& s : spec.obstacles) {

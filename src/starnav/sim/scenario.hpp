@@ -37,6 +37,16 @@ struct ScenarioSource {
   std::string field;
 };
 
+// world.occupancy_map: FILE, or {file: FILE, wall_height_m: H}: an indoor world from a map_server
+// map, each occupied cell (map_server's occupied threshold) a wall H tall on z = 0 (default 2 m,
+// above any 2D LiDAR's mount); sim/occupancy_world.hpp.
+struct ScenarioOccupancyWorld {
+  std::string file;           // as written
+  std::string resolved_file;  // relative to the scenario's folder
+  double wall_height_m = 2.0;
+  ScenarioSource source;
+};
+
 struct ScenarioTerrain {
   enum class Kind : std::uint8_t { None, File, Flat, Hills, Road };
   Kind kind = Kind::None;
@@ -133,6 +143,7 @@ struct ScenarioSpec {
   std::string description;
 
   ScenarioTerrain terrain;
+  std::optional<ScenarioOccupancyWorld> occupancy_map;
   std::vector<ScenarioObstacle> obstacles;
 
   VehicleConfig vehicle;  // robot and vehicle sections

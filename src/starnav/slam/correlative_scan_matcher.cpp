@@ -208,15 +208,33 @@ void CorrelativeMatcherConfig::validate() const {
 CorrelativeScanMatcher::CorrelativeScanMatcher(const CorrelativeMatcherConfig& config) : c_(config) { c_.validate(); }
 
 double CorrelativeScanMatcher::Field::value(const Vec2& world) const {
-  // Bilinear between cell centres.
+  // Bicubic (Catmull-Rom) between cell centres, as Cartographer interpolates its grids: bilinear
+  // interpolation peaks at cell centres, so a wall lying between two centres would leave the
+  // refinement a flat top one cell wide (a bias of up to half a cell across the wall).
   const double gx = (world.x() - origin.x()) / resolution - 0.5, gy = (world.y() - origin.y()) / resolution - 0.5;
-  if (!(gx > -1.0 && gy > -1.0 && gx < width && gy < height)) return 0.0;
+  if (!(gx > -2.0 && gy > -2.0 && gx < width + 1.0 && gy < height + 1.0)) return 0.0;
   const int x0 = static_cast<int>(std::floor(gx)), y0 = static_cast<int>(std::floor(gy));
   const double fx = gx - x0, fy = gy - y0;
   auto at = [&](int x, int y) -> double {
     return x >= 0 && y >= 0 && x < width && y < height ? fine[static_cast<std::size_t>(y * width + x)] : 0.0;
   };
-  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+  const auto weights = [](double t, double w[4]) {
+    const double t2 = t * t, t3 = t2 * t;
+    w[0] = 0.5 * (-t3 + 2 * t2 - t);
+    w[1] = 0.5 * (3 * t3 - 5 * t2 + 2);
+    w[2] = 0.5 * (-3 * t3 + 4 * t2 + t);
+    w[3] = 0.5 * (t3 - t2);
+  };
+  double wx[4], wy[4];
+  weights(fx, wx);
+  weights(fy, wy);
+  double v = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    double row = 0.0;
+    for (int i = 0; i < 4; ++i) row += wx[i] * at(x0 - 1 + i, y0 - 1 + j);
+    v += wy[j] * row;
+  }
+  return v;
 }
 
 CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_points(std::span<const Vec2> points, const Vec2& lo,
@@ -315,7 +333,7 @@ ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<c
   m.transform = Pose2(guess.x + best.ix * r, guess.y + best.iy * r, wrap_angle(guess.yaw + best.angle * step_a));
   m.score = best.score;
   if (c_.refine) {
-    // Gauss-Newton on sum (1 - F(T p))^2 with the bilinear field; steps that do not lower the
+    // Gauss-Newton on sum (1 - F(T p))^2 with the bicubic field; steps that do not lower the
     // cost are halved (at most 8 times).
     // The prior adds n w |T - guess|^2 (translation and yaw weights).
     const double n = static_cast<double>(scan.size());
@@ -370,7 +388,7 @@ ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<c
   std::size_t matched = 0;
   for (const Vec2& p : scan) {
     const double f = field.value(m.transform.transform(p));
-    if (f > 1e-3) d2 += -2.0 * c_.sigma_m * c_.sigma_m * std::log(f), ++matched;
+    if (f > 1e-3) d2 += -2.0 * c_.sigma_m * c_.sigma_m * std::log(std::min(f, 1.0)), ++matched;
   }
   m.rms_m = matched ? std::sqrt(d2 / static_cast<double>(matched)) : 0.0;
   m.converged = m.score >= window.min_score;

@@ -7,7 +7,7 @@
 // blocks 2, 4, ... 2^depth cells wide hold the maximum of the fine cells a block of translations
 // can reach, so whole blocks of the window are dropped when their bound falls below the best
 // score found, without changing the answer. The best pose is then refined off the lattice by
-// Gauss-Newton on the bilinearly interpolated field. Local matching searches a small window
+// Gauss-Newton on the bicubically interpolated field. Local matching searches a small window
 // (depth 2); loop closure searches metres and the whole circle (depth up to 7).
 //
 // Score: the mean field value over the scan's points, 0..1 (1: every point on the reference).
@@ -67,7 +67,7 @@ class CorrelativeScanMatcher final : public ScanMatcher {
     // bounds[k - 1]: for blocks 2^k cells wide, the maximum of the fine cells over
     // [x, x + 2^k) x [y, y + 2^k), x and y from -(2^k - 1) (padded), rounded up to 1/255.
     std::vector<std::vector<std::uint8_t>> bounds;
-    double value(const Vec2& world) const;  // bilinear, 0 outside
+    double value(const Vec2& world) const;  // bicubic (Catmull-Rom), 0 outside
     int depth() const { return static_cast<int>(bounds.size()); }
     std::size_t bytes() const;
   };

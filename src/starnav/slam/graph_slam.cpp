@@ -63,6 +63,7 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
     t.integer("global_every_nodes", &C::global_every_nodes, closed(0, 100000), "",
               "a wide search (whole circle) on every n-th node that found no closure (0: never)");
     t.real("global_window_linear_m", &C::global_window_linear_m, closed(0.0, 100.0), "m", "the wide search's window, +- in x and y");
+    t.integer("global_max_submaps", &C::global_max_submaps, closed(1, 100000), "", "submaps a wide search visits, nearest first");
     t.real("global_min_score", &C::global_min_score, closed(0.0, 1.0), "", "least mean likelihood of a wide search's closure");
     t.real("loop_min_constraint", &C::loop_min_constraint, closed(0.0, 0.5), "",
            "least scan constraint (smallest eigenvalue of the normals' mean scatter) of a node that searches for closures");
@@ -99,6 +100,7 @@ void GraphSlamConfig::validate() const {
   require(std::isfinite(global_window_linear_m) && global_window_linear_m >= 0 && global_window_linear_m <= 100,
           "global_window_linear_m", "must be in [0, 100] m");
   require(loop_min_constraint >= 0 && loop_min_constraint <= 0.5, "loop_min_constraint", "must be in [0, 0.5]");
+  require(global_max_submaps >= 1, "global_max_submaps", "must be >= 1");
   require(search_depth >= 0 && search_depth <= 10, "search_depth", "must be in [0, 10]");
   require(optimise_every_nodes >= 1, "optimise_every_nodes", "must be >= 1");
   for (const auto& [v, field] : {std::pair{local_sigma_m, "local_sigma_m"}, {local_sigma_rad, "local_sigma_deg"},
@@ -188,9 +190,12 @@ void GraphSlam::search_closures(std::size_t n) {
   if (loop_due)
     for (const auto& [s, d] : eligible)
       if (d <= c_.loop_max_distance_m) found = search_submap(n, s, false) || found;
-  if (!found && global_due)
+  if (!found && global_due) {
+    std::stable_sort(eligible.begin(), eligible.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    int searched = 0;
     for (const auto& [s, d] : eligible)
-      if (d <= c_.loop_max_distance_m + c_.global_window_linear_m) search_submap(n, s, true);
+      if (d <= c_.loop_max_distance_m + c_.global_window_linear_m && searched++ < c_.global_max_submaps) search_submap(n, s, true);
+  }
 }
 
 bool GraphSlam::search_submap(std::size_t n, std::size_t s, bool global) {

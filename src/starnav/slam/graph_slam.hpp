@@ -33,6 +33,7 @@ struct GraphSlamConfig {
   int global_every_nodes = 100;           // a wide search on every n-th node that found no closure
   double global_window_linear_m = 8.0;    // +- x, y of the wide search (yaw: the whole circle)
   double global_min_score = 0.75;
+  int global_max_submaps = 8;             // the wide search visits at most this many submaps, nearest first
   double loop_min_constraint = 0.2;       // least scan_constraint of a node that searches for closures
   int search_depth = 7;                   // levels of the branch and bound (blocks up to 2^depth cells)
   int optimise_every_nodes = 40;

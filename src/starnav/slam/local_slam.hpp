@@ -25,14 +25,14 @@ struct LocalSlamConfig {
   double voxel_m = 0.05;             // scan points thinned to one per voxel before matching
   double node_distance_m = 0.2;      // keep a scan as a node after this much motion ...
   double node_angle_rad = 0.0873;    // ... or this much turning (5 deg)
-  int window_nodes = 25;             // nodes in the local map
+  int window_nodes = 60;             // nodes in the local map
   int rebuild_every = 2;             // nodes between rebuilds of the local map's field
-  // Window, field resolution and spread; a prior toward the odometry's guess (weights 10 per m^2
-  // and per rad^2: a near-tie along a corridor goes to the guess).
+  // Window, field resolution and spread; a prior toward the odometry's guess in position (10 per
+  // m^2: a near-tie along a corridor goes to the guess), none in yaw (walls fix the yaw better
+  // than slipping wheels do).
   CorrelativeMatcherConfig matcher = [] {
     CorrelativeMatcherConfig m;
     m.prior_linear_weight = 10.0;
-    m.prior_angular_weight = 10.0;
     return m;
   }();
   void validate() const;
