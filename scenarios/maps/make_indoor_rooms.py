@@ -11,8 +11,8 @@ nx, ny = round(W / RES), round(H / RES)
 occ = [[False] * nx for _ in range(ny)]
 
 
-def box(x0, y0, x1, y1):
-    """Occupies the cells whose centres lie in [x0, x1] x [y0, y1] (metres)."""
+def paint(x0, y0, x1, y1, value):
+    """Sets the cells whose centres lie in [x0, x1] x [y0, y1] (metres)."""
     for iy in range(ny):
         cy = (iy + 0.5) * RES
         if cy < y0 or cy > y1:
@@ -20,18 +20,15 @@ def box(x0, y0, x1, y1):
         for ix in range(nx):
             cx = (ix + 0.5) * RES
             if x0 <= cx <= x1:
-                occ[iy][ix] = True
+                occ[iy][ix] = value
+
+
+def box(x0, y0, x1, y1):
+    paint(x0, y0, x1, y1, True)
 
 
 def clear(x0, y0, x1, y1):
-    for iy in range(ny):
-        cy = (iy + 0.5) * RES
-        if cy < y0 or cy > y1:
-            continue
-        for ix in range(nx):
-            cx = (ix + 0.5) * RES
-            if x0 <= cx <= x1:
-                occ[iy][ix] = False
+    paint(x0, y0, x1, y1, False)
 
 
 t = 0.1  # wall thickness
