@@ -85,7 +85,7 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
   if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
   const fs::path dir(o.out);
   if (fs::exists(dir))
-    for (const char* f : {"trajectory.csv", "map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"})
+    for (const std::string& f : slam_output_files())
       if (fs::exists(dir / f) && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
   ProgressBar bar("slam", 1, o.quiet);
   const SlamRunResult r = run_slam_on_file(q, [&](std::size_t done, std::size_t total) {
@@ -98,7 +98,10 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
     std::cout << slam_summary_json(r).dump() << "\n";
   } else {
     std::cout << slam_summary_text(r);
-    std::cout << "wrote " << (dir / "trajectory.csv").string() << ", map.yaml, map.pgm, pose_graph.json, map.png, summary.json\n";
+    const std::vector<std::string>& files = slam_output_files();
+    std::cout << "wrote " << (dir / files.front()).string();
+    for (std::size_t i = 1; i < files.size(); ++i) std::cout << ", " << files[i];
+    std::cout << "\n";
   }
   ctx.exit_code = 0;
 }

@@ -36,13 +36,6 @@ nlohmann::ordered_json published_json(const PublishedRpe& p) {
   return j;
 }
 
-nlohmann::ordered_json rpe_json_object(const RelativePoseError& e) {
-  return {{"translation_m", {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"max", e.translation_m.max}}},
-          {"rotation_deg", {{"mean", e.rotation_deg.mean}, {"sd", e.rotation_deg.sd}, {"max", e.rotation_deg.max}}},
-          {"count", e.translation_m.n},
-          {"unmatched", e.unmatched}};
-}
-
 }  // namespace
 
 std::vector<SlamBenchmarkLog> slam_benchmark_logs() {
@@ -121,12 +114,10 @@ std::string slam_benchmark_markdown(const SlamBenchmarkResult& r) {
   o << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const SlamBenchmarkRow& row : r.rows) {
     const SlamRunResult& s = row.run;
-    std::size_t loops = 0;
-    for (const SlamGraphEdge& e : s.graph.edges) loops += e.kind != SlamEdgeKind::Local;
     const std::optional<SlamPublished> p = slam_published(row.name);
     o << "| " << row.name << " | " << number(s.log_duration_s, 1) << " | " << number(s.cpu_s, 1) << " | " << number(s.wall_s, 1) << " | "
       << number(s.real_time_factor(), 1) << "x | " << number(static_cast<double>(s.peak_rss_bytes) / 1e6, 0) << " | "
-      << s.graph.nodes.size() << " | " << loops << " | " << (p ? number(p->cartographer_runtime_s, 0) : "-") << " |\n";
+      << s.graph.nodes.size() << " | " << s.graph.closures() << " | " << (p ? number(p->cartographer_runtime_s, 0) : "-") << " |\n";
   }
   return o.str();
 }
@@ -143,8 +134,8 @@ std::string slam_benchmark_json(const SlamBenchmarkResult& r) {
     l["log"] = row.name;
     l["file"] = row.run.log;
     l["evaluated_pose"] = row.laser_evaluated ? "laser" : "base";
-    l["rpe"] = rpe_json_object(row.evaluated());
-    l["rpe_base"] = rpe_json_object(*row.run.rpe);
+    l["rpe"] = rpe_summary_json(row.evaluated());
+    l["rpe_base"] = rpe_summary_json(*row.run.rpe);
     const nlohmann::ordered_json summary = slam_summary_json(row.run);
     for (const char* k : {"scans", "nodes", "loop_closures", "log_duration_s", "cpu_s", "wall_s", "real_time_factor", "peak_rss_mb"}) l[k] = summary[k];
     if (const std::optional<SlamPublished> p = slam_published(row.name)) {

@@ -22,9 +22,7 @@
 
 namespace starnav {
 
-namespace {
-
-nlohmann::ordered_json rpe_object(const RelativePoseError& e) {
+nlohmann::ordered_json rpe_summary_json(const RelativePoseError& e) {
   nlohmann::ordered_json j;
   j["translation_m"] = {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"max", e.translation_m.max}};
   j["rotation_deg"] = {{"mean", e.rotation_deg.mean}, {"sd", e.rotation_deg.sd}, {"max", e.rotation_deg.max}};
@@ -33,6 +31,8 @@ nlohmann::ordered_json rpe_object(const RelativePoseError& e) {
   j["unmatched"] = e.unmatched;
   return j;
 }
+
+namespace {
 
 bool is_zero(const Pose2& p) { return p.x == 0.0 && p.y == 0.0 && p.yaw == 0.0; }
 
@@ -96,9 +96,7 @@ nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
   j["scans"] = r.scans;
   j["poses"] = r.trajectory.size();
   j["nodes"] = r.graph.nodes.size();
-  std::size_t loops = 0;
-  for (const SlamGraphEdge& e : r.graph.edges) loops += e.kind != SlamEdgeKind::Local;
-  j["loop_closures"] = loops;
+  j["loop_closures"] = r.graph.closures();
   j["log_duration_s"] = r.log_duration_s;
   j["cpu_s"] = r.cpu_s;
   j["wall_s"] = r.wall_s;
@@ -116,16 +114,14 @@ nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
   };
   if (r.ate) j["ate"] = ate(*r.ate);
   if (r.ate_odometry) j["ate_odometry"] = ate(*r.ate_odometry);
-  if (r.rpe) j["rpe_base"] = rpe_object(*r.rpe);
-  if (r.rpe_laser) j["rpe_laser"] = rpe_object(*r.rpe_laser);
+  if (r.rpe) j["rpe_base"] = rpe_summary_json(*r.rpe);
+  if (r.rpe_laser) j["rpe_laser"] = rpe_summary_json(*r.rpe_laser);
   return j;
 }
 
 std::string slam_summary_text(const SlamRunResult& r) {
   std::ostringstream o;
-  std::size_t loops = 0;
-  for (const SlamGraphEdge& e : r.graph.edges) loops += e.kind != SlamEdgeKind::Local;
-  o << "slam (" << r.method << "): " << r.trajectory.size() << " poses, " << r.graph.nodes.size() << " nodes, " << loops
+  o << "slam (" << r.method << "): " << r.trajectory.size() << " poses, " << r.graph.nodes.size() << " nodes, " << r.graph.closures()
     << " loop closures; " << format_fixed(r.cpu_s, 2) << " s CPU for " << format_fixed(r.log_duration_s, 1) << " s of log ("
     << format_fixed(r.real_time_factor(), 1) << "x real time), peak memory " << format_fixed(static_cast<double>(r.peak_rss_bytes) / 1e6, 0)
     << " MB\n";
@@ -186,7 +182,12 @@ void write_slam_picture(const SlamRunResult& r, const std::string& path) {
   else pic.write_png(path);
 }
 
-std::vector<std::string> write_slam_outputs(const SlamRunResult& r, const std::string& dir) {
+const std::vector<std::string>& slam_output_files() {
+  static const std::vector<std::string> files = {"trajectory.csv", "map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"};
+  return files;
+}
+
+void write_slam_outputs(const SlamRunResult& r, const std::string& dir) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   const fs::path d(dir);
@@ -195,7 +196,6 @@ std::vector<std::string> write_slam_outputs(const SlamRunResult& r, const std::s
   write_file_bytes((d / "pose_graph.json").string(), pose_graph_json(r.graph));
   write_slam_picture(r, (d / "map.png").string());
   write_file_bytes((d / "summary.json").string(), slam_summary_json(r).dump(1) + "\n");
-  return {"trajectory.csv", "map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"};
 }
 
 }  // namespace starnav

@@ -52,14 +52,19 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& request,
                                const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 nlohmann::ordered_json slam_summary_json(const SlamRunResult& r);
+// A relative-pose error as summary.json and bench slam's JSON write it: translation_m and
+// rotation_deg (mean, sd, max), count, relations, unmatched.
+nlohmann::ordered_json rpe_summary_json(const RelativePoseError& e);
 std::string slam_summary_text(const SlamRunResult& r);
 // nodes (t_s, x, y, yaw), edges (from, to, kind, measurement, score), submap anchors.
 std::string pose_graph_json(const SlamGraph& graph);
 // The map with the trajectory (blue), loop closures (lines from the submap's anchor to the node).
 void write_slam_picture(const SlamRunResult& r, const std::string& path);
-// Every output into `dir` (created): trajectory.csv, map.yaml + map.pgm, pose_graph.json,
-// map.png, summary.json. Returns the names written.
-std::vector<std::string> write_slam_outputs(const SlamRunResult& r, const std::string& dir);
+// The files a SLAM run writes into its folder: trajectory.csv, map.yaml + map.pgm,
+// pose_graph.json, map.png, summary.json.
+const std::vector<std::string>& slam_output_files();
+// Every output into `dir` (created).
+void write_slam_outputs(const SlamRunResult& r, const std::string& dir);
 
 // The process's peak resident set since the last reset_peak_rss() (Linux VmHWM; bytes, 0 where
 // unknown), and its reset (where the kernel allows it; otherwise the peak since the start).

@@ -13,6 +13,9 @@ namespace {
 
 std::int64_t stamp_us(double t_s) { return static_cast<std::int64_t>(std::llround(t_s * 1e6)); }
 
+// The line number the next reading gets, counting every reading recorded so far.
+std::size_t next_source_index(const RobotLog& log) { return log.odometry.size() + log.scans.size() + log.truth.size() + 1; }
+
 }  // namespace
 
 bool RobotLogRecorder::can_record(const ScenarioSpec& spec) {
@@ -43,7 +46,7 @@ RobotLogRecorder::RobotLogRecorder(Simulation& sim) : log_(std::make_shared<Robo
       o.tv_mps = d.x / dt;
       o.rv_radps = wrap_angle(d.yaw) / dt;
     }
-    o.source_index = log->odometry.size() + log->scans.size() + log->truth.size() + 1;
+    o.source_index = next_source_index(*log);
     *last = o;
     log->odometry.push_back(o);
   };
@@ -62,7 +65,7 @@ RobotLogRecorder::RobotLogRecorder(Simulation& sim) : log_(std::make_shared<Robo
       const double r = scan.range(0, scan.beams - 1 - i);
       out.ranges_m[static_cast<std::size_t>(i)] = static_cast<float>(std::isfinite(r) && r < lidar.range_max ? r : lidar.range_max);
     }
-    out.source_index = log->odometry.size() + log->scans.size() + log->truth.size() + 1;
+    out.source_index = next_source_index(*log);
     log->scans.push_back(std::move(out));
     LogTruePose t;
     t.stamp_us = stamp_us(scan.time);

@@ -135,6 +135,16 @@ std::vector<std::optional<Pose2>> scan_odometry(const RobotLog& log) {
   return out;
 }
 
+void for_each_scan_with_odometry(const RobotLog& log, const std::function<void(const LogScan&, const Pose2&)>& fn,
+                                 const std::function<void(std::size_t, std::size_t)>& progress) {
+  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    if (progress && k % 100 == 0) progress(k, log.scans.size());
+    if (odometry[k]) fn(log.scans[k], *odometry[k]);
+  }
+  if (progress) progress(log.scans.size(), log.scans.size());
+}
+
 RobotLogSummary summarise_log(const RobotLog& log) {
   RobotLogSummary s;
   s.scans = log.scans.size();

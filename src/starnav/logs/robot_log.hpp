@@ -7,6 +7,7 @@
 // always time order (docs/slam.md).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -79,6 +80,10 @@ std::optional<Pose2> odometry_at(const std::vector<LogOdometry>& sorted, std::in
 // backwards, as intel's) the last odometry reading before the scan in the file (the first after
 // it for scans before any), since time order scrambles such readings.
 std::vector<std::optional<Pose2>> scan_odometry(const RobotLog& log);
+// Calls `fn(scan, odometry)` for every scan that has an odometry pose (scan_odometry), in file
+// order; `progress(done, total)` every 100 scans and once at the end.
+void for_each_scan_with_odometry(const RobotLog& log, const std::function<void(const LogScan&, const Pose2&)>& fn,
+                                 const std::function<void(std::size_t, std::size_t)>& progress = {});
 // The readings in time order (stable: equal stamps keep the log's order).
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry);
 

@@ -268,7 +268,8 @@ CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_map(const Occupan
   require(depth >= 0 && depth <= 10, "depth", "must be in [0, 10]");
   // The field on the map's own cells (its resolution replaces resolution_m).
   std::vector<std::uint8_t> mask(map.cell_count());
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = map[i] >= 65;  // map_server's occupied threshold
+  const double occupied = OccupancyThresholds{}.occupied_percent;  // map_server's
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = map[i] >= occupied;
   return make_field(std::move(mask), map.width(), map.height(), map.resolution(), map.origin().translation(), c_.sigma_m, depth);
 }
 

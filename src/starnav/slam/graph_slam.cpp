@@ -34,6 +34,12 @@ double scan_constraint(std::span<const Vec2> points) {
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter / static_cast<double>(n)).eigenvalues()(0);
 }
 
+std::size_t SlamGraph::closures() const {
+  std::size_t n = 0;
+  for (const SlamGraphEdge& e : edges) n += e.kind != SlamEdgeKind::Local;
+  return n;
+}
+
 std::string slam_edge_kind_name(SlamEdgeKind kind) {
   switch (kind) {
     case SlamEdgeKind::Local:
@@ -114,7 +120,6 @@ GraphSlam::GraphSlam(const GraphSlamConfig& config) : c_(config), local_(config.
 }
 
 bool GraphSlam::add(const LogScan& scan, const Pose2& odometry, const Pose2& mount) {
-  ++stats_.scans;
   const LocalSlamConfig& lc = c_.local;
   std::vector<Vec2> points;
   LocalSlam::Step step;
@@ -143,7 +148,6 @@ bool GraphSlam::add(const LogScan& scan, const Pose2& odometry, const Pose2& mou
   nodes_.push_back(std::move(node));
   sp.node = n;
   scans_.push_back(sp);
-  ++stats_.nodes;
   if (n > 0) {
     const Pose2 z = nodes_[n - 1].local.inverse().compose(nodes_[n].local);
     edges_.push_back({n - 1, n, z, information(c_.local_sigma_m, c_.local_sigma_rad), RobustLoss::None, 1.0});
@@ -163,7 +167,6 @@ void GraphSlam::add_to_submaps(std::size_t n) {
   const std::size_t half = static_cast<std::size_t>(std::max(1, c_.submap_nodes / 2));
   if (n % half == 0) {
     submaps_.push_back({n, 0, {}, false});
-    ++stats_.submaps;
   }
   const Node& node = nodes_[n];
   for (Submap& s : submaps_) {
@@ -277,9 +280,9 @@ SlamGraph GraphSlam::graph() const {
 std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
   const auto d = [](std::size_t v) { return static_cast<double>(v); };
   const GraphSlamStats& s = stats_;
-  return {{"scans", d(s.scans)},
-          {"nodes", d(s.nodes)},
-          {"submaps", d(s.submaps)},
+  return {{"scans", d(scans_.size())},
+          {"nodes", d(nodes_.size())},
+          {"submaps", d(submaps_.size())},
           {"matched", d(s.matched)},
           {"unmatched", d(s.unmatched)},
           {"loop_searches", d(s.loop_searches)},
@@ -296,13 +299,8 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
 double run_slam_on_log(Slam& slam, const RobotLog& log, const std::function<void(std::size_t, std::size_t)>& progress) {
   const double t0 = thread_cpu_s();
   const Pose2 mount = log.laser_in_base.value_or(Pose2());
-  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
-  for (std::size_t k = 0; k < log.scans.size(); ++k) {
-    if (progress && k % 100 == 0) progress(k, log.scans.size());
-    if (odometry[k]) slam.add(log.scans[k], *odometry[k], mount);
-  }
+  for_each_scan_with_odometry(log, [&](const LogScan& scan, const Pose2& odometry) { slam.add(scan, odometry, mount); }, progress);
   slam.finish();
-  if (progress) progress(log.scans.size(), log.scans.size());
   return thread_cpu_s() - t0;
 }
 

@@ -46,8 +46,8 @@ struct GraphSlamConfig {
 };
 const ParamTable<GraphSlamConfig>& graph_slam_params();
 
+// Counters of a run (scans, nodes and submaps are the run's own sizes: statistics()).
 struct GraphSlamStats {
-  std::size_t scans = 0, nodes = 0, submaps = 0;
   std::size_t matched = 0, unmatched = 0;  // the local matcher's scans
   std::size_t loop_searches = 0, loop_closures = 0, global_searches = 0, global_closures = 0;
   std::size_t optimisations = 0;

@@ -120,20 +120,17 @@ LocalSlamResult run_local_slam(const RobotLog& log, const LocalSlamConfig& c,
   LocalSlam local(c);
   const double t0 = thread_cpu_s();
   const Pose2 mount = log.laser_in_base.value_or(Pose2());
-  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
   LocalSlamResult out;
-  for (std::size_t k = 0; k < log.scans.size(); ++k) {
-    if (progress && k % 100 == 0) progress(k, log.scans.size());
-    const LogScan& scan = log.scans[k];
-    const std::optional<Pose2>& odom = odometry[k];
-    if (!odom) continue;
-    const LocalSlam::Step step = local.add(scan_points(scan, c.min_range_m, c.max_range_m, c.voxel_m), *odom, mount, scan.stamp_us);
-    out.matched += step.matched;
-    out.unmatched += step.attempted && !step.matched;
-    out.poses.push_back({scan.stamp_us, step.pose});
-    if (step.node) out.nodes.push_back(out.poses.size() - 1);
-  }
-  if (progress) progress(log.scans.size(), log.scans.size());
+  for_each_scan_with_odometry(
+      log,
+      [&](const LogScan& scan, const Pose2& odom) {
+        const LocalSlam::Step step = local.add(scan_points(scan, c.min_range_m, c.max_range_m, c.voxel_m), odom, mount, scan.stamp_us);
+        out.matched += step.matched;
+        out.unmatched += step.attempted && !step.matched;
+        out.poses.push_back({scan.stamp_us, step.pose});
+        if (step.node) out.nodes.push_back(out.poses.size() - 1);
+      },
+      progress);
   out.cpu_s = thread_cpu_s() - t0;
   return out;
 }

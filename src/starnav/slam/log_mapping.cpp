@@ -15,13 +15,6 @@ namespace starnav {
 
 namespace {
 
-// The truth as odometry-like readings, for interpolation.
-std::vector<LogOdometry> truth_readings(const RobotLog& log) {
-  std::vector<LogOdometry> out;
-  for (const LogTruePose& t : log.truth) out.push_back({t.stamp_us, t.pose, 0.0, 0.0});
-  return sort_by_time(std::move(out));
-}
-
 LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
                       const std::function<std::optional<Pose2>(std::size_t, bool& sensor_pose)>& pose_of) {
   OccupancyMapper mapper(params);
@@ -46,6 +39,12 @@ LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
 
 }  // namespace
 
+std::vector<LogOdometry> truth_readings(const RobotLog& log) {
+  std::vector<LogOdometry> out;
+  for (const LogTruePose& t : log.truth) out.push_back({t.stamp_us, t.pose, 0.0, 0.0});
+  return sort_by_time(std::move(out));
+}
+
 Pose2 laser_pose(const RobotLog& log, const Pose2& base) { return base.compose(log.laser_in_base.value_or(Pose2())); }
 
 LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyMappingParams& params) {
@@ -64,10 +63,8 @@ LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyM
 }
 
 std::vector<TrajectoryPose> odometry_trajectory(const RobotLog& log) {
-  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
   std::vector<TrajectoryPose> out;
-  for (std::size_t k = 0; k < log.scans.size(); ++k)
-    if (odometry[k]) out.push_back({log.scans[k].stamp_us, *odometry[k]});
+  for_each_scan_with_odometry(log, [&](const LogScan& scan, const Pose2& odometry) { out.push_back({scan.stamp_us, odometry}); });
   return out;
 }
 

@@ -42,6 +42,9 @@ struct LogMapResult {
 // baseline of the SLAM benchmark.
 std::vector<TrajectoryPose> odometry_trajectory(const RobotLog& log);
 
+// The log's ground truth (TRUEPOS) as time-sorted readings, for odometry_at.
+std::vector<LogOdometry> truth_readings(const RobotLog& log);
+
 // The laser's pose for `scan` from a base pose: base * mount (the log's laser_in_base, else 0).
 Pose2 laser_pose(const RobotLog& log, const Pose2& base);
 

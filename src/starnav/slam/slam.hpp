@@ -34,6 +34,7 @@ struct SlamGraph {
   std::vector<TrajectoryPose> nodes;  // base poses of the kept scans, optimised
   std::vector<SlamGraphEdge> edges;
   std::vector<std::size_t> submap_anchors;  // node index of each submap's frame
+  std::size_t closures() const;              // edges that are not Local
 };
 
 class Slam {

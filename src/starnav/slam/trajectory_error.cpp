@@ -14,18 +14,17 @@ namespace starnav {
 
 namespace {
 
-constexpr int kOccupied = 65, kFree = 20;  // map_server's thresholds, in percent (0.65, 0.196)
+// map_server's thresholds; values between them are neither wall nor free run.
+constexpr OccupancyThresholds kThresholds{};
 
-bool occupied(std::int8_t v) { return v >= kOccupied; }
-bool free_cell(std::int8_t v) { return v >= 0 && v < kFree; }
+bool occupied(std::int8_t v) { return v >= kThresholds.occupied_percent; }
+bool free_cell(std::int8_t v) { return v >= 0 && v <= kThresholds.free_percent; }
 
 }  // namespace
 
 AbsoluteTrajectoryError absolute_trajectory_error(const std::vector<TrajectoryPose>& trajectory, const RobotLog& log) {
   if (log.truth.empty()) throw Error("holds no ground truth", log.path, 0, "TRUEPOS");
-  std::vector<LogOdometry> truth;
-  for (const LogTruePose& t : log.truth) truth.push_back({t.stamp_us, t.pose, 0.0, 0.0, 0});
-  truth = sort_by_time(std::move(truth));
+  const std::vector<LogOdometry> truth = truth_readings(log);
   std::vector<double> d, a;
   AbsoluteTrajectoryError e;
   double sum2 = 0.0;
