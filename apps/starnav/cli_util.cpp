@@ -157,4 +157,14 @@ void ProgressBar::finish() {
   if (tty_) std::fprintf(stderr, "\r%-79s\r", "");
 }
 
+void check_out_dir(const std::string& dir, bool force) {
+  namespace fs = std::filesystem;
+  if (dir.empty()) throw Error("empty output folder", {}, 0, "--out");
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) throw Error("exists and is not a folder", dir, 0, "--out");
+    if (!fs::is_empty(dir, ec) && !force) throw Error("folder exists and is not empty (use --force to overwrite)", dir, 0, "--out");
+  }
+}
+
 }  // namespace starnav::cli

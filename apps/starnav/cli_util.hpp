@@ -58,6 +58,10 @@ MapFormat output_map_format(const std::string& path, bool elevation);
 bool picture_is_png(const std::string& path, const std::string& flag);
 
 
+// conventions.md: an existing non-empty folder is not written into without --force. Checked
+// before any work; the caller creates the folder once its inputs have loaded.
+void check_out_dir(const std::string& dir, bool force);
+
 // Progress of a long run on stderr: a live bar when stderr is a terminal, otherwise a line at
 // every tenth of the work (readable in CI logs); nothing when quiet.
 class ProgressBar {

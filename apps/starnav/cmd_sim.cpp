@@ -60,17 +60,6 @@ double parse_duration(const std::string& text) {
   return v;
 }
 
-// conventions.md: an existing non-empty folder is not written into without --force. Checked
-// before any work; the folder is created only once the scenario has loaded.
-void check_out_dir(const std::string& dir, bool force) {
-  if (dir.empty()) throw Error("empty output folder", {}, 0, "--out");
-  std::error_code ec;
-  if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec)) throw Error("exists and is not a folder", dir, 0, "--out");
-    if (!fs::is_empty(dir, ec) && !force) throw Error("folder exists and is not empty (use --force to overwrite)", dir, 0, "--out");
-  }
-}
-
 void prepare_out_dir(const std::string& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec)) {
@@ -179,6 +168,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
   add_cloud_writer(sim, spec, o.out);
   std::optional<RobotLogRecorder> recorder;
   if (RobotLogRecorder::can_record(spec)) recorder.emplace(sim);
+  std::optional<LocalizationChain> chain;
+  if (spec.localization) chain.emplace(sim, localization_config(spec));
 
   SimProgress bar(o.quiet, spec.duration_s);
   const auto t_run = Clock::now();
@@ -189,6 +180,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   const fs::path dir(o.out);
   write_simulation_records(sim, o.out);
   if (recorder) write_text_file((dir / "log.clf").string(), carmen_log_text(recorder->log()), "--out");
+  if (chain) write_text_file((dir / "estimate.csv").string(), estimate_csv(chain->records()), "--out");
   const SimulationMetrics m = sim.metrics();
   SimulationTiming timing;
   timing.wall_s = wall_s;
@@ -209,8 +201,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
                 static_cast<long long>(m.collisions), m.collisions == 1 ? "" : "s", m.z_min_m, m.z_max_m);
     if (m.has_reference)
       std::printf("deviation from the reference line: mean %.4f m, max %.4f m\n", m.deviation_mean_m, m.deviation_max_m);
-    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, height_trace.svg, track.svg%s}\n",
-                o.out.c_str(), recorder ? ", log.clf" : "");
+    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, height_trace.svg, track.svg%s%s}\n",
+                o.out.c_str(), recorder ? ", log.clf" : "", chain ? ", estimate.csv" : "");
   }
   ctx.exit_code = 0;
 }

@@ -4,16 +4,18 @@
 // simulation only, ground truth. The navigation loop reads its pose from a localizer, always.
 // It reports a planar pose (x, y, yaw) with its 3 x 3 covariance; z, roll and pitch keep coming
 // from the vehicle's attitude on the terrain. Implementations: ground_truth (this module, with
-// optional Gaussian noise); the EKF and AMCL come with their issue. Built by name from the
+// optional Gaussian noise), ekf (odometry + IMU) and amcl (particle filter on a known map). Built by name from the
 // component registry with their declared parameters.
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 
 #include <Eigen/Core>
 
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
+#include "starnav/map/occupancy_grid.hpp"
 #include "starnav/robot/robot_model.hpp"
 #include "starnav/sense/imu.hpp"
 #include "starnav/sense/lidar.hpp"
@@ -25,6 +27,8 @@ struct PoseEstimate {
   Pose2 pose;                                              // map frame
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();   // of (x, y, yaw)
   bool valid = false;                                      // false until the first input
+  int particles = 0;        // particle filters: the particles now
+  bool converged = true;    // particle filters: the best cluster is tight and holds most weight
 };
 
 // Odometry as a robot publishes it: the pose in the odom frame and the body twist.
@@ -46,11 +50,20 @@ class Localizer {
   virtual PoseEstimate estimate() const = 0;
 };
 
-// What a localizer is built from: the start pose, the scenario's seed, the scenario file.
+// What a localizer is built from: the start pose, the scenario's seed, the scenario file, and
+// what the robot knows of itself and its world (each may be absent: a localizer that needs one
+// says so when it is built).
 struct LocalizerContext {
+  LocalizerContext() = default;
+  LocalizerContext(const Pose2& start_, std::uint64_t seed_, std::string file_)
+      : start(start_), seed(seed_), file(std::move(file_)) {}
   Pose2 start;
   std::uint64_t seed = 0;
   std::string file;
+  const RobotConfig* robot = nullptr;   // kinematics (odometry noise, motion model)
+  const OccupancyGrid* map = nullptr;   // the known map (map-based localizers)
+  OccupancyThresholds thresholds;       // the map's free / occupied thresholds
+  Pose2 laser_in_base;                  // the 2D LiDAR's mount
 };
 using LocalizerDef = ComponentDef<Localizer, LocalizerContext>;
 

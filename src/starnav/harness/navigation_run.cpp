@@ -1,4 +1,5 @@
 #include "starnav/harness/navigation_run.hpp"
+#include "starnav/harness/scenario_settings.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -65,6 +66,20 @@ GridGeometry map_geometry(const ScenarioSpec& spec, const WorldDescription& worl
   return g;
 }
 
+// A setting left over after every component took its own: a component section of a component
+// the scenario did not choose, or an unknown key of the section itself.
+template <class Config>
+[[noreturn]] void refuse_leftover(const ParamSetting& v, const ParamTable<Config>& table, const std::vector<ComponentInfo>& others,
+                                  const std::string& role_key, const std::string& chosen) {
+  const std::string head = v.key.substr(0, v.key.find('.'));
+  for (const ComponentInfo& c : others)
+    if (c.section == head && v.key != head)
+      throw Error("parameters of " + c.name + ", but " + role_key + " is " + chosen, v.file, v.line, v.field);
+  param_unknown_key(v, table.keys());
+}
+
+}  // namespace
+
 // The settings of `section` (keys starting "section."), the prefix removed.
 std::vector<ParamSetting> settings_under(std::vector<ParamSetting>& rest, const std::string& section) {
   std::vector<ParamSetting> mine, others;
@@ -81,18 +96,6 @@ std::vector<ParamSetting> settings_under(std::vector<ParamSetting>& rest, const 
   return mine;
 }
 
-// A setting left over after every component took its own: a component section of a component
-// the scenario did not choose, or an unknown key of the section itself.
-template <class Config>
-[[noreturn]] void refuse_leftover(const ParamSetting& v, const ParamTable<Config>& table, const std::vector<ComponentInfo>& others,
-                                  const std::string& role_key, const std::string& chosen) {
-  const std::string head = v.key.substr(0, v.key.find('.'));
-  for (const ComponentInfo& c : others)
-    if (c.section == head && v.key != head)
-      throw Error("parameters of " + c.name + ", but " + role_key + " is " + chosen, v.file, v.line, v.field);
-  param_unknown_key(v, table.keys());
-}
-
 ComponentChoice choice_of(const std::vector<ParamSetting>& settings, const std::string& key, std::string fallback,
                           const std::string& section_field, const ScenarioSpec& spec) {
   ComponentChoice c{std::move(fallback), {}, section_field + "." + key, 0, spec.file};
@@ -105,7 +108,6 @@ ComponentChoice choice_of(const std::vector<ParamSetting>& settings, const std::
   return c;
 }
 
-}  // namespace
 
 const ParamTable<NavigationSettings>& navigation_params() {
   static const ParamTable<NavigationSettings> table = [] {
@@ -245,42 +247,6 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   return c;
 }
 
-LocalizationConfig localization_config(const ScenarioSpec& spec) {
-  LocalizationConfig c;
-  // Wheel odometry needs encoders and wheels that carry the body (not an Ackermann robot's steering).
-  const bool wheel_ok = spec.encoders && spec.vehicle.robot.drive != DriveKind::Ackermann;
-  c.odometry = wheel_ok ? "wheel" : "none";
-  c.localizer = {"ground_truth", {}, "localization.localizer", 0, spec.file};
-  if (!spec.localization) return c;
-  std::vector<ParamSetting> rest = spec.localization->settings;
-  c.localizer = choice_of(rest, "localizer", "ground_truth", "localization", spec);
-  const LocalizerDef* def = nullptr;
-  try {
-    def = &find_localizer(c.localizer.name, c.localizer.field);
-  } catch (const Error& e) {
-    throw Error(e.message(), spec.file, c.localizer.line, c.localizer.field);
-  }
-  c.localizer.settings = settings_under(rest, def->info.section);
-  for (const ParamSetting& v : rest) {
-    if (v.key == "localizer") continue;
-    if (v.key == "odometry") {
-      if (v.value != "wheel" && v.value != "none")
-        throw Error("unknown odometry '" + one_line(v.value, 40) + "' (wheel, none; ekf comes with the EKF)", v.file, v.line, v.field);
-      if (v.value == "wheel" && !wheel_ok)
-        throw Error(spec.encoders ? "wheel odometry needs a mecanum or differential robot" : "wheel odometry needs sensors.encoders",
-                    v.file, v.line, v.field);
-      c.odometry = v.value;
-      continue;
-    }
-    const std::string head = v.key.substr(0, v.key.find('.'));
-    for (const ComponentInfo& i : all_components())
-      if (i.role == Role::Localizer && i.section == head && v.key != head)
-        throw Error("parameters of " + i.name + ", but localization.localizer is " + def->info.name, v.file, v.line, v.field);
-    throw Error("unknown key (known: odometry, localizer, " + def->info.section + ".*)", v.file, v.line, v.field);
-  }
-  return c;
-}
-
 void check_navigation_scenario(const ScenarioSpec& spec) {
   if (!spec.navigation) return;
   WorldDescription empty;
@@ -288,7 +254,11 @@ void check_navigation_scenario(const ScenarioSpec& spec) {
   // Building the components validates their parameters (and the motion mode against the drive).
   Navigator(c, spec.vehicle.robot, spec.navigation->goal);
   const LocalizationConfig l = localization_config(spec);
-  find_localizer(l.localizer.name).make({spec.start, spec.seed, spec.file}, l.localizer.settings);
+  LocalizerContext ctx{spec.start, spec.seed, spec.file};
+  ctx.robot = &spec.vehicle.robot;
+  // Without its map (not loaded here) a map-based localizer still checks its parameters.
+  find_localizer(l.localizer.name).make(ctx, l.localizer.settings);
+  if (l.odometry == "ekf") find_localizer("ekf").make(ctx, l.odometry_filter);
 }
 
 NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& options)
@@ -301,40 +271,12 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   localization_ = localization_config(spec_);
   sim_ = std::make_unique<Simulation>(spec_, world);
   nav_ = std::make_unique<Navigator>(config, spec_.vehicle.robot, spec_.navigation->goal);
-  {
-    const ComponentChoice& lc = localization_.localizer;
-    localizer_ = find_localizer(lc.name, lc.field).make({spec_.start, spec_.seed, spec_.file}, lc.settings);
-  }
-  if (localization_.odometry == "wheel") {
-    odometry_model_ = make_robot_model(spec_.vehicle.robot);
-    odometry_ = std::make_unique<WheelOdometry>(*odometry_model_, spec_.encoders->config.ticks_per_rev, spec_.start);
-    last_odometry_.pose = spec_.start;
-    sim_->on_encoders = [this](const EncoderSample& e) {
-      odometry_->add_ticks(e.ticks);
-      OdometrySample o;
-      o.t_s = e.t_s;
-      o.pose = odometry_->pose();
-      const double dt = o.t_s - last_odometry_.t_s;
-      if (dt > 0.0) {
-        // The body twist over the period, in the body frame at its start.
-        const Vec2 d = Eigen::Rotation2Dd(-last_odometry_.pose.yaw) * (o.pose.translation() - last_odometry_.pose.translation());
-        o.twist = {d.x() / dt, d.y() / dt, wrap_angle(o.pose.yaw - last_odometry_.pose.yaw) / dt};
-      }
-      last_odometry_ = o;
-      localizer_->on_odometry(o);
-    };
-  }
-  sim_->on_imu = [this](const ImuModel::ImuReading& r) { localizer_->on_imu(r); };
   // The pose the navigator uses: the localizer's, after it has seen the truth (simulation only).
-  const auto localized = [this](double t) {
-    localizer_->on_ground_truth(t, sim_->vehicle().state().pose.to_pose2());
-    return localizer_->estimate().pose;
-  };
+  const auto localized = [this](double t) { return chain_->pose(t); };
 
   sim_->on_scan = [this, localized](const LidarScan& scan) {
     const Pose3 pose3 = sim_->vehicle().state().pose;
     const double t = sim_->time();
-    localizer_->on_scan(scan);
     const Pose2 pose = localized(t);
     NavCycle cycle = nav_->on_scan(scan, pose, t);
     if (options_.record_steps) {
@@ -387,6 +329,8 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
     }
     return cmd;
   };
+  // After the run's own scan hook: the chain's hook feeds the localizer first, then calls it.
+  chain_ = std::make_unique<LocalizationChain>(*sim_, localization_);
   setup_s_ = seconds_since(t0);
 }
 
@@ -543,6 +487,7 @@ void write_navigation_records(const NavigationRun& run, const std::string& dir) 
   write_file_bytes((d / "metrics.json").string(), navigation_metrics_json(run));
   write_file_bytes((d / "paths.csv").string(), paths_csv(run));
   write_file_bytes((d / "replans.csv").string(), replans_csv(run));
+  if (run.spec().localization) write_file_bytes((d / "estimate.csv").string(), estimate_csv(run.localization_chain().records()));
   if (run.options().record_steps) write_file_bytes((d / "steps.jsonl").string(), steps_jsonl(run));
   write_ros_map(run.navigator().map().occupancy(), (d / "map.yaml").string());
 

@@ -18,8 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "starnav/estimate/localizer.hpp"
-#include "starnav/estimate/wheel_odometry.hpp"
+#include "starnav/harness/localization_chain.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "starnav/sim/simulation.hpp"
@@ -49,15 +48,6 @@ struct NavigationSettings {
   double no_return_clear_m = 0.0;
 };
 const ParamTable<NavigationSettings>& navigation_params();
-
-// The localization chain of a scenario (section `localization`): the odometry source (wheel:
-// from the encoders, the default when the robot has them; none) and the localizer the
-// navigation loop reads its pose from (default ground_truth), with its settings.
-struct LocalizationConfig {
-  std::string odometry = "none";
-  ComponentChoice localizer{"ground_truth", {}, "localization.localizer", 0, {}};
-};
-LocalizationConfig localization_config(const ScenarioSpec& spec);
 
 // Checks a navigation scenario's settings against its components' declared parameters without
 // building its world (the errors of NavigationRun's set-up that need no terrain).
@@ -117,10 +107,11 @@ class NavigationRun {
   const Simulation& simulation() const { return *sim_; }
   Navigator& navigator() { return *nav_; }
   const Navigator& navigator() const { return *nav_; }
-  const Localizer& localizer() const { return *localizer_; }
+  const Localizer& localizer() const { return chain_->localizer(); }
   const LocalizationConfig& localization() const { return localization_; }
-  // Wheel odometry from the encoder hook (odometry: wheel), else null.
-  const WheelOdometry* odometry() const { return odometry_.get(); }
+  const LocalizationChain& localization_chain() const { return *chain_; }
+  // Wheel odometry from the encoder hook (odometry: wheel or ekf), else null.
+  const WheelOdometry* odometry() const { return chain_->odometry(); }
   const std::vector<NavStepRecord>& steps() const { return steps_; }
   NavigationMetrics metrics() const;
   double setup_s() const { return setup_s_; }
@@ -132,10 +123,7 @@ class NavigationRun {
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<Navigator> nav_;
   LocalizationConfig localization_;
-  std::unique_ptr<Localizer> localizer_;
-  std::unique_ptr<RobotModel> odometry_model_;
-  std::unique_ptr<WheelOdometry> odometry_;
-  OdometrySample last_odometry_;
+  std::unique_ptr<LocalizationChain> chain_;
   std::vector<NavStepRecord> steps_;
   double deviation_sum_ = 0.0, deviation_max_ = 0.0;
   std::int64_t deviation_n_ = 0;
@@ -147,6 +135,7 @@ class NavigationRun {
 //   replans.csv   plan_id,t_s,cause,status,expanded,cost_m[,astar_status,astar_expanded,astar_cost_m,
 //                 astar_backward_expanded,astar_backward_cost_m]
 //   steps.jsonl   one object per sensor cycle (docs/navigation.md)
+//   estimate.csv  the localization chain's estimate beside the truth (scenarios with a localization section)
 //   map.yaml + map.pgm   the final occupancy (ROS map_server; unknown -1)
 //   metrics.json  NavigationMetrics plus the simulator's metrics under "sim"
 //   timing.json   wall-clock figures incl. real_time_factor and each plan's search time

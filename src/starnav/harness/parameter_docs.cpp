@@ -66,10 +66,13 @@ std::string parameters_markdown() {
       params_markdown_table(navigation_params().specs(), "navigation") + "\n" +
       "## The localization section\n\n"
       "| key | type | default | range | unit | meaning |\n|---|---|---|---|---|---|\n"
-      "| `localization.odometry` | choice | `wheel` with sensors.encoders (not ackermann), else `none` | wheel \\| none |  | "
-      "wheel: odometry from the encoders, fed to the localizer |\n"
+      "| `localization.odometry` | choice | `wheel` with sensors.encoders (not ackermann), else `none` | wheel \\| ekf \\| none |  | "
+      "wheel: odometry from the encoders, fed to the localizer; ekf: the same fused with the IMU by the EKF (its "
+      "parameters under `localization.ekf`; needs sensors.imu) |\n"
+      "| `localization.map` | path | `world.occupancy_map` | |  | the known map of a map-based localizer (amcl), "
+      "relative to the scenario |\n"
       "| `localization.localizer` | choice | `ground_truth` | " +
-      join(component_names(Role::Localizer), " \\| ") + " |  | the localizer the navigation loop reads its pose from |\n\n";
+      join(component_names(Role::Localizer), " \\| ") + " |  | the localizer the run reads its pose from (a scripted run records it in estimate.csv) |\n\n";
   for (Role role : {Role::GlobalPlanner, Role::LocalController, Role::Localizer, Role::Slam, Role::ScanMatcher}) {
     s += std::string("## ") + role_title(role) + "\n\n";
     const auto names = component_names(role);

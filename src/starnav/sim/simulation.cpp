@@ -120,11 +120,6 @@ void Simulation::scan_lidar() {
 
 void Simulation::sample_sensors(bool initial) {
   const double t = time();
-  if (lidar_ && due(next_scan_, lidar_->config().rate_hz, t)) {
-    scan_lidar();
-    // One scan per step at most: a rate above 1/dt is capped to the step rate.
-    while (due(next_scan_, lidar_->config().rate_hz, t)) ++next_scan_;
-  }
   if (imu_model_ && !initial && due(next_imu_, imu_model_->config().rate_hz, t)) {
     imu_.push_back(imu_model_->sample(t, vehicle_->state().twist.wz, t - last_imu_t_));
     last_imu_t_ = t;
@@ -135,6 +130,12 @@ void Simulation::sample_sensors(bool initial) {
     encoder_samples_.push_back({t, encoders_->sample(vehicle_->state().wheel_angle_rad)});
     if (on_encoders) on_encoders(encoder_samples_.back());
     while (due(next_encoder_, spec_.encoders->rate_hz, t)) ++next_encoder_;
+  }
+  // The scan last: a localizer matching it then has the odometry of the same instant.
+  if (lidar_ && due(next_scan_, lidar_->config().rate_hz, t)) {
+    scan_lidar();
+    // One scan per step at most: a rate above 1/dt is capped to the step rate.
+    while (due(next_scan_, lidar_->config().rate_hz, t)) ++next_scan_;
   }
 }
 

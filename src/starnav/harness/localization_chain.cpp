@@ -1,0 +1,192 @@
+#include "starnav/harness/localization_chain.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/harness/scenario_settings.hpp"
+#include "starnav/io/map_file.hpp"
+#include "starnav/registry/components.hpp"
+
+namespace starnav {
+
+namespace {
+
+constexpr const char* kFilterName = "ekf";  // the odometry filter of `odometry: ekf`
+
+// Covariances span many decades (1e-10 m^2 after a standstill, metres squared when lost).
+std::string format_covariance(double v) {
+  char buf[64];
+  const int n = std::snprintf(buf, sizeof buf, "%.6e", v);
+  return std::string(buf, static_cast<std::size_t>(n));
+}
+
+}  // namespace
+
+LocalizationConfig localization_config(const ScenarioSpec& spec) {
+  LocalizationConfig c;
+  // Wheel odometry needs encoders and wheels that carry the body (not an Ackermann robot's steering).
+  const bool wheel_ok = spec.encoders && spec.vehicle.robot.drive != DriveKind::Ackermann;
+  c.odometry = wheel_ok ? "wheel" : "none";
+  c.localizer = {"ground_truth", {}, "localization.localizer", 0, spec.file};
+  if (spec.occupancy_map) c.map_file = spec.occupancy_map->resolved_file;
+  if (!spec.localization) return c;
+  std::vector<ParamSetting> rest = spec.localization->settings;
+  c.localizer = choice_of(rest, "localizer", "ground_truth", "localization", spec);
+  const LocalizerDef* def = nullptr;
+  try {
+    def = &find_localizer(c.localizer.name, c.localizer.field);
+  } catch (const Error& e) {
+    throw Error(e.message(), spec.file, c.localizer.line, c.localizer.field);
+  }
+  c.localizer.settings = settings_under(rest, def->info.section);
+  for (const ParamSetting& v : rest)
+    if (v.key == "odometry") {
+      if (v.value != "wheel" && v.value != "ekf" && v.value != "none")
+        throw Error("unknown odometry '" + one_line(v.value, 40) + "' (wheel, ekf, none)", v.file, v.line, v.field);
+      if (v.value != "none" && !wheel_ok)
+        throw Error(spec.encoders ? "wheel odometry needs a mecanum or differential robot" : "wheel odometry needs sensors.encoders",
+                    v.file, v.line, v.field);
+      if (v.value == "ekf" && !spec.imu) throw Error("odometry ekf needs sensors.imu", v.file, v.line, v.field);
+      if (v.value == "ekf" && def->info.name == kFilterName)
+        throw Error("the EKF would run twice (as the odometry and as the localizer): use odometry wheel with localizer ekf",
+                    v.file, v.line, v.field);
+      c.odometry = v.value;
+    }
+  if (c.odometry == "ekf") c.odometry_filter = settings_under(rest, kFilterName);
+  for (const ParamSetting& v : rest) {
+    if (v.key == "localizer" || v.key == "odometry") continue;
+    if (v.key == "map") {
+      c.map_file = (std::filesystem::path(spec.file).parent_path() / v.value).lexically_normal().string();
+      continue;
+    }
+    const std::string head = v.key.substr(0, v.key.find('.'));
+    for (const ComponentInfo& i : all_components())
+      if (i.role == Role::Localizer && i.section == head && v.key != head)
+        throw Error("parameters of " + i.name + ", but localization.localizer is " + def->info.name, v.file, v.line, v.field);
+    throw Error("unknown key (known: odometry, localizer, map, " + def->info.section + ".*)", v.file, v.line, v.field);
+  }
+  return c;
+}
+
+LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& config)
+    : sim_(&sim), config_(config), robot_(sim.spec().vehicle.robot) {
+  const ScenarioSpec& spec = sim.spec();
+  LocalizerContext ctx = context();
+  const LocalizerDef& def = find_localizer(config_.localizer.name, config_.localizer.field);
+  if (def.info.has("needs_map")) {
+    if (config_.map_file.empty())
+      throw Error(def.info.name + " needs a map: world.occupancy_map or localization.map", spec.file, config_.localizer.line,
+                  config_.localizer.field);
+    LoadedMap loaded = load_map(config_.map_file);
+    if (loaded.is_elevation())
+      throw Error("an elevation map; " + def.info.name + " needs an occupancy map", config_.map_file, 0, "localization.map");
+    thresholds_ = loaded.thresholds();
+    map_ = std::make_unique<OccupancyGrid>(std::move(std::get<OccupancyGrid>(loaded.map)));
+    ctx = context();
+  }
+  try {
+    localizers_.push_back(def.make(ctx, config_.localizer.settings));
+    records_.emplace_back();
+    if (config_.odometry == "ekf") filter_ = find_localizer(kFilterName).make(ctx, config_.odometry_filter);
+  } catch (const Error& e) {
+    if (!e.file().empty()) throw;
+    throw Error(e.message(), spec.file, 0, "localization." + e.field());
+  }
+  if (config_.odometry != "none") {
+    odometry_model_ = make_robot_model(spec.vehicle.robot);
+    odometry_ = std::make_unique<WheelOdometry>(*odometry_model_, spec.encoders->config.ticks_per_rev, spec.start);
+    last_odometry_.pose = spec.start;
+    sim.on_encoders = [this, before = sim.on_encoders](const EncoderSample& e) {
+      if (before) before(e);
+      odometry_->add_ticks(e.ticks);
+      OdometrySample o;
+      o.t_s = e.t_s;
+      o.pose = odometry_->pose();
+      const double dt = o.t_s - last_odometry_.t_s;
+      if (dt > 0.0) {
+        // The body twist over the period, in the body frame at its start.
+        const Pose2 d = last_odometry_.pose.inverse().compose(o.pose);
+        o.twist = {d.x / dt, d.y / dt, wrap_angle(d.yaw) / dt};
+      }
+      last_odometry_ = o;
+      if (filter_) {
+        filter_->on_odometry(o);
+        o.pose = filter_->estimate().pose;  // the fused odometry, as robot_pose_ekf publishes it
+      }
+      for (auto& l : localizers_) l->on_odometry(o);
+      record(e.t_s, false);
+    };
+  }
+  sim.on_imu = [this, before = sim.on_imu](const ImuModel::ImuReading& r) {
+    if (before) before(r);
+    if (filter_) filter_->on_imu(r);
+    for (auto& l : localizers_) l->on_imu(r);
+  };
+  sim.on_scan = [this, before = sim.on_scan](const LidarScan& scan) {
+    for (auto& l : localizers_) l->on_scan(scan);
+    record(scan.time, true);
+    if (before) before(scan);
+  };
+}
+
+LocalizationChain::~LocalizationChain() = default;
+
+LocalizerContext LocalizationChain::context() const {
+  const ScenarioSpec& spec = sim_->spec();
+  LocalizerContext ctx{spec.start, spec.seed, spec.file};
+  ctx.robot = &robot_;
+  if (spec.lidar) ctx.laser_in_base = spec.lidar->config.mount.to_pose2();
+  ctx.map = map_.get();
+  if (map_) ctx.thresholds = thresholds_;
+  return ctx;
+}
+
+std::size_t LocalizationChain::add_localizer(const std::string& name, std::span<const ParamSetting> settings) {
+  localizers_.push_back(find_localizer(name).make(context(), settings));
+  records_.emplace_back();
+  return localizers_.size() - 1;
+}
+
+Pose2 LocalizationChain::pose(double t_s) {
+  localizers_.front()->on_ground_truth(t_s, sim_->vehicle().state().pose.to_pose2());
+  return localizers_.front()->estimate().pose;
+}
+
+void LocalizationChain::record(double t_s, bool scan) {
+  EstimateRecord r;
+  r.t_s = t_s;
+  r.truth = sim_->vehicle().state().pose.to_pose2();
+  r.scan = scan;
+  // No truth handed over here: a noisy ground_truth localizer draws its noise only when the run
+  // asks for its pose.
+  for (std::size_t i = 0; i < localizers_.size(); ++i) {
+    r.estimate = localizers_[i]->estimate();
+    records_[i].push_back(r);
+  }
+}
+
+std::string estimate_csv(const std::vector<EstimateRecord>& records) {
+  std::string out =
+      "t_s,source,true_x_m,true_y_m,true_yaw_rad,x_m,y_m,yaw_rad,cov_xx,cov_xy,cov_yy,cov_yawyaw,particles,converged\n";
+  for (const EstimateRecord& r : records) {
+    const PoseEstimate& e = r.estimate;
+    out += format_fixed6(r.t_s);
+    out += r.scan ? ",scan," : ",odometry,";
+    for (const double v : {r.truth.x, r.truth.y, r.truth.yaw, e.pose.x, e.pose.y, e.pose.yaw}) {
+      out += format_fixed6(v);
+      out += ',';
+    }
+    for (const double v : {e.covariance(0, 0), e.covariance(0, 1), e.covariance(1, 1), e.covariance(2, 2)}) {
+      out += format_covariance(v);
+      out += ',';
+    }
+    out += std::to_string(e.particles);
+    out += e.converged ? ",1\n" : ",0\n";
+  }
+  return out;
+}
+
+}  // namespace starnav

@@ -1,0 +1,89 @@
+#pragma once
+// The localization chain of a simulated run (scenario section `localization`): wheel odometry
+// from the encoders, optionally fused with the IMU by the EKF (`odometry: ekf`), feeding the
+// localizer the run reads its pose from (ground_truth, ekf, amcl, ...), which also gets the IMU and
+// the scans. It chains onto the simulation's hooks (after what they already do) and records the
+// estimate beside the truth at every odometry sample and every scan (estimate.csv).
+//
+//   Simulation sim(spec);
+//   LocalizationChain chain(sim, localization_config(spec));
+//   sim.run();
+//   write_text_file("estimate.csv", estimate_csv(chain.records()), "--out");
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "starnav/core/component.hpp"
+#include "starnav/estimate/localizer.hpp"
+#include "starnav/estimate/wheel_odometry.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+#include "starnav/sim/simulation.hpp"
+
+namespace starnav {
+
+// The chain's choices: the odometry source (wheel: from the encoders, the default when the robot
+// has them; ekf: wheel odometry fused with the IMU; none), the odometry filter's settings (section
+// `ekf` when odometry is ekf) and the localizer with its settings.
+struct LocalizationConfig {
+  std::string odometry = "none";
+  ComponentChoice localizer{"ground_truth", {}, "localization.localizer", 0, {}};
+  std::vector<ParamSetting> odometry_filter;  // odometry: ekf
+  std::string map_file;                       // the localizer's known map (map_server YAML), if any
+};
+// Errors name the scenario file, line and field.
+LocalizationConfig localization_config(const ScenarioSpec& spec);
+
+// One row of estimate.csv.
+struct EstimateRecord {
+  double t_s = 0.0;
+  Pose2 truth;
+  PoseEstimate estimate;
+  bool scan = false;  // recorded after a scan (else after an odometry sample)
+};
+
+class LocalizationChain {
+ public:
+  // Builds the odometry, the filter and the localizer and chains onto sim.on_encoders, on_imu and
+  // on_scan (hooks set later replace the chain's: set the run's own hooks first). `sim` must
+  // outlive the chain and the chain the run. Throws Error naming the scenario file and field.
+  LocalizationChain(Simulation& sim, const LocalizationConfig& config);
+  ~LocalizationChain();
+  LocalizationChain(const LocalizationChain&) = delete;
+  LocalizationChain& operator=(const LocalizationChain&) = delete;
+
+  // The localizer's pose at time t (it sees the truth first: simulation only).
+  Pose2 pose(double t_s);
+  // Another localizer fed exactly what the chain's own is fed (to compare localizers on one run:
+  // the same noise for all); its estimates are recorded as records(index). Returns the index (1..).
+  std::size_t add_localizer(const std::string& name, std::span<const ParamSetting> settings);
+  std::size_t localizers() const { return localizers_.size(); }
+  const Localizer& localizer(std::size_t index = 0) const { return *localizers_.at(index); }
+  const LocalizationConfig& config() const { return config_; }
+  // Wheel odometry (odometry: wheel or ekf), else null.
+  const WheelOdometry* odometry() const { return odometry_.get(); }
+  const std::vector<EstimateRecord>& records(std::size_t index = 0) const { return records_.at(index); }
+  // The known map (when the localizer needs one), else null.
+  const OccupancyGrid* map() const { return map_.get(); }
+
+ private:
+  void record(double t_s, bool scan);
+  LocalizerContext context() const;
+
+  Simulation* sim_;
+  LocalizationConfig config_;
+  RobotConfig robot_;
+  std::unique_ptr<OccupancyGrid> map_;
+  OccupancyThresholds thresholds_;
+  std::unique_ptr<Localizer> filter_;  // odometry: ekf
+  std::vector<std::unique_ptr<Localizer>> localizers_;
+  std::unique_ptr<RobotModel> odometry_model_;
+  std::unique_ptr<WheelOdometry> odometry_;
+  OdometrySample last_odometry_;
+  std::vector<std::vector<EstimateRecord>> records_;
+};
+
+// t_s,source,true_x_m,true_y_m,true_yaw_rad,x_m,y_m,yaw_rad,cov_xx,cov_xy,cov_yy,cov_yawyaw,particles,converged
+std::string estimate_csv(const std::vector<EstimateRecord>& records);
+
+}  // namespace starnav
