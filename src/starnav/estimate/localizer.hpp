@@ -28,6 +28,7 @@ struct PoseEstimate {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();   // of (x, y, yaw)
   bool valid = false;                                      // false until the first input
   int particles = 0;        // particle filters: the particles now
+  int updates = 0;          // particle filters: filter updates so far
   bool converged = true;    // particle filters: the best cluster is tight and holds most weight
 };
 
@@ -64,6 +65,8 @@ struct LocalizerContext {
   const OccupancyGrid* map = nullptr;   // the known map (map-based localizers)
   OccupancyThresholds thresholds;       // the map's free / occupied thresholds
   Pose2 laser_in_base;                  // the 2D LiDAR's mount
+  double laser_range_min_m = 0.0;       // its valid ranges (0, 0: no LiDAR)
+  double laser_range_max_m = 0.0;
 };
 using LocalizerDef = ComponentDef<Localizer, LocalizerContext>;
 

@@ -138,7 +138,11 @@ LocalizerContext LocalizationChain::context() const {
   const ScenarioSpec& spec = sim_->spec();
   LocalizerContext ctx{spec.start, spec.seed, spec.file};
   ctx.robot = &robot_;
-  if (spec.lidar) ctx.laser_in_base = spec.lidar->config.mount.to_pose2();
+  if (spec.lidar) {
+    ctx.laser_in_base = spec.lidar->config.mount.to_pose2();
+    ctx.laser_range_min_m = spec.lidar->config.range_min;
+    ctx.laser_range_max_m = spec.lidar->config.range_max;
+  }
   ctx.map = map_.get();
   if (map_) ctx.thresholds = thresholds_;
   return ctx;
@@ -170,7 +174,7 @@ void LocalizationChain::record(double t_s, bool scan) {
 
 std::string estimate_csv(const std::vector<EstimateRecord>& records) {
   std::string out =
-      "t_s,source,true_x_m,true_y_m,true_yaw_rad,x_m,y_m,yaw_rad,cov_xx,cov_xy,cov_yy,cov_yawyaw,particles,converged\n";
+      "t_s,source,true_x_m,true_y_m,true_yaw_rad,x_m,y_m,yaw_rad,cov_xx,cov_xy,cov_yy,cov_yawyaw,particles,updates,converged\n";
   for (const EstimateRecord& r : records) {
     const PoseEstimate& e = r.estimate;
     out += format_fixed6(r.t_s);
@@ -184,6 +188,8 @@ std::string estimate_csv(const std::vector<EstimateRecord>& records) {
       out += ',';
     }
     out += std::to_string(e.particles);
+    out += ',';
+    out += std::to_string(e.updates);
     out += e.converged ? ",1\n" : ",0\n";
   }
   return out;

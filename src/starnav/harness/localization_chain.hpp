@@ -83,7 +83,7 @@ class LocalizationChain {
   std::vector<std::vector<EstimateRecord>> records_;
 };
 
-// t_s,source,true_x_m,true_y_m,true_yaw_rad,x_m,y_m,yaw_rad,cov_xx,cov_xy,cov_yy,cov_yawyaw,particles,converged
+// t_s,source,true_x_m,true_y_m,true_yaw_rad,x_m,y_m,yaw_rad,cov_xx,cov_xy,cov_yy,cov_yawyaw,particles,updates,converged
 std::string estimate_csv(const std::vector<EstimateRecord>& records);
 
 }  // namespace starnav

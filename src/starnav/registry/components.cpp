@@ -17,7 +17,8 @@ namespace starnav {
 #define STARNAV_LOCALIZERS(X) \
   X(ground_truth_localizer) /* estimate/ground_truth_localizer.cpp */ \
   X(odometry_localizer)     /* estimate/odometry_localizer.cpp */ \
-  X(ekf_localizer)          /* estimate/ekf_localizer.cpp */
+  X(ekf_localizer)          /* estimate/ekf_localizer.cpp */ \
+  X(amcl_localizer)         /* estimate/amcl_localizer.cpp */
 
 #define STARNAV_SCAN_MATCHERS(X) \
   X(correlative_scan_matcher) /* slam/correlative_scan_matcher.cpp */

@@ -1001,6 +1001,24 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
     s.localization = parse_settings_section(*v, doc);
   }
 
+  if (auto v = top.take("events")) {
+    if (!v->node().IsSequence()) v->fail("expected a list of events, found " + node_kind(v->node()));
+    for (std::size_t i = 0; i < v->node().size(); ++i) {
+      const Value e = v->element(i);
+      Fields f = fields_of(e, doc);
+      ScenarioTeleport t;
+      t.source = {e.line(), e.field()};
+      t.t_s = f.required("t_s").non_negative();
+      if (!s.teleports.empty() && t.t_s < s.teleports.back().t_s) e.fail("events must be in time order");
+      const Value to = f.required("teleport");
+      Fields g = fields_of(to, doc);
+      t.to = Pose2(g.number("x_m", 0.0), g.number("y_m", 0.0), deg_to_rad(g.number("yaw_deg", 0.0)));
+      g.finish("x_m, y_m, yaw_deg");
+      f.finish("t_s, teleport");
+      s.teleports.push_back(t);
+    }
+  }
+
   if (auto v = top.take("metrics")) {
     Fields f = fields_of(*v, doc);
     if (auto r = f.take("reference_line_m")) {
@@ -1033,7 +1051,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
     f.finish("trajectory_every_n_steps, point_clouds");
   }
 
-  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, motion_mode, navigation, localization, metrics, outputs");
+  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, events, motion_mode, navigation, localization, metrics, outputs");
   return s;
 }
 

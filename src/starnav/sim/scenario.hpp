@@ -47,6 +47,14 @@ struct ScenarioOccupancyWorld {
   ScenarioSource source;
 };
 
+// events[i]: {t_s, teleport: {x_m, y_m, yaw_deg}} moves the robot there at t_s without its wheels
+// turning (the kidnapped robot: odometry and IMU do not see it); the target must be free.
+struct ScenarioTeleport {
+  double t_s = 0.0;
+  Pose2 to;
+  ScenarioSource source;
+};
+
 struct ScenarioTerrain {
   enum class Kind : std::uint8_t { None, File, Flat, Hills, Road };
   Kind kind = Kind::None;
@@ -161,6 +169,7 @@ struct ScenarioSpec {
   std::uint64_t seed = 0;
 
   std::vector<CommandSegment> commands;  // consecutive, starting at 0
+  std::vector<ScenarioTeleport> teleports;  // events: by time
   // navigation: "" (auto), turn_then_drive, holonomic, pure_pursuit (checked against the drive by
   // the navigation stack).
   std::string motion_mode;

@@ -35,6 +35,12 @@ std::string twist_text(const BodyTwist& t) {
   return buf;
 }
 
+std::string pose_text(const Pose2& p) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "x=%g y=%g yaw_deg=%g", p.x, p.y, p.yaw * 180.0 / kPi);
+  return buf;
+}
+
 }  // namespace
 
 Simulation::Simulation(const ScenarioSpec& spec) : Simulation(spec, build_world(spec)) {}
@@ -159,6 +165,16 @@ void Simulation::step() {
                             : seg >= 0     ? spec_.commands[static_cast<std::size_t>(seg)].twist
                                            : BodyTwist{};
   if (stopped_) return;  // command_source stopped the run
+  while (next_teleport_ < spec_.teleports.size() && spec_.teleports[next_teleport_].t_s <= t0) {
+    const ScenarioTeleport& tp = spec_.teleports[next_teleport_++];
+    try {
+      vehicle_->teleport(tp.to, t0);
+    } catch (const Error& e) {
+      throw Error(e.message(), spec_.file, tp.source.line, tp.source.field + ".teleport");
+    }
+    add_event(t0, "teleport", "to " + pose_text(tp.to), tp.to.translation());
+    last_ = sample_now();  // the jump is not driven distance
+  }
   vehicle_events_.clear();
   vehicle_->step(command, spec_.dt_s, vehicle_events_);
   ++step_;

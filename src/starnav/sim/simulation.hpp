@@ -145,6 +145,7 @@ class Simulation {
   std::int64_t next_scan_ = 0, next_imu_ = 1, next_encoder_ = 0;  // sample indices n (time n / rate)
   double last_imu_t_ = 0.0;
   int segment_ = -1;
+  std::size_t next_teleport_ = 0;
   bool started_ = false;  // the t = 0 sensor samples are taken
   bool stopped_ = false;
   bool bumper_ = false;

@@ -121,6 +121,26 @@ Vehicle::Vehicle(const World& world, const VehicleConfig& config, const Pose2& s
   bumper_ = front_contact(here_.pose, t0);
 }
 
+void Vehicle::teleport(const Pose2& to, double t) {
+  if (!std::isfinite(to.x) || !std::isfinite(to.y) || !std::isfinite(to.yaw))
+    throw Error("the target pose must be finite", {}, 0, "teleport");
+  Placement target;
+  Block block;
+  if (!place(to, t, target, block)) throw Error("no ground under a wheel at the target", {}, 0, "teleport");
+  refresh_moving(t);
+  if (body_overlap(target.pose, t, block))
+    throw Error("the body would overlap " + block.detail + " at the target", {}, 0, "teleport");
+  here_ = target;
+  drive_.reset();
+  slide_velocity_ = Vec2::Zero();
+  last_block_.clear();
+  state_.t_s = t;
+  state_.pose = here_.pose;
+  state_.twist = {};
+  std::fill(state_.wheel_speed_radps.begin(), state_.wheel_speed_radps.end(), 0.0);
+  bumper_ = front_contact(here_.pose, t);
+}
+
 double Vehicle::ground(double x, double y, double t) const {
   const double h = world_->surface_height(x, y, t);
   // Without a terrain the ground is the plane z = 0 (obstacles stand on it).

@@ -57,6 +57,10 @@ class Vehicle {
   // counts as blocked. Events are appended when something starts (a block whose kind or obstacle
   // differs from the last step's, a slide beginning), not on every step it lasts. dt > 0.
   void step(const BodyTwist& command, double dt, std::vector<VehicleEvent>& events);
+  // Moves the robot to `to` at time t without turning its wheels (the kidnapped robot: encoders
+  // and IMU see nothing); actuators and drift to rest. Throws Error (field "teleport") when the
+  // target has no ground under a wheel or the body would overlap an obstacle there.
+  void teleport(const Pose2& to, double t);
   // True when the last step was cut short by a collision, a step or the edge of the terrain.
   bool blocked() const { return !last_block_.empty(); }
   // Downhill drift velocity (world frame, m/s) of the slide model.

@@ -1,0 +1,217 @@
+#include "starnav/estimate/amcl.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+
+namespace starnav {
+
+namespace {
+
+void amcl_require_unit(double v, const char* field) {
+  require(std::isfinite(v) && v >= 0.0 && v <= 1.0, field, "must be in [0, 1]");
+}
+
+// The largest eigenvalue of the x-y block of a covariance.
+double amcl_max_xy_eigenvalue(const Eigen::Matrix3d& c) {
+  const double a = c(0, 0), b = c(0, 1), d = c(1, 1);
+  return 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+}
+
+}  // namespace
+
+void AmclConfig::validate() const {
+  motion_noise().validate();
+  require_non_negative(z_hit, "amcl.z_hit");
+  require_non_negative(z_rand, "amcl.z_rand");
+  require_non_negative(z_short, "amcl.z_short");
+  require_non_negative(z_max, "amcl.z_max");
+  require(z_hit + z_rand + z_short + z_max > 0.0, "amcl.z_hit", "the laser model weights z_* are all 0");
+  require_positive(sigma_hit_m, "amcl.sigma_hit_m");
+  require_positive(lambda_short, "amcl.lambda_short");
+  require_positive(laser_likelihood_max_dist_m, "amcl.laser_likelihood_max_dist_m");
+  require(std::isfinite(laser_max_range_m), "amcl.laser_max_range_m", "must be finite (<= 0: the scan's)");
+  require(std::isfinite(laser_min_range_m), "amcl.laser_min_range_m", "must be finite (<= 0: the scan's)");
+  require(max_beams >= 2, "amcl.max_beams", "must be >= 2");
+  filter_config().validate();
+  require(resample_interval >= 1, "amcl.resample_interval", "must be >= 1");
+  require_non_negative(update_min_d_m, "amcl.update_min_d_m");
+  require_non_negative(update_min_a_rad, "amcl.update_min_a_rad");
+  require_non_negative(initial_sigma_xy_m, "amcl.initial_sigma_xy_m");
+  require_non_negative(initial_sigma_yaw_rad, "amcl.initial_sigma_yaw_rad");
+  amcl_require_unit(converged_weight, "amcl.converged_weight");
+  require_positive(converged_sigma_m, "amcl.converged_sigma_m");
+}
+
+ParticleFilterConfig AmclConfig::filter_config() const {
+  ParticleFilterConfig c;
+  c.min_particles = min_particles;
+  c.max_particles = max_particles;
+  c.pf_err = pf_err;
+  c.pf_z = pf_z;
+  c.bins.xy_m = kld_bin_xy_m;
+  c.bins.yaw_rad = kld_bin_yaw_rad;
+  c.resampler = resampler;
+  c.alpha_slow = recovery_alpha_slow;
+  c.alpha_fast = recovery_alpha_fast;
+  c.selective_resampling = selective_resampling;
+  c.recovery_reset = recovery_reset;
+  return c;
+}
+
+Eigen::Matrix3d AmclConfig::initial_covariance() const {
+  return Eigen::Vector3d(initial_sigma_xy_m * initial_sigma_xy_m, initial_sigma_xy_m * initial_sigma_xy_m,
+                         initial_sigma_yaw_rad * initial_sigma_yaw_rad)
+      .asDiagonal();
+}
+
+Amcl::Amcl(const OccupancyGrid& map, const OccupancyThresholds& thresholds, const AmclConfig& config,
+           const Pose2& laser_in_base, std::uint64_t seed)
+    : config_((config.validate(), config)),
+      laser_in_base_(laser_in_base),
+      geometry_(map.geometry()),
+      filter_(config.filter_config()),
+      rng_(seed) {
+  validate_geometry(geometry_, "map");
+  require(std::isfinite(laser_in_base.x) && std::isfinite(laser_in_base.y) && std::isfinite(laser_in_base.yaw),
+          "amcl.laser_in_base", "must be finite");
+  for (std::size_t i = 0; i < map.cell_count(); ++i)
+    if (thresholds.classify(map[i]) == CellState::Free) free_cells_.push_back(static_cast<std::int32_t>(i));
+  if (config_.laser_model == LaserModelType::LikelihoodField) {
+    LikelihoodFieldConfig f;
+    f.max_dist_m = config_.laser_likelihood_max_dist_m;
+    f.sigma_hit_m = config_.sigma_hit_m;
+    f.z_hit = config_.z_hit;
+    f.z_rand = config_.z_rand;
+    // The terms are refreshed for the scans' range_max on the first scan.
+    f.range_max_m = config_.laser_max_range_m > 0.0 ? config_.laser_max_range_m : 30.0;
+    f.reference = config_.field_reference;
+    field_.emplace(map, thresholds, f);
+  } else {
+    BeamModelConfig b;
+    b.z_hit = config_.z_hit;
+    b.z_short = config_.z_short;
+    b.z_max = config_.z_max;
+    b.z_rand = config_.z_rand;
+    b.sigma_hit_m = config_.sigma_hit_m;
+    b.lambda_short = config_.lambda_short;
+    beam_model_.emplace(map, thresholds, b);
+  }
+}
+
+void Amcl::initialize(const Pose2& mean, const Eigen::Matrix3d& cov) {
+  require(std::isfinite(mean.x) && std::isfinite(mean.y) && std::isfinite(mean.yaw), "amcl.initial_pose",
+          "must be finite");
+  require(cov.allFinite(), "amcl.initial_covariance", "must be finite");
+  const double scale = std::max(1.0, cov.cwiseAbs().maxCoeff());
+  require((cov - cov.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale, "amcl.initial_covariance",
+          "must be symmetric");
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  require(eig.eigenvalues().minCoeff() >= -1e-12 * scale, "amcl.initial_covariance", "must be positive semi-definite");
+  // A square root that also serves a singular covariance (a known yaw, say).
+  const Eigen::Matrix3d root = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  std::vector<Pose2> poses(static_cast<std::size_t>(config_.max_particles));
+  for (Pose2& p : poses) {
+    const Eigen::Vector3d n(rng_.normal(), rng_.normal(), rng_.normal());
+    const Eigen::Vector3d d = root * n;
+    p = Pose2(mean.x + d.x(), mean.y + d.y(), wrap_angle(mean.yaw + d.z()));
+  }
+  filter_.set_particles(std::move(poses));
+  initialized_ = true;
+  have_odom_reference_ = false;
+  refresh_estimate();
+}
+
+void Amcl::initialize_global() {
+  require(!free_cells_.empty(), "map", "has no free cell to spread particles over");
+  std::vector<Pose2> poses(static_cast<std::size_t>(config_.max_particles));
+  for (Pose2& p : poses) p = random_free_pose(rng_);
+  filter_.set_particles(std::move(poses));
+  initialized_ = true;
+  have_odom_reference_ = false;
+  refresh_estimate();
+}
+
+Pose2 Amcl::random_free_pose(Rng& rng) const {
+  const std::int64_t k = rng.uniform_int(0, static_cast<std::int64_t>(free_cells_.size()) - 1);
+  const Cell c = geometry_.cell_of_index(static_cast<std::size_t>(free_cells_[static_cast<std::size_t>(k)]));
+  const double gx = (c.x + rng.uniform()) * geometry_.resolution;
+  const double gy = (c.y + rng.uniform()) * geometry_.resolution;
+  const Vec2 w = geometry_.grid_to_world({gx, gy});
+  return {w.x(), w.y(), rng.uniform(-kPi, kPi)};
+}
+
+bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
+  require(initialized_, "amcl", "update before initialize");
+  scan.validate();
+  require(std::isfinite(odom_pose.x) && std::isfinite(odom_pose.y) && std::isfinite(odom_pose.yaw), "odometry",
+          "pose must be finite");
+  const double range_max =
+      config_.laser_max_range_m > 0.0 ? std::min(scan.range_max_m, config_.laser_max_range_m) : scan.range_max_m;
+  const double range_min =
+      config_.laser_min_range_m > 0.0 ? std::max(scan.range_min_m, config_.laser_min_range_m) : scan.range_min_m;
+
+  if (!have_odom_reference_) {
+    odom_reference_ = odom_pose;
+    have_odom_reference_ = true;
+    resample_count_ = 0;
+  } else {
+    const double dx = odom_pose.x - odom_reference_.x, dy = odom_pose.y - odom_reference_.y;
+    const double dyaw = angle_diff(odom_pose.yaw, odom_reference_.yaw);
+    const bool moved = std::abs(dx) > config_.update_min_d_m || std::abs(dy) > config_.update_min_d_m ||
+                       std::abs(dyaw) > config_.update_min_a_rad;
+    if (!moved) return false;
+    apply_motion_model(config_.robot_model, config_.motion_noise(), odom_reference_, odom_pose, filter_.poses(), rng_);
+  }
+
+  const std::vector<ModelBeam> beams = model_beams(scan, config_.max_beams, range_min, range_max);
+  likelihoods_.resize(filter_.size());
+  if (field_) {
+    field_->set_range_max(range_max);
+    field_->weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
+  } else {
+    beam_model_->weigh(filter_.poses(), laser_in_base_, beams, range_max, likelihoods_);
+  }
+  filter_.weigh(likelihoods_);
+  ++counters_.updates;
+
+  // Every resample_interval updates (when selective resampling agrees), and whenever the
+  // recovery asks for random poses.
+  const bool due = ++resample_count_ % config_.resample_interval == 0;
+  if ((due && filter_.wants_resample()) || filter_.injection_probability() > 0.0) {
+    RandomPoseFn random_pose;
+    if (!free_cells_.empty()) random_pose = [this](Rng& r) { return random_free_pose(r); };
+    const ResampleResult r = filter_.resample(rng_, random_pose);
+    ++counters_.resamples;
+    counters_.injected += r.injected;
+    counters_.last_injected = r.injected;
+    counters_.last_w_diff = r.w_diff;
+  }
+  odom_reference_ = odom_pose;
+  refresh_estimate();
+  map_to_odom_ = estimate_.pose.compose(odom_pose.inverse());
+  return true;
+}
+
+void Amcl::refresh_estimate() {
+  clusters_ = cluster_particles(filter_.poses(), filter_.weights(), filter_.config().bins);
+  AmclEstimate e;
+  if (!clusters_.empty()) {
+    const ParticleCluster& best = clusters_.front();
+    e.pose = best.mean;
+    e.covariance = best.covariance;
+    e.cluster_weight = best.weight;
+    e.converged = best.weight >= config_.converged_weight &&
+                  std::sqrt(std::max(0.0, amcl_max_xy_eigenvalue(best.covariance))) <= config_.converged_sigma_m;
+  }
+  e.particles = static_cast<int>(filter_.size());
+  e.clusters = static_cast<int>(clusters_.size());
+  e.updates = counters_.updates;
+  estimate_ = e;
+}
+
+}  // namespace starnav

@@ -1,0 +1,177 @@
+#pragma once
+// Adaptive Monte Carlo localization on a known occupancy grid (spec ren2022 section 4), the
+// filter of Nav2's nav2_amcl as plain library code: odometry motion model, likelihood-field or
+// beam laser model, KLD-adaptive resampling, recovery by random injection. No time, no frames
+// beyond the map and odom: the caller hands it odometry poses and scans; the Localizer wrapper
+// (amcl_localizer.cpp) connects it to the navigation loop.
+//
+// Differences from Nav2, each for a reason given where it is implemented: the recovery average
+// does not scale with the particle count; after an injection only the fast average is reset (to
+// the slow one); random poses are injected (and the set resampled) whenever the injection
+// probability is positive, even with selective resampling; yaw bins wrap at +-pi; the cluster yaw variance is divided by the cluster's weight; the reported covariance
+// is the best cluster's (Nav2 reports the whole set's x-y covariance); non-returns (+inf) count
+// as max-range readings in the beam model (Nav2 gives them pz = 0); the default field reference
+// is the occupied cells' surface, not their centres.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "starnav/core/geometry.hpp"
+#include "starnav/core/rng.hpp"
+#include "starnav/estimate/amcl_motion_model.hpp"
+#include "starnav/estimate/amcl_sensor_model.hpp"
+#include "starnav/estimate/particle_filter.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+
+namespace starnav {
+
+enum class LaserModelType : std::uint8_t { LikelihoodField, Beam };
+
+// Nav2's parameters and defaults (amcl_node.cpp), with units in the names; then starnav's.
+struct AmclConfig {
+  // motion
+  MotionModelType robot_model = MotionModelType::Differential;
+  double alpha1 = 0.2, alpha2 = 0.2, alpha3 = 0.2, alpha4 = 0.2, alpha5 = 0.2;
+  // laser
+  LaserModelType laser_model = LaserModelType::LikelihoodField;
+  double z_hit = 0.5;
+  double z_rand = 0.5;
+  double z_short = 0.05;
+  double z_max = 0.05;
+  double sigma_hit_m = 0.2;
+  double lambda_short = 0.1;                 // 1/m
+  double laser_likelihood_max_dist_m = 2.0;
+  double laser_max_range_m = -1.0;           // <= 0: the scan's range_max; else min(scan's, this)
+  double laser_min_range_m = -1.0;           // <= 0: the scan's range_min; else max(scan's, this)
+  int max_beams = 60;
+  // Surface by default: a LiDAR hits a wall on its face, half a cell from the occupied cells'
+  // centres Nav2 measures to; on a 0.1 m map that bias (0.05 m) is as large as the accuracy asked of AMCL.
+  FieldReference field_reference = FieldReference::Surface;
+  // particles
+  int min_particles = 500;
+  int max_particles = 2000;
+  double pf_err = 0.05;
+  double pf_z = 0.99;                        // used as the normal quantile z itself, as Nav2 (see kld_limit)
+  double kld_bin_xy_m = 0.5;
+  double kld_bin_yaw_rad = deg_to_rad(10.0);
+  Resampler resampler = Resampler::LowVariance;
+  bool selective_resampling = false;
+  int resample_interval = 1;
+  double recovery_alpha_slow = 0.0;
+  double recovery_alpha_fast = 0.0;
+  // FastToSlow rather than Nav2's Zero: with Zero a kidnapped filter relocalized in 2 of 12
+  // seeded runs of the test room within 150 updates, with FastToSlow in all 12 (see RecoveryReset).
+  RecoveryReset recovery_reset = RecoveryReset::FastToSlow;
+  // updates: a filter update once the odometry moved more than this on x or y or turned more
+  // than this since the last one (Nav2 compares |dx|, |dy| and |dyaw| separately)
+  double update_min_d_m = 0.25;
+  double update_min_a_rad = 0.2;
+  // start (Nav2's initial covariance 0.5^2, 0.5^2, (pi/12)^2)
+  double initial_sigma_xy_m = 0.5;
+  double initial_sigma_yaw_rad = kPi / 12.0;
+  // convergence: the best cluster holds this share of the weight and its position spread is small
+  double converged_weight = 0.9;
+  double converged_sigma_m = 0.15;
+
+  // Throws Error naming the field ("amcl.min_particles", ...) for an impossible value.
+  void validate() const;
+  MotionNoise motion_noise() const { return {alpha1, alpha2, alpha3, alpha4, alpha5}; }
+  ParticleFilterConfig filter_config() const;
+  // The initial covariance diag(sigma_xy^2, sigma_xy^2, sigma_yaw^2).
+  Eigen::Matrix3d initial_covariance() const;
+};
+
+struct AmclEstimate {
+  Pose2 pose;                                             // the best cluster's mean (map frame)
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();   // the best cluster's covariance
+  double cluster_weight = 0.0;                            // its share of the weight
+  // cluster_weight >= converged_weight and the square root of the largest eigenvalue of the
+  // x-y covariance <= converged_sigma_m (the largest eigenvalue, not the trace: the spread along
+  // a corridor counts in full, whatever the spread across it).
+  bool converged = false;
+  int particles = 0;
+  int clusters = 0;
+  int updates = 0;                                        // filter updates so far
+};
+
+// Counters for reports and tests.
+struct AmclCounters {
+  int updates = 0;           // filter (sensor) updates
+  int resamples = 0;
+  long long injected = 0;    // random poses injected, in all
+  int last_injected = 0;     // in the last resampling
+  double last_w_diff = 0.0;  // injection probability of the last resampling
+};
+
+class Amcl {
+ public:
+  // `map` is copied where needed (free cells, the field); thresholds say which cells are free
+  // (global start, injection) and occupied (the field). Throws Error for a bad configuration or map.
+  Amcl(const OccupancyGrid& map, const OccupancyThresholds& thresholds, const AmclConfig& config,
+       const Pose2& laser_in_base, std::uint64_t seed);
+
+  const AmclConfig& config() const { return config_; }
+  const Pose2& laser_in_base() const { return laser_in_base_; }
+
+  // A Gaussian cloud of max_particles around `mean` (yaw wrapped). Throws Error (field
+  // "amcl.initial_covariance") unless `cov` is finite, symmetric and positive semi-definite.
+  void initialize(const Pose2& mean, const Eigen::Matrix3d& cov);
+  // The same with the configured initial covariance.
+  void initialize(const Pose2& mean) { initialize(mean, config_.initial_covariance()); }
+  // max_particles poses uniform over the free cells (thresholded free, not unknown): a uniform
+  // cell, a uniform offset inside it, a uniform yaw. Throws Error (field "map") without free cells.
+  void initialize_global();
+  bool initialized() const { return initialized_; }
+
+  // One scan with the odometry pose (odom frame) at its time. The first call after an
+  // initialisation only takes the odometry as reference and weighs the particles by the scan
+  // (Nav2 updates on its first scan). Later calls update when the odometry moved beyond
+  // update_min_d / update_min_a since the last update: the particles move by the odometry
+  // increment, are weighed, and are resampled every resample_interval updates (see
+  // ParticleFilter::wants_resample). Returns true when a filter update happened. Throws Error
+  // before initialisation or for a malformed scan.
+  bool update(const Pose2& odom_pose, const PlanarScan& scan);
+
+  // The best (heaviest) cluster after the last update (or the initialisation).
+  const AmclEstimate& estimate() const { return estimate_; }
+  // map <- odom at the last update: estimate = map_to_odom() * odom between updates. Identity
+  // before the first update.
+  const Pose2& map_to_odom() const { return map_to_odom_; }
+  const std::vector<ParticleCluster>& clusters() const { return clusters_; }
+
+  std::span<const Pose2> particles() const { return filter_.poses(); }
+  std::span<const double> weights() const { return filter_.weights(); }
+  const ParticleFilter& filter() const { return filter_; }
+  const AmclCounters& counters() const { return counters_; }
+  // The likelihood field (null with the beam model).
+  const LikelihoodField* likelihood_field() const { return field_ ? &*field_ : nullptr; }
+
+  // A uniform random pose over the free cells (what injection draws).
+  Pose2 random_free_pose(Rng& rng) const;
+
+ private:
+  void refresh_estimate();
+
+  AmclConfig config_;
+  Pose2 laser_in_base_;
+  GridGeometry geometry_;
+  std::vector<std::int32_t> free_cells_;
+  std::optional<LikelihoodField> field_;
+  std::optional<BeamModel> beam_model_;
+  ParticleFilter filter_;
+  Rng rng_;
+  bool initialized_ = false;
+  bool have_odom_reference_ = false;
+  Pose2 odom_reference_;
+  int resample_count_ = 0;
+  AmclEstimate estimate_;
+  std::vector<ParticleCluster> clusters_;
+  Pose2 map_to_odom_;
+  AmclCounters counters_;
+  std::vector<double> likelihoods_;
+};
+
+}  // namespace starnav

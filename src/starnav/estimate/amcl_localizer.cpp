@@ -1,0 +1,187 @@
+// AMCL as a localizer (estimate/amcl): odometry poses in, scans of a 2D LiDAR weigh the particles,
+// the pose out is map <- odom of the last filter update applied to the odometry now (as Nav2
+// publishes the map -> odom transform), so the estimate moves smoothly between updates.
+#include <algorithm>
+#include <memory>
+#include <optional>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/planar_motion.hpp"
+#include "starnav/estimate/amcl.hpp"
+#include "starnav/estimate/localizer.hpp"
+
+namespace starnav {
+
+namespace {
+
+struct AmclLocalizerConfig {
+  AmclConfig filter;
+  std::string initial = "start";  // start | global
+  std::string robot_model = "auto";
+};
+
+const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
+  static const ParamTable<AmclLocalizerConfig> table = [] {
+    using C = AmclLocalizerConfig;
+    ParamTable<C> t;
+    const auto f = [](double AmclConfig::*m) { return [m](C& c) -> double& { return c.filter.*m; }; };
+    const auto i = [](int AmclConfig::*m) { return [m](C& c) -> int& { return c.filter.*m; }; };
+    t.choice("initial", {"start", "global"}, [](C& c, const std::string& v) { c.initial = v; },
+             [](const C& c) { return c.initial; },
+             "start: a Gaussian cloud around the scenario's start; global: particles over the whole free space");
+    t.choice("robot_model_type", {"auto", "differential", "omnidirectional"}, [](C& c, const std::string& v) { c.robot_model = v; },
+             [](const C& c) { return c.robot_model; }, "odometry motion model; auto: omnidirectional for a Mecanum base");
+    t.real("alpha1", f(&AmclConfig::alpha1), closed(0.0, 10.0), "-", "rotation noise from rotation");
+    t.real("alpha2", f(&AmclConfig::alpha2), closed(0.0, 10.0), "-", "rotation noise from translation");
+    t.real("alpha3", f(&AmclConfig::alpha3), closed(0.0, 10.0), "-", "translation noise from translation");
+    t.real("alpha4", f(&AmclConfig::alpha4), closed(0.0, 10.0), "-", "translation noise from rotation");
+    t.real("alpha5", f(&AmclConfig::alpha5), closed(0.0, 10.0), "-", "strafe noise from translation (omnidirectional)");
+    t.choice("laser_model_type", {"likelihood_field", "beam"},
+             [](C& c, const std::string& v) { c.filter.laser_model = v == "beam" ? LaserModelType::Beam : LaserModelType::LikelihoodField; },
+             [](const C& c) { return std::string(c.filter.laser_model == LaserModelType::Beam ? "beam" : "likelihood_field"); },
+             "laser model");
+    t.real("z_hit", f(&AmclConfig::z_hit), closed(0.0, 1.0), "-", "weight of the hit term");
+    t.real("z_rand", f(&AmclConfig::z_rand), closed(0.0, 1.0), "-", "weight of random readings");
+    t.real("z_short", f(&AmclConfig::z_short), closed(0.0, 1.0), "-", "weight of short readings (beam model)");
+    t.real("z_max", f(&AmclConfig::z_max), closed(0.0, 1.0), "-", "weight of max-range readings (beam model)");
+    t.real("sigma_hit_m", f(&AmclConfig::sigma_hit_m), closed(1e-4, 10.0), "m", "standard deviation of a hit");
+    t.real("lambda_short", f(&AmclConfig::lambda_short), closed(0.0, 100.0), "1/m", "decay of short readings (beam model)");
+    t.real("laser_likelihood_max_dist_m", f(&AmclConfig::laser_likelihood_max_dist_m), closed(1e-3, 100.0), "m",
+           "distance to an obstacle beyond which the field is flat");
+    t.real("laser_max_range_m", f(&AmclConfig::laser_max_range_m), closed(-1.0, 1000.0), "m", "<= 0: the LiDAR's");
+    t.real("laser_min_range_m", f(&AmclConfig::laser_min_range_m), closed(-1.0, 1000.0), "m", "<= 0: the LiDAR's");
+    t.integer("max_beams", i(&AmclConfig::max_beams), closed(2, 100000), "-", "beams used per scan");
+    t.choice("field_reference", {"surface", "centre"},
+             [](C& c, const std::string& v) { c.filter.field_reference = v == "centre" ? FieldReference::Centre : FieldReference::Surface; },
+             [](const C& c) { return std::string(c.filter.field_reference == FieldReference::Centre ? "centre" : "surface"); },
+             "distances to the occupied cells' squares (surface) or to their centres (centre: Nav2)");
+    t.integer("min_particles", i(&AmclConfig::min_particles), closed(1, 1000000), "-", "fewest particles");
+    t.integer("max_particles", i(&AmclConfig::max_particles), closed(1, 1000000), "-", "most particles");
+    t.real("pf_err", f(&AmclConfig::pf_err), closed(1e-6, 1.0), "-", "KLD error bound");
+    t.real("pf_z", f(&AmclConfig::pf_z), closed(1e-6, 10.0), "-", "KLD normal quantile (Nav2 passes 0.99 as z)");
+    t.real("kld_bin_xy_m", f(&AmclConfig::kld_bin_xy_m), closed(1e-3, 100.0), "m", "KLD histogram bin size");
+    t.real("kld_bin_yaw_deg", f(&AmclConfig::kld_bin_yaw_rad), closed(0.1, 180.0), "deg", "KLD histogram bin size",
+           kPi / 180.0);
+    t.choice("resampler", {"low_variance", "multinomial"},
+             [](C& c, const std::string& v) { c.filter.resampler = v == "multinomial" ? Resampler::Multinomial : Resampler::LowVariance; },
+             [](const C& c) { return std::string(c.filter.resampler == Resampler::Multinomial ? "multinomial" : "low_variance"); },
+             "resampling scheme");
+    t.boolean("selective_resampling", [](C& c) -> bool& { return c.filter.selective_resampling; },
+              "resample only when the effective sample size falls below half the particles");
+    t.integer("resample_interval", i(&AmclConfig::resample_interval), closed(1, 1000), "-", "filter updates per resampling");
+    t.real("recovery_alpha_slow", f(&AmclConfig::recovery_alpha_slow), closed(0.0, 1.0), "-",
+           "long-term likelihood average rate (0: no recovery)");
+    t.real("recovery_alpha_fast", f(&AmclConfig::recovery_alpha_fast), closed(0.0, 1.0), "-",
+           "short-term likelihood average rate (0: no recovery)");
+    t.choice("recovery_reset", {"fast_to_slow", "zero"},
+             [](C& c, const std::string& v) { c.filter.recovery_reset = v == "zero" ? RecoveryReset::Zero : RecoveryReset::FastToSlow; },
+             [](const C& c) { return std::string(c.filter.recovery_reset == RecoveryReset::Zero ? "zero" : "fast_to_slow"); },
+             "after an injection: the fast average set to the slow one, or both zeroed (Nav2; recovers rarely)");
+    t.real("update_min_d_m", f(&AmclConfig::update_min_d_m), closed(0.0, 100.0), "m", "translation between filter updates");
+    t.real("update_min_a_deg", f(&AmclConfig::update_min_a_rad), closed(0.0, 360.0), "deg", "rotation between filter updates",
+           kPi / 180.0);
+    t.real("initial_sigma_xy_m", f(&AmclConfig::initial_sigma_xy_m), closed(0.0, 100.0), "m", "initial cloud (initial: start)");
+    t.real("initial_sigma_yaw_deg", f(&AmclConfig::initial_sigma_yaw_rad), closed(0.0, 180.0), "deg",
+           "initial cloud (initial: start)", kPi / 180.0);
+    t.real("converged_weight", f(&AmclConfig::converged_weight), closed(0.0, 1.0), "-",
+           "converged: the best cluster holds at least this share of the weight ...");
+    t.real("converged_sigma_m", f(&AmclConfig::converged_sigma_m), closed(0.0, 100.0), "m",
+           "... and its position standard deviation is at most this");
+    return t;
+  }();
+  return table;
+}
+
+// Its own random stream of the scenario's seed (ground_truth 101, ekf 103).
+constexpr std::uint64_t kAmclStream = 102;
+
+class AmclLocalizer final : public Localizer {
+ public:
+  AmclLocalizer(const AmclLocalizerConfig& c, const LocalizerContext& ctx) : start_(ctx.start), odometry_(ctx.start) {
+    config_ = c.filter;
+    const bool omni = c.robot_model == "omnidirectional" ||
+                      (c.robot_model == "auto" && ctx.robot && ctx.robot->drive == DriveKind::Mecanum);
+    config_.robot_model = omni ? MotionModelType::Omnidirectional : MotionModelType::Differential;
+    config_.validate();
+    range_min_m_ = ctx.laser_range_min_m;
+    range_max_m_ = ctx.laser_range_max_m;
+    if (!ctx.map) return;  // checked for its parameters only; a scan without a map is an error
+    amcl_.emplace(*ctx.map, ctx.thresholds, config_, ctx.laser_in_base, Rng(ctx.seed).fork(kAmclStream).next());
+    if (c.initial == "global")
+      amcl_->initialize_global();
+    else
+      amcl_->initialize(ctx.start);
+  }
+  std::string_view name() const override { return "amcl"; }
+  void on_odometry(const OdometrySample& o) override {
+    odometry_ = o.pose;
+    odometry_t_s_ = o.t_s;
+    twist_ = o.twist;
+    has_odometry_ = true;
+  }
+  void on_scan(const LidarScan& scan) override {
+    if (!amcl_) throw Error("amcl needs a map (world.occupancy_map or localization.map)", {}, 0, "localization.map");
+    if (scan.lines != 1) throw Error("amcl needs a 2D LiDAR (one line)", {}, 0, "sensors.lidar");
+    scan_.ranges = scan.ranges;
+    scan_.angles_rad = scan.azimuths;
+    scan_.range_min_m = range_min_m_;
+    scan_.range_max_m = range_max_m_;
+    amcl_->update(odometry_at(scan.time), scan_);
+    t_s_ = scan.time;
+  }
+  PoseEstimate estimate() const override {
+    PoseEstimate e;
+    e.t_s = std::max(t_s_, odometry_t_s_);
+    if (!amcl_) {
+      e.pose = start_;
+      return e;
+    }
+    const AmclEstimate& a = amcl_->estimate();
+    e.pose = a.updates > 0 ? amcl_->map_to_odom().compose(odometry_) : a.pose;
+    e.pose.yaw = wrap_angle(e.pose.yaw);
+    e.covariance = a.covariance;
+    e.valid = a.updates > 0;
+    e.particles = a.particles;
+    e.updates = a.updates;
+    e.converged = a.converged;
+    return e;
+  }
+
+ private:
+  // The odometry at the scan's time: the last sample moved on by its twist (they coincide when
+  // the encoders sample at the scan's instant, as in the simulator).
+  Pose2 odometry_at(double t_s) const {
+    if (!has_odometry_ || t_s <= odometry_t_s_) return odometry_;
+    return advance_on_arc(odometry_, twist_.vx, twist_.vy, twist_.wz, t_s - odometry_t_s_);
+  }
+
+  AmclConfig config_;
+  Pose2 start_;
+  std::optional<Amcl> amcl_;
+  Pose2 odometry_;
+  double odometry_t_s_ = 0.0;
+  BodyTwist twist_;
+  bool has_odometry_ = false;
+  double t_s_ = 0.0;
+  double range_min_m_ = 0.0, range_max_m_ = 0.0;
+  PlanarScan scan_;
+};
+
+}  // namespace
+
+LocalizerDef amcl_localizer() {
+  LocalizerDef d;
+  d.info.role = Role::Localizer;
+  d.info.name = "amcl";
+  d.info.section = "amcl";
+  d.info.summary = "Adaptive Monte Carlo localization on a known map (Nav2's AMCL: KLD sampling, recovery, global start)";
+  d.info.capabilities = {"needs_map"};
+  d.info.params = amcl_localizer_params().specs();
+  d.make = [](const LocalizerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Localizer> {
+    return std::make_unique<AmclLocalizer>(configured(amcl_localizer_params(), settings, ctx.file), ctx);
+  };
+  return d;
+}
+
+}  // namespace starnav
