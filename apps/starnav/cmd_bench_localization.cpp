@@ -1,4 +1,5 @@
-// starnav bench ekf-square: odometry vs EKF vs EKF with the bias state (experiment/localization_experiment).
+// starnav bench ekf-square (odometry vs EKF vs EKF with the bias state) and starnav bench amcl
+// (experiment/localization_experiment).
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -49,6 +50,45 @@ void run_bench_ekf_square(const EkfSquareOptions& o, Context& ctx) {
   ctx.exit_code = 0;
 }
 
+struct AmclBenchOptions {
+  std::vector<std::string> scenarios, sets, cases{"tracking"};
+  std::string out;
+  std::uint64_t seeds = 20, seed_base = 0;
+  bool json = false, force = false, quiet = false;
+};
+
+void run_bench_amcl(const AmclBenchOptions& o, Context& ctx) {
+  AmclBenchConfig c;
+  c.scenarios = o.scenarios;
+  c.cases = o.cases;
+  for (const std::string& s : o.sets) c.overrides.push_back(parse_scenario_override(s));
+  c.seeds = o.seeds;
+  c.seed_base = o.seed_base;
+  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  ProgressBar bar("bench amcl", o.seeds * o.scenarios.size() * o.cases.size(), o.quiet);
+  const AmclBenchResult r = run_amcl_bench(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
+    bar.update(done, fs::path(o.scenarios[next.instance]).stem().string() + " seed " + std::to_string(next.seed));
+  });
+  bar.finish();
+  std::cout << (o.json ? amcl_bench_json(r) : amcl_bench_markdown(r));
+  if (!o.out.empty()) {
+    fs::create_directories(o.out);
+    const fs::path d(o.out);
+    write_text_file((d / "amcl.md").string(), amcl_bench_markdown(r), "--out");
+    write_text_file((d / "amcl.json").string(), amcl_bench_json(r), "--out");
+    write_text_file((d / "runs.csv").string(), amcl_bench_runs_csv(r), "--out");
+    write_amcl_bench_pictures(r, o.out);
+    if (!o.quiet) std::cerr << "bench amcl: wrote " << o.out << "/{amcl.md, amcl.json, runs.csv, error_*.svg, particles_*.svg}\n";
+  }
+  // A run that threw is in the table; the command still failed.
+  for (const auto& t : r.trials)
+    if (!t.completed) {
+      ctx.exit_code = 1;
+      return;
+    }
+  ctx.exit_code = 0;
+}
+
 }  // namespace
 
 void register_bench_localization(CLI::App& app, Context& ctx) {
@@ -70,6 +110,23 @@ void register_bench_localization(CLI::App& app, Context& ctx) {
   cmd->add_flag("--force", o->force, "overwrite the results in --out");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   cmd->callback([o, &ctx] { run_bench_ekf_square(*o, ctx); });
+
+  auto a = std::make_shared<AmclBenchOptions>();
+  auto* amcl = bench->add_subcommand(
+      "amcl",
+      "Ren et al. 2022 Figs. 7-8: AMCL in the simulator over seeds, one scenario per case (tracking, global start,\n"
+      "kidnapped robot; scenarios/amcl_*.yaml): updates until converged, error after, updates to reconverge\n"
+      "after a teleport, false convergences (docs/localization.md)");
+  amcl->add_option("scenarios", a->scenarios, "SCENARIO.yaml ... (each with a localization section)")->required();
+  amcl->add_option("--cases", a->cases, "tracking, global, kidnap (comma-separated)")->delimiter(',')->default_str("tracking");
+  amcl->add_option("--seeds", a->seeds, "how many seeds")->default_str("20")->check(CLI::Range(1, 10000));
+  amcl->add_option("--seed-base", a->seed_base, "the first seed")->default_str("0");
+  amcl->add_option("--set", a->sets, "a scenario key=value for every scenario (repeatable)")->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  amcl->add_option("--out", a->out, "folder for amcl.md, amcl.json, runs.csv and the pictures");
+  amcl->add_flag("--json", a->json, "print the JSON report instead of the Markdown");
+  amcl->add_flag("--force", a->force, "overwrite the results in --out");
+  amcl->add_flag("--quiet", a->quiet, "no progress on stderr");
+  amcl->callback([a, &ctx] { run_bench_amcl(*a, ctx); });
 }
 
 }  // namespace starnav::cli

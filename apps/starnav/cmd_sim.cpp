@@ -21,6 +21,7 @@
 #include "starnav/harness/navigation_pictures.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/harness/parameter_docs.hpp"
+#include "starnav/harness/route_drive.hpp"
 #include "starnav/harness/robot_log_recorder.hpp"
 #include "starnav/harness/simulation_pictures.hpp"
 #include "starnav/logs/carmen_log.hpp"
@@ -170,6 +171,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
   if (RobotLogRecorder::can_record(spec)) recorder.emplace(sim);
   std::optional<LocalizationChain> chain;
   if (spec.localization) chain.emplace(sim, localization_config(spec));
+  std::unique_ptr<RouteDrive> route;
+  if (spec.route) route = make_route_drive(sim);
 
   SimProgress bar(o.quiet, spec.duration_s);
   const auto t_run = Clock::now();

@@ -27,6 +27,8 @@ namespace starnav::cli {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 struct SlamEvalOptions {
   std::string trajectory;
   std::string relations;
@@ -75,7 +77,6 @@ struct SlamRunOptions {
 };
 
 void run_slam(const SlamRunOptions& o, Context& ctx) {
-  namespace fs = std::filesystem;
   SlamRunRequest q;
   q.log = o.log;
   q.read.flaser_beam_angles = o.flaser_angles;

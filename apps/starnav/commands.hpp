@@ -25,5 +25,6 @@ void register_sim_commands(CLI::App& app, Context& ctx);      // cmd_sim.cpp
 void register_params_command(CLI::App& app, Context& ctx);    // cmd_params.cpp
 void register_log_commands(CLI::App& app, Context& ctx);      // cmd_log.cpp
 void register_slam_commands(CLI::App& app, Context& ctx);     // cmd_slam.cpp
+void register_localize_command(CLI::App& app, Context& ctx);  // cmd_localize.cpp
 
 }  // namespace starnav::cli

@@ -8,6 +8,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/harness/localization_chain.hpp"
+#include "starnav/harness/route_drive.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -31,6 +32,7 @@ TEST(LocalizationChain, AmclTracksTheRobotOnTheMapOfItsWorld) {
   spec.duration_s = 25.0;  // the first corridor (the full loop runs in make bench)
   Simulation sim(spec);
   LocalizationChain chain(sim, localization_config(spec));
+  const auto route = make_route_drive(sim);
   // Dead reckoning beside it, on the same encoders.
   chain.add_localizer("odometry", {});
   sim.run();
@@ -42,6 +44,7 @@ TEST(LocalizationChain, AmclTracksTheRobotOnTheMapOfItsWorld) {
   // Same inputs, same bytes: the run is a function of its seed.
   Simulation again(spec);
   LocalizationChain chain2(again, localization_config(spec));
+  const auto route2 = make_route_drive(again);
   again.run();
   EXPECT_EQ(estimate_csv(chain.records(0)), estimate_csv(chain2.records(0)));
 }

@@ -15,11 +15,13 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "starnav/core/geometry.hpp"
+#include "starnav/core/params.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/estimate/amcl_motion_model.hpp"
 #include "starnav/estimate/amcl_sensor_model.hpp"
@@ -83,6 +85,13 @@ struct AmclConfig {
   // The initial covariance diag(sigma_xy^2, sigma_xy^2, sigma_yaw^2).
   Eigen::Matrix3d initial_covariance() const;
 };
+
+// An AmclConfig from the amcl localizer's declared parameters (amcl_localizer.cpp; keys relative
+// to the section, "alpha1", as `--set amcl.alpha1=...` gives them once the prefix is gone), for
+// callers that drive Amcl themselves (`starnav localize` on a log). robot_model_type auto means
+// differential here (no robot to ask); `initial` is read and checked but has no field here.
+// Throws Error naming the setting (`file` when it came from one) for a bad key or value.
+AmclConfig amcl_config_from_settings(std::span<const ParamSetting> settings, const std::string& file);
 
 struct AmclEstimate {
   Pose2 pose;                                             // the best cluster's mean (map frame)

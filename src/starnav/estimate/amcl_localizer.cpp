@@ -184,4 +184,16 @@ LocalizerDef amcl_localizer() {
   return d;
 }
 
+AmclConfig amcl_config_from_settings(std::span<const ParamSetting> settings, const std::string& file) {
+  const AmclLocalizerConfig c = configured(amcl_localizer_params(), settings, file);
+  AmclConfig config = c.filter;
+  config.robot_model = c.robot_model == "omnidirectional" ? MotionModelType::Omnidirectional : MotionModelType::Differential;
+  try {
+    config.validate();
+  } catch (const Error& e) {
+    rethrow_at_setting(e, settings, file);
+  }
+  return config;
+}
+
 }  // namespace starnav

@@ -53,6 +53,7 @@ struct EkfSquareResult {
   std::vector<VariantSummary> summaries;  // per localizer: the four errors
   // Per localizer: seeds whose RMSE and end drift are both at most half of dead reckoning's.
   std::vector<int> halves_odometry;
+  std::vector<int> halves_odometry_rmse;  // the RMSE alone
   std::vector<double> nees_mean;  // over the seeds, per odometry sample
   double nees_low = 0.0, nees_high = 0.0;  // the 95 % interval of the mean
   double nees_in_band = 0.0;               // fraction of samples inside it
@@ -66,6 +67,54 @@ std::string ekf_square_runs_csv(const EkfSquareResult& result);
 std::string ekf_square_nees_csv(const EkfSquareResult& result);  // t_s,nees_mean
 // trajectories.svg (the first seed's tracks), nees.svg (the mean NEES and its interval).
 void write_ekf_square_pictures(const EkfSquareResult& result, const std::string& dir);
+
+// AMCL in the simulator (Ren et al. 2022 Figs. 7-8): each scenario (a localization chain with a
+// particle filter; tracking, global start or a teleport event) run over seeds. Per run, from the
+// estimate at every scan against the truth: filter updates until the first convergence within
+// 0.25 m and 0.25 rad, the error after it (outside a kidnapped window), updates from the last
+// teleport until it converges again there, and false convergences (claimed with an error over 1 m,
+// the kidnapped window aside: a filter cannot know it was carried until its scans disagree).
+// Cases run on every scenario: tracking (the scenario as written), global (particles over the free
+// space, up to 10,000, recovery on), kidnap (recovery on, up to 10,000 particles; a scenario with a
+// route is carried 5 m ahead along it and turned 90 degrees at 40 % of its drive).
+struct AmclBenchConfig {
+  std::vector<std::string> scenarios;
+  std::vector<std::string> cases = {"tracking"};
+  std::vector<ScenarioOverride> overrides;
+  std::uint64_t seeds = 20;
+  std::uint64_t seed_base = 0;
+};
+
+struct AmclRunRecord {
+  double distance_m = 0.0;
+  int updates = 0;
+  int updates_to_converge = -1;   // -1: never
+  double rmse_m = 0.0, yaw_rmse_deg = 0.0;  // after convergence (NaN without one)
+  double max_error_m = 0.0;
+  int kidnap_reconverge_updates = -1;  // -1: no teleport, or never
+  bool kidnapped = false;
+  int false_convergences = 0;     // scans claimed converged with an error over 1 m
+  int max_particles = 0;
+  std::vector<Vec2> error_m;      // (t, error) at every scan
+  std::vector<Vec2> particles;    // (t, particles) at every scan
+};
+
+// The settings a case adds to a scenario's.
+std::vector<ScenarioOverride> amcl_case_overrides(const std::string& case_name);
+
+struct AmclBenchResult {
+  AmclBenchConfig config;
+  ExperimentGrid grid;               // instances: the scenarios; variants: the cases
+  std::vector<std::string> names;  // the scenarios' names
+  std::vector<Trial<AmclRunRecord>> trials;
+};
+
+AmclBenchResult run_amcl_bench(const AmclBenchConfig& config, const ExperimentProgress& progress = {});
+std::string amcl_bench_markdown(const AmclBenchResult& result);
+std::string amcl_bench_json(const AmclBenchResult& result);
+std::string amcl_bench_runs_csv(const AmclBenchResult& result);
+// error_<scenario>.svg: the first seed's error and particle count over time, per scenario.
+void write_amcl_bench_pictures(const AmclBenchResult& result, const std::string& dir);
 
 // The p quantile of chi-square with k degrees of freedom (Wilson-Hilferty; within 0.1 % for k >= 30).
 double chi_square_quantile_wilson_hilferty(double p, double k);

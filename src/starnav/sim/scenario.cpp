@@ -979,6 +979,24 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
       s.commands.push_back(c);
     }
   }
+  if (auto v = top.take("route")) {
+    if (!s.commands.empty()) v->fail("a route and a command script: give one of them");
+    Fields f = fields_of(*v, doc);
+    ScenarioRoute r;
+    r.source = {v->line(), v->field()};
+    const Value w = f.required("waypoints_m");
+    if (!w.node().IsSequence() || w.node().size() < 2) w.fail("expected a list of at least 2 points [x, y], found " + node_kind(w.node()));
+    for (std::size_t i = 0; i < w.node().size(); ++i) {
+      const auto p = w.element(i).numbers(2, 2);
+      r.waypoints.emplace_back(p[0], p[1]);
+    }
+    r.speed_mps = f.positive("speed_mps", r.speed_mps);
+    if (auto n = f.take("laps")) r.laps = static_cast<int>(n->integer(1, 1000));
+    r.clearance_m = f.non_negative("clearance_m", r.clearance_m);
+    f.finish("waypoints_m, speed_mps, laps, clearance_m");
+    if (!s.occupancy_map) v->fail("a route is planned on world.occupancy_map, which the scenario lacks");
+    s.route = r;
+  }
   if (duration) s.duration_s = *duration;
   else if (!s.commands.empty()) s.duration_s = s.commands.back().end_s;
   else throw Error("required when there are no commands", file, top.line_of("sim"), "sim.duration_s");
@@ -992,6 +1010,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
   }
   if (auto v = top.take("navigation")) {
     s.navigation = parse_navigation(*v, doc);
+    if (s.route) throw Error("a navigation scenario has no route (the navigation stack drives)", file, s.route->source.line, "route");
     if (!s.commands.empty())
       throw Error("a navigation scenario has no command script (the navigation stack drives)", file,
                   top.line_of("commands"), "commands");
@@ -1051,7 +1070,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
     f.finish("trajectory_every_n_steps, point_clouds");
   }
 
-  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, events, motion_mode, navigation, localization, metrics, outputs");
+  top.finish("name, description, world, robot, vehicle, sensors, sim, commands, route, events, motion_mode, navigation, localization, metrics, outputs");
   return s;
 }
 

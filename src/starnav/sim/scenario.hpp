@@ -55,6 +55,17 @@ struct ScenarioTeleport {
   ScenarioSource source;
 };
 
+// route: {waypoints_m: [[x, y], ...], speed_mps, laps, clearance_m}: the robot drives a closed loop
+// through the waypoints on paths planned on world.occupancy_map (harness/route_drive), steered by
+// its true pose: a fixed drive for experiments that measure something else (localization).
+struct ScenarioRoute {
+  std::vector<Vec2> waypoints;
+  double speed_mps = 0.5;
+  int laps = 1;
+  double clearance_m = 0.4;  // obstacle inflation for the planned paths
+  ScenarioSource source;
+};
+
 struct ScenarioTerrain {
   enum class Kind : std::uint8_t { None, File, Flat, Hills, Road };
   Kind kind = Kind::None;
@@ -170,6 +181,7 @@ struct ScenarioSpec {
 
   std::vector<CommandSegment> commands;  // consecutive, starting at 0
   std::vector<ScenarioTeleport> teleports;  // events: by time
+  std::optional<ScenarioRoute> route;
   // navigation: "" (auto), turn_then_drive, holonomic, pure_pursuit (checked against the drive by
   // the navigation stack).
   std::string motion_mode;

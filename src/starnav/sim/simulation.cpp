@@ -168,12 +168,10 @@ void Simulation::step() {
   while (next_teleport_ < spec_.teleports.size() && spec_.teleports[next_teleport_].t_s <= t0) {
     const ScenarioTeleport& tp = spec_.teleports[next_teleport_++];
     try {
-      vehicle_->teleport(tp.to, t0);
+      teleport(tp.to);
     } catch (const Error& e) {
       throw Error(e.message(), spec_.file, tp.source.line, tp.source.field + ".teleport");
     }
-    add_event(t0, "teleport", "to " + pose_text(tp.to), tp.to.translation());
-    last_ = sample_now();  // the jump is not driven distance
   }
   vehicle_events_.clear();
   vehicle_->step(command, spec_.dt_s, vehicle_events_);
@@ -195,6 +193,12 @@ void Simulation::step() {
 
   sample_sensors(false);
   track_step();
+}
+
+void Simulation::teleport(const Pose2& to) {
+  vehicle_->teleport(to, time());
+  add_event(time(), "teleport", "to " + pose_text(to), to.translation());
+  last_ = sample_now();  // the jump is not driven distance
 }
 
 void Simulation::track_step() {

@@ -111,6 +111,9 @@ class Simulation {
   // Ends the run now (navigation: goal reached, or no path); the current state is recorded as the
   // trajectory's last sample. May be called from on_scan or command_source.
   void stop();
+  // Moves the robot to `to` now without its wheels turning (the kidnapped robot; also what the
+  // scenario's teleport events do), with an event. Throws Error (field "teleport") where it cannot stand.
+  void teleport(const Pose2& to);
   bool stopped() const { return stopped_; }
 
   void step();

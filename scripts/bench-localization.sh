@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# make bench (via scripts/bench.sh): the localization experiments of Ren et al. 2022 (spec
+# ../shared/spec/ren2022_localization_local_planning.md sections 2 and 4; docs/localization.md).
+#
+#   EKF square (Fig. 5): 20 seeds of scenarios/ekf_square.yaml; checks the bias EKF's RMSE at most
+#     half of dead reckoning's in at least 18 seeds and its NEES inside the 95 % interval at 90 % of
+#     the samples (the end drift's halving is reported: a lucky dead reckoning can end near its start).
+#   AMCL (Figs. 7-8): tracking, global start and the kidnapped robot on the indoor world and on
+#     willow_garage, nav2_warehouse and nav2_depot (those need ../shared), 20 seeds each; checks
+#     tracking RMSE <= 0.03 m and <= 1 deg on each map. The global and kidnap targets are reported,
+#     not checked (docs/localization.md says where they stand).
+# Results in BUILD/bench/localization/.
+set -euo pipefail
+source "$(dirname "$0")/bench_common.sh"
+bench_setup bench-localization jq
+out="$build/bench/localization"
+mkdir -p "$out"
+failed=0
+
+"${pin[@]}" "$starnav" bench ekf-square --seeds 20 --out "$out/ekf_square" --force --quiet >/dev/null
+cat "$out/ekf_square/ekf_square.md"
+read -r halves inside < <(jq -r '"\(.localizers[2].seeds_halving_odometry_rmse) \(.nees.fraction_inside)"' "$out/ekf_square/ekf_square.json")
+awk -v f="$inside" 'BEGIN { exit !(f >= 0.9) }' || { echo "bench-localization: NEES inside its interval at $inside < 0.9" >&2; failed=1; }
+[ "$halves" -ge 18 ] || { echo "bench-localization: the bias EKF halves odometry's RMSE in only $halves seeds" >&2; failed=1; }
+
+scenarios=("$here/scenarios/amcl_indoor.yaml")
+if [ -d "$shared/datasets/ros_maps" ]; then
+  scenarios+=("$here/scenarios/amcl_willow_garage.yaml" "$here/scenarios/amcl_nav2_warehouse.yaml" "$here/scenarios/amcl_nav2_depot.yaml")
+else
+  echo "bench-localization: $shared/datasets/ros_maps not present, the indoor world only"
+fi
+"${pin[@]}" "$starnav" bench amcl "${scenarios[@]}" --cases tracking,global,kidnap --seeds 20 --out "$out/amcl" --force --quiet >/dev/null
+cat "$out/amcl/amcl.md"
+while IFS=' ' read -r name rmse yaw; do
+  awk -v r="$rmse" -v y="$yaw" 'BEGIN { exit !(r <= 0.03 && y <= 1.0) }' ||
+    { echo "bench-localization: $name tracking RMSE $rmse m / $yaw deg above 0.03 m / 1 deg" >&2; failed=1; }
+done < <(jq -r '.runs[] | select(.case == "tracking") | "\(.scenario) \(.rmse_m.median) \(.yaw_rmse_deg.median)"' "$out/amcl/amcl.json")
+echo "bench-localization: results in $out/"
+exit $failed
