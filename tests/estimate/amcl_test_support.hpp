@@ -11,12 +11,12 @@
 #include "starnav/core/rng.hpp"
 #include "starnav/estimate/amcl_sensor_model.hpp"
 #include "starnav/map/occupancy_grid.hpp"
+#include "support/box_world.hpp"
 
 namespace starnav::amcl_test {
 
-struct Box {
-  double x0, y0, x1, y1;  // world, axis-aligned
-};
+using test::Box;
+using test::cast_to_boxes;
 
 struct Room {
   OccupancyGrid grid;
@@ -36,38 +36,8 @@ inline Room make_room() {
   g.height = 120;
   g.resolution = 0.05;
   g.origin = Pose2(-1.0, -2.0, 0.0);
-  r.grid = OccupancyGrid(g, kFreeOccupancy);
-  for (int iy = 0; iy < g.height; ++iy)
-    for (int ix = 0; ix < g.width; ++ix) {
-      const Vec2 c = g.cell_center(ix, iy);
-      for (const Box& b : r.boxes)
-        if (c.x() > b.x0 && c.x() < b.x1 && c.y() > b.y0 && c.y() < b.y1) r.grid(ix, iy) = kOccupiedOccupancy;
-    }
+  r.grid = test::rasterise_boxes(g, r.boxes);
   return r;
-}
-
-// The exact range from (x, y) along `angle` to the nearest box (slab method); +inf when none
-// lies ahead; 0 inside a box.
-inline double cast_to_boxes(const std::vector<Box>& boxes, double x, double y, double angle) {
-  const double dx = std::cos(angle), dy = std::sin(angle);
-  double best = std::numeric_limits<double>::infinity();
-  for (const Box& b : boxes) {
-    double t0 = -std::numeric_limits<double>::infinity(), t1 = std::numeric_limits<double>::infinity();
-    const auto slab = [&](double o, double d, double lo, double hi) {
-      if (d == 0.0) {
-        if (o < lo || o > hi) t0 = std::numeric_limits<double>::infinity();
-        return;
-      }
-      double a = (lo - o) / d, c = (hi - o) / d;
-      if (a > c) std::swap(a, c);
-      t0 = std::max(t0, a);
-      t1 = std::min(t1, c);
-    };
-    slab(x, dx, b.x0, b.x1);
-    slab(y, dy, b.y0, b.y1);
-    if (t0 <= t1 && t1 >= 0.0) best = std::min(best, std::max(t0, 0.0));
-  }
-  return best;
 }
 
 // A full-circle scan of `beams` beams from the laser pose `laser` (world), azimuths decreasing

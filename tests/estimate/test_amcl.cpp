@@ -123,6 +123,7 @@ TEST(AmclScenario, GlobalLocalizationConverges) {
   amcl.initialize_global();
   EXPECT_EQ(amcl.estimate().particles, 20000);
   EXPECT_FALSE(amcl.estimate().converged);
+  EXPECT_TRUE(amcl.estimate().searching);  // Nav2's broad models until the first convergence
   int converged_at = -1;
   double max_err_after = 0.0;
   for (int k = 0; k < 500; ++k) {
@@ -136,9 +137,12 @@ TEST(AmclScenario, GlobalLocalizationConverges) {
     drive.step(0.1);
   }
   ASSERT_GE(converged_at, 0);
-  EXPECT_LE(converged_at, 25);
+  // The search phase's broad models take a few more updates than the sharp ones did (25), and in
+  // exchange do not collapse onto a look-alike place (docs/localization.md).
+  EXPECT_LE(converged_at, 45);
   EXPECT_LT(max_err_after, 0.1);
   EXPECT_LT(amcl.estimate().particles, 2000);  // KLD shrank the set once converged
+  EXPECT_FALSE(amcl.estimate().searching);
 }
 
 // After tracking, the robot is carried 2-3 m away without odometry. With recovery on

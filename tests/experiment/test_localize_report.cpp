@@ -18,19 +18,18 @@
 #include "starnav/experiment/localize_report.hpp"
 #include "starnav/io/ros_map.hpp"
 #include "starnav/logs/carmen_log.hpp"
+#include "support/box_world.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
 namespace {
 
-struct LocBox {
-  double x0, y0, x1, y1;
-};
+using test::Box;
 
 // A 7 m x 5 m room at 0.05 m with its origin at (0, 0): walls, a partition and three boxes, all on
 // cell boundaries, so the occupied squares are the boxes exactly.
-const std::vector<LocBox>& loc_room_boxes() {
-  static const std::vector<LocBox> boxes = {
+const std::vector<Box>& loc_room_boxes() {
+  static const std::vector<Box> boxes = {
       {0.0, 0.0, 7.0, 0.1}, {0.0, 4.9, 7.0, 5.0}, {0.0, 0.0, 0.1, 5.0}, {6.9, 0.0, 7.0, 5.0},  // walls
       {3.5, 0.1, 3.6, 1.6},                                                                    // partition
       {1.0, 3.5, 1.6, 4.0}, {5.2, 3.0, 5.5, 3.7}, {5.6, 0.8, 6.2, 1.1}};
@@ -42,37 +41,7 @@ OccupancyGrid loc_room_grid() {
   g.width = 140;
   g.height = 100;
   g.resolution = 0.05;
-  OccupancyGrid grid(g, kFreeOccupancy);
-  for (int iy = 0; iy < g.height; ++iy)
-    for (int ix = 0; ix < g.width; ++ix) {
-      const Vec2 c = g.cell_center(ix, iy);
-      for (const LocBox& b : loc_room_boxes())
-        if (c.x() > b.x0 && c.x() < b.x1 && c.y() > b.y0 && c.y() < b.y1) grid(ix, iy) = kOccupiedOccupancy;
-    }
-  return grid;
-}
-
-// The exact range from (x, y) along `angle` to the nearest box (slab method); +inf when none.
-double loc_cast(double x, double y, double angle) {
-  const double dx = std::cos(angle), dy = std::sin(angle);
-  double best = std::numeric_limits<double>::infinity();
-  for (const LocBox& b : loc_room_boxes()) {
-    double t0 = -std::numeric_limits<double>::infinity(), t1 = std::numeric_limits<double>::infinity();
-    const auto slab = [&](double o, double d, double lo, double hi) {
-      if (d == 0.0) {
-        if (o < lo || o > hi) t0 = std::numeric_limits<double>::infinity();
-        return;
-      }
-      double a = (lo - o) / d, c = (hi - o) / d;
-      if (a > c) std::swap(a, c);
-      t0 = std::max(t0, a);
-      t1 = std::min(t1, c);
-    };
-    slab(x, dx, b.x0, b.x1);
-    slab(y, dy, b.y0, b.y1);
-    if (t0 <= t1 && t1 >= 0.0) best = std::min(best, std::max(t0, 0.0));
-  }
-  return best;
+  return test::rasterise_boxes(g, loc_room_boxes());
 }
 
 constexpr double kLocRangeMax = 8.0;
@@ -85,7 +54,7 @@ LogScan loc_scan(const Pose2& pose, std::int64_t stamp_us) {
   s.angle_increment_rad = kPi / 180;
   s.range_max_m = kLocRangeMax;
   for (int i = 0; i < 181; ++i) {
-    const double r = loc_cast(pose.x, pose.y, pose.yaw + s.angle(static_cast<std::size_t>(i)));
+    const double r = test::cast_to_boxes(loc_room_boxes(), pose.x, pose.y, pose.yaw + s.angle(static_cast<std::size_t>(i)));
     s.ranges_m.push_back(static_cast<float>(std::min(kLocRangeMax, std::round(r * 100.0) / 100.0)));
   }
   return s;

@@ -45,6 +45,17 @@ void AmclConfig::validate() const {
   require_non_negative(initial_sigma_yaw_rad, "amcl.initial_sigma_yaw_rad");
   amcl_require_unit(converged_weight, "amcl.converged_weight");
   require_positive(converged_sigma_m, "amcl.converged_sigma_m");
+  require_non_negative(search_alpha, "amcl.search_alpha");
+  require_non_negative(search_z_hit, "amcl.search_z_hit");
+  require_non_negative(search_z_rand, "amcl.search_z_rand");
+  require(search_z_hit + search_z_rand > 0.0, "amcl.search_z_hit", "search_z_hit and search_z_rand are both 0");
+  require_positive(search_sigma_hit_m, "amcl.search_sigma_hit_m");
+  require_positive(search_end_sigma_m, "amcl.search_end_sigma_m");
+}
+
+MotionNoise AmclConfig::search_motion_noise() const {
+  return {std::max(alpha1, search_alpha), std::max(alpha2, search_alpha), std::max(alpha3, search_alpha),
+          std::max(alpha4, search_alpha), std::max(alpha5, search_alpha)};
 }
 
 ParticleFilterConfig AmclConfig::filter_config() const {
@@ -91,6 +102,13 @@ Amcl::Amcl(const OccupancyGrid& map, const OccupancyThresholds& thresholds, cons
     f.range_max_m = config_.laser_max_range_m > 0.0 ? config_.laser_max_range_m : 30.0;
     f.reference = config_.field_reference;
     field_.emplace(map, thresholds, f);
+    if (config_.search_phase && (config_.search_z_hit != f.z_hit || config_.search_z_rand != f.z_rand ||
+                                 config_.search_sigma_hit_m != f.sigma_hit_m)) {
+      f.z_hit = config_.search_z_hit;
+      f.z_rand = config_.search_z_rand;
+      f.sigma_hit_m = config_.search_sigma_hit_m;
+      search_field_.emplace(map, thresholds, f);
+    }
   } else {
     BeamModelConfig b;
     b.z_hit = config_.z_hit;
@@ -121,6 +139,7 @@ void Amcl::initialize(const Pose2& mean, const Eigen::Matrix3d& cov) {
     p = Pose2(mean.x + d.x(), mean.y + d.y(), wrap_angle(mean.yaw + d.z()));
   }
   filter_.set_particles(std::move(poses));
+  searching_ = false;  // tracking from a known pose
   initialized_ = true;
   have_odom_reference_ = false;
   refresh_estimate();
@@ -133,6 +152,7 @@ void Amcl::initialize_global() {
   filter_.set_particles(std::move(poses));
   initialized_ = true;
   have_odom_reference_ = false;
+  searching_ = config_.search_phase;
   refresh_estimate();
 }
 
@@ -165,14 +185,16 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
     const bool moved = std::abs(dx) > config_.update_min_d_m || std::abs(dy) > config_.update_min_d_m ||
                        std::abs(dyaw) > config_.update_min_a_rad;
     if (!moved) return false;
-    apply_motion_model(config_.robot_model, config_.motion_noise(), odom_reference_, odom_pose, filter_.poses(), rng_);
+    apply_motion_model(config_.robot_model, searching_ ? config_.search_motion_noise() : config_.motion_noise(),
+                       odom_reference_, odom_pose, filter_.poses(), rng_);
   }
 
   const std::vector<ModelBeam> beams = model_beams(scan, config_.max_beams, range_min, range_max);
   likelihoods_.resize(filter_.size());
   if (field_) {
-    field_->set_range_max(range_max);
-    field_->weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
+    LikelihoodField& field = searching_ && search_field_ ? *search_field_ : *field_;
+    field.set_range_max(range_max);
+    field.weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
   } else {
     beam_model_->weigh(filter_.poses(), laser_in_base_, beams, range_max, likelihoods_);
   }
@@ -190,9 +212,17 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
     counters_.injected += r.injected;
     counters_.last_injected = r.injected;
     counters_.last_w_diff = r.w_diff;
+    if (r.injected > 0 && config_.search_phase) searching_ = true;
   }
   odom_reference_ = odom_pose;
   refresh_estimate();
+  if (searching_ && !clusters_.empty()) {
+    const ParticleCluster& best = clusters_.front();
+    if (best.weight >= config_.converged_weight &&
+        std::sqrt(std::max(0.0, amcl_max_xy_eigenvalue(best.covariance))) <= config_.search_end_sigma_m)
+      searching_ = false;
+  }
+  estimate_.searching = searching_;
   map_to_odom_ = estimate_.pose.compose(odom_pose.inverse());
   return true;
 }
@@ -211,6 +241,7 @@ void Amcl::refresh_estimate() {
   e.particles = static_cast<int>(filter_.size());
   e.clusters = static_cast<int>(clusters_.size());
   e.updates = counters_.updates;
+  e.searching = searching_;
   estimate_ = e;
 }
 

@@ -77,10 +77,25 @@ struct AmclConfig {
   // convergence: the best cluster holds this share of the weight and its position spread is small
   double converged_weight = 0.9;
   double converged_sigma_m = 0.15;
+  // The search phase (starnav's): after a global start, and after random poses were injected,
+  // until the filter converges, the motion noise is at least search_alpha and the likelihood field
+  // uses the search_* laser terms (Nav2's defaults). Sharp tracking models collapse a cloud spread
+  // over a whole map onto the first look-alike place; Nav2's broader ones keep the modes alive
+  // until the scans tell them apart. With tracking settings equal to Nav2's it changes nothing.
+  bool search_phase = true;
+  double search_alpha = 0.2;
+  double search_z_hit = 0.5;
+  double search_z_rand = 0.5;
+  double search_sigma_hit_m = 0.2;
+  // The search ends once one cluster holds converged_weight of the weight within this spread (the
+  // broad models keep a cloud wider than converged_sigma_m, so convergence itself would never come).
+  double search_end_sigma_m = 0.5;
 
   // Throws Error naming the field ("amcl.min_particles", ...) for an impossible value.
   void validate() const;
   MotionNoise motion_noise() const { return {alpha1, alpha2, alpha3, alpha4, alpha5}; }
+  // The search phase's: every alpha at least search_alpha.
+  MotionNoise search_motion_noise() const;
   ParticleFilterConfig filter_config() const;
   // The initial covariance diag(sigma_xy^2, sigma_xy^2, sigma_yaw^2).
   Eigen::Matrix3d initial_covariance() const;
@@ -104,6 +119,7 @@ struct AmclEstimate {
   int particles = 0;
   int clusters = 0;
   int updates = 0;                                        // filter updates so far
+  bool searching = false;                                 // in the search phase (AmclConfig)
 };
 
 // Counters for reports and tests.
@@ -169,7 +185,9 @@ class Amcl {
   GridGeometry geometry_;
   std::vector<std::int32_t> free_cells_;
   std::optional<LikelihoodField> field_;
+  std::optional<LikelihoodField> search_field_;  // the search phase's terms, when they differ
   std::optional<BeamModel> beam_model_;
+  bool searching_ = false;
   ParticleFilter filter_;
   Rng rng_;
   bool initialized_ = false;

@@ -84,6 +84,14 @@ const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
     t.real("initial_sigma_xy_m", f(&AmclConfig::initial_sigma_xy_m), closed(0.0, 100.0), "m", "initial cloud (initial: start)");
     t.real("initial_sigma_yaw_deg", f(&AmclConfig::initial_sigma_yaw_rad), closed(0.0, 180.0), "deg",
            "initial cloud (initial: start)", kPi / 180.0);
+    t.boolean("search_phase", [](C& c) -> bool& { return c.filter.search_phase; },
+              "after a global start or an injection, until converged: the search_* models (docs/localization.md)");
+    t.real("search_alpha", f(&AmclConfig::search_alpha), closed(0.0, 10.0), "-", "search phase: every alpha at least this");
+    t.real("search_z_hit", f(&AmclConfig::search_z_hit), closed(0.0, 1.0), "-", "search phase: z_hit");
+    t.real("search_z_rand", f(&AmclConfig::search_z_rand), closed(0.0, 1.0), "-", "search phase: z_rand");
+    t.real("search_sigma_hit_m", f(&AmclConfig::search_sigma_hit_m), closed(1e-4, 10.0), "m", "search phase: sigma_hit");
+    t.real("search_end_sigma_m", f(&AmclConfig::search_end_sigma_m), closed(1e-3, 100.0), "m",
+           "the search ends when one cluster holds converged_weight within this spread");
     t.real("converged_weight", f(&AmclConfig::converged_weight), closed(0.0, 1.0), "-",
            "converged: the best cluster holds at least this share of the weight ...");
     t.real("converged_sigma_m", f(&AmclConfig::converged_sigma_m), closed(0.0, 100.0), "m",
