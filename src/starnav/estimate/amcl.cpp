@@ -227,6 +227,10 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
   return true;
 }
 
+Pose2 Amcl::pose_at(const Pose2& odom) const {
+  return estimate_.updates == 0 ? estimate_.pose : map_to_odom_.compose(odom);
+}
+
 void Amcl::refresh_estimate() {
   clusters_ = cluster_particles(filter_.poses(), filter_.weights(), filter_.config().bins);
   AmclEstimate e;

@@ -165,6 +165,9 @@ class Amcl {
   // map <- odom at the last update: estimate = map_to_odom() * odom between updates. Identity
   // before the first update.
   const Pose2& map_to_odom() const { return map_to_odom_; }
+  // The map pose of the robot at odometry pose `odom`: map_to_odom() applied to it,
+  // the best cluster's mean before the first update (no map <- odom is known yet).
+  Pose2 pose_at(const Pose2& odom) const;
   const std::vector<ParticleCluster>& clusters() const { return clusters_; }
 
   std::span<const Pose2> particles() const { return filter_.poses(); }

@@ -146,8 +146,7 @@ class AmclLocalizer final : public Localizer {
       return e;
     }
     const AmclEstimate& a = amcl_->estimate();
-    e.pose = a.updates > 0 ? amcl_->map_to_odom().compose(odometry_) : a.pose;
-    e.pose.yaw = wrap_angle(e.pose.yaw);
+    e.pose = amcl_->pose_at(odometry_);
     e.covariance = a.covariance;
     e.valid = a.updates > 0;
     e.particles = a.particles;

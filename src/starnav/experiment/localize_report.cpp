@@ -209,7 +209,7 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
     LocalizePose p;
     p.stamp_us = s.stamp_us;
     p.scan = i;
-    p.pose = a.updates > 0 ? amcl.map_to_odom().compose(*odometry[i]) : a.pose;
+    p.pose = amcl.pose_at(*odometry[i]);
     p.converged = a.converged;
     p.updated = updated;
     p.particles = a.particles;

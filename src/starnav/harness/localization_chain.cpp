@@ -72,7 +72,7 @@ LocalizationConfig localization_config(const ScenarioSpec& spec) {
 }
 
 LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& config)
-    : sim_(&sim), config_(config), robot_(sim.spec().vehicle.robot) {
+    : sim_(&sim), config_(config) {
   const ScenarioSpec& spec = sim.spec();
   LocalizerContext ctx = context();
   const LocalizerDef& def = find_localizer(config_.localizer.name, config_.localizer.field);
@@ -134,15 +134,19 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
 
 LocalizationChain::~LocalizationChain() = default;
 
-LocalizerContext LocalizationChain::context() const {
-  const ScenarioSpec& spec = sim_->spec();
+LocalizerContext localizer_context(const ScenarioSpec& spec) {
   LocalizerContext ctx{spec.start, spec.seed, spec.file};
-  ctx.robot = &robot_;
+  ctx.robot = &spec.vehicle.robot;
   if (spec.lidar) {
     ctx.laser_in_base = spec.lidar->config.mount.to_pose2();
     ctx.laser_range_min_m = spec.lidar->config.range_min;
     ctx.laser_range_max_m = spec.lidar->config.range_max;
   }
+  return ctx;
+}
+
+LocalizerContext LocalizationChain::context() const {
+  LocalizerContext ctx = localizer_context(sim_->spec());
   ctx.map = map_.get();
   if (map_) ctx.thresholds = thresholds_;
   return ctx;

@@ -34,6 +34,10 @@ struct LocalizationConfig {
 // Errors name the scenario file, line and field.
 LocalizationConfig localization_config(const ScenarioSpec& spec);
 
+// What a scenario tells its localizers: start, seed, file, the robot (pointing into `spec`, which
+// must outlive the context) and the 2D LiDAR's mount and ranges; no map (the chain loads it).
+LocalizerContext localizer_context(const ScenarioSpec& spec);
+
 // One row of estimate.csv.
 struct EstimateRecord {
   double t_s = 0.0;
@@ -72,7 +76,6 @@ class LocalizationChain {
 
   Simulation* sim_;
   LocalizationConfig config_;
-  RobotConfig robot_;
   std::unique_ptr<OccupancyGrid> map_;
   OccupancyThresholds thresholds_;
   std::unique_ptr<Localizer> filter_;  // odometry: ekf

@@ -254,8 +254,7 @@ void check_navigation_scenario(const ScenarioSpec& spec) {
   // Building the components validates their parameters (and the motion mode against the drive).
   Navigator(c, spec.vehicle.robot, spec.navigation->goal);
   const LocalizationConfig l = localization_config(spec);
-  LocalizerContext ctx{spec.start, spec.seed, spec.file};
-  ctx.robot = &spec.vehicle.robot;
+  const LocalizerContext ctx = localizer_context(spec);
   // Without its map (not loaded here) a map-based localizer still checks its parameters.
   find_localizer(l.localizer.name).make(ctx, l.localizer.settings);
   if (l.odometry == "ekf") find_localizer("ekf").make(ctx, l.odometry_filter);
