@@ -145,6 +145,50 @@ TEST(AmclScenario, GlobalLocalizationConverges) {
   EXPECT_FALSE(amcl.estimate().searching);
 }
 
+// The scan proposal: the first scan chooses the particles among every position and heading of
+// the free space (and the set is not weighed by that scan twice: the weights stay uniform after
+// it); the filter converges at the truth, with a quarter of the particles of the uniform start.
+TEST(AmclScenario, GlobalLocalizationFromTheScanProposal) {
+  const Room room = amcl_test::make_room();
+  AmclTestDrive drive(room, 2);
+  AmclConfig c = amcl_test_config();
+  c.max_particles = 5000;
+  c.scan_proposal = true;
+  Amcl amcl(room.grid, {}, c, kAmclTestMount, 8);
+  amcl.initialize_global();
+  ASSERT_TRUE(amcl.update(drive.odom(), drive.scan(kAmclTestMount)));
+  EXPECT_EQ(amcl.counters().proposals, 1);
+  EXPECT_EQ(amcl.estimate().particles, 5000);
+  for (const double w : amcl.weights()) ASSERT_EQ(w, 1.0 / 5000);
+  int converged_at = -1;
+  double max_err_after = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    drive.step(0.1);
+    if (amcl.update(drive.odom(), drive.scan(kAmclTestMount))) {
+      const AmclEstimate& e = amcl.estimate();
+      const double d = amcl_position_error(e.pose, drive.truth());
+      if (converged_at < 0 && e.converged && d < 0.1) converged_at = e.updates;
+      if (converged_at >= 0 && e.updates > converged_at + 3) max_err_after = std::max(max_err_after, d);
+    }
+  }
+  ASSERT_GE(converged_at, 0);
+  EXPECT_LE(converged_at, 30);
+  EXPECT_LT(max_err_after, 0.1);
+}
+
+// A scan proposal needs the likelihood field to score with.
+TEST(AmclConfig, ScanProposalNeedsTheLikelihoodField) {
+  AmclConfig c;
+  c.scan_proposal = true;
+  c.laser_model = LaserModelType::Beam;
+  try {
+    c.validate();
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "amcl.scan_proposal");
+  }
+}
+
 // After tracking, the robot is carried 2-3 m away without odometry. With recovery on
 // (alpha_slow 0.001, alpha_fast 0.1) random particles are injected and the filter relocalizes;
 // with it off it cannot. The start is tight (5 cm) so that the slow average begins at the
@@ -192,6 +236,37 @@ TEST(AmclScenario, KidnappedRobotRecoversWithRecoveryOn) {
   long long none = 0;
   EXPECT_EQ(amcl_updates_to_relocalize(0.0, 0.0, 40, &none), -1);
   EXPECT_EQ(none, 0);
+}
+
+// With the scan proposal the recovery's poses come from the scan (a proposal per injecting
+// update), and only from it; with proposal.recovery off they are uniform again.
+TEST(AmclScenario, RecoveryDrawsFromTheScanProposal) {
+  for (const bool recovery : {true, false}) {
+    const Room room = amcl_test::make_room();
+    AmclTestDrive drive(room, 5);
+    AmclConfig c = amcl_test_config();
+    c.max_particles = 2000;
+    c.recovery_alpha_slow = 0.001;
+    c.recovery_alpha_fast = 0.1;
+    c.scan_proposal = true;
+    c.proposal.recovery = recovery;
+    Amcl amcl(room.grid, {}, c, kAmclTestMount, 31);
+    amcl.initialize(drive.truth(), Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+    int injecting_updates = 0;
+    for (int k = 0; k < 400 && amcl.estimate().updates < 60; ++k) {
+      if (amcl.estimate().updates == 15) drive.teleport_to_waypoint(4);
+      const long long before = amcl.counters().injected;
+      if (amcl.update(drive.odom(), drive.scan(kAmclTestMount)) && amcl.counters().injected > before) ++injecting_updates;
+      drive.step(0.1);
+    }
+    ASSERT_GT(injecting_updates, 0) << recovery;
+    if (recovery) {
+      EXPECT_GE(amcl.counters().proposals, injecting_updates);
+      EXPECT_GT(amcl.counters().proposal_candidates, 0);
+    } else {
+      EXPECT_EQ(amcl.counters().proposals, 0);
+    }
+  }
 }
 
 TEST(AmclUpdate, FirstScanUpdatesThenOnlyAfterMotion) {

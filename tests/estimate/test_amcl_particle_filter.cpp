@@ -326,6 +326,25 @@ TEST(ParticleRecovery, AverageDoesNotDependOnParticleCount) {
   }
 }
 
+// With recovery likelihoods the averages take sum_i w_i r_i (prior weights) while the weights
+// follow the weighing likelihoods: weights 3:1 from p, averages from r.
+TEST(ParticleRecovery, AveragesCanFollowAnotherModel) {
+  ParticleFilterConfig c;
+  c.min_particles = 1;
+  c.max_particles = 4;
+  c.alpha_slow = c.alpha_fast = 1.0;
+  ParticleFilter f(c);
+  f.set_particles(std::vector<Pose2>(4, Pose2()));
+  f.weigh(std::vector<double>{3.0, 1.0, 1.0, 1.0}, std::vector<double>{10.0, 20.0, 30.0, 40.0});
+  EXPECT_NEAR(f.recovery().w_slow, 25.0, 1e-12);  // the mean of r under uniform prior weights
+  EXPECT_NEAR(f.weights()[0], 0.5, 1e-12);
+  EXPECT_NEAR(f.weights()[1], 1.0 / 6.0, 1e-12);
+  // Prior weights 1/2, 1/6, 1/6, 1/6: 5 + (20 + 30 + 40) / 6 = 20.
+  f.weigh(std::vector<double>(4, 1.0), std::vector<double>{10.0, 20.0, 30.0, 40.0});
+  EXPECT_NEAR(f.recovery().w_fast, 20.0, 1e-12);
+  EXPECT_THROW(f.weigh(std::vector<double>(4, 1.0), std::vector<double>(3, 1.0)), Error);
+}
+
 // Selective resampling waits for N_eff < N / 2, except while recovery wants to inject: after a
 // kidnap the weights are flat and N_eff stays near N.
 TEST(ParticleRecovery, SelectiveResamplingStillInjects) {

@@ -33,12 +33,36 @@ TEST(AmclBench, ShortTrackingRunConvergesWithoutFalseClaims) {
   EXPECT_NE(md.find("| amcl_indoor | tracking | 2/2 | 2 (2) |"), std::string::npos) << md;
 }
 
+// The global case: particles from the scan proposal over the whole free space; the filter
+// converges at the truth and never claims a wrong place.
+TEST(AmclBench, ShortGlobalRunConvergesAtTheTruth) {
+  AmclBenchConfig c;
+  c.scenarios = {test::scenario_path("amcl_indoor.yaml")};
+  c.cases = {"global"};
+  c.overrides = {{"sim.duration_s", "45"}};
+  c.seeds = 1;
+  const AmclBenchResult r = run_amcl_bench(c);
+  ASSERT_EQ(r.trials.size(), 1u);
+  ASSERT_TRUE(r.trials[0].completed) << r.trials[0].error;
+  const AmclRunRecord& a = r.trials[0].record;
+  EXPECT_GE(a.updates_to_converge, 1);
+  EXPECT_LT(a.rmse_m, 0.05);
+  EXPECT_EQ(a.false_convergences, 0);
+  EXPECT_EQ(a.max_particles, 10000);
+}
+
 TEST(AmclBench, CasesAddTheirSettingsAndUnknownCasesAreRefused) {
   EXPECT_TRUE(amcl_case_overrides("tracking").empty());
   bool global = false;
   for (const ScenarioOverride& o : amcl_case_overrides("global"))
     if (o.key == "localization.amcl.initial") global = o.value == "global";
   EXPECT_TRUE(global);
+  for (const std::string name : {"global", "kidnap"}) {
+    bool proposal = false;
+    for (const ScenarioOverride& o : amcl_case_overrides(name))
+      if (o.key == "localization.amcl.scan_proposal") proposal = o.value == "true";
+    EXPECT_TRUE(proposal) << name;
+  }
   EXPECT_THROW(amcl_case_overrides("teleport"), Error);
 }
 

@@ -22,6 +22,12 @@ double amcl_max_xy_eigenvalue(const Eigen::Matrix3d& c) {
   return 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
 }
 
+// The heaviest cluster holds at least `weight` of the weight within a spread of `sigma_m`.
+bool amcl_concentrated(const std::vector<ParticleCluster>& clusters, double weight, double sigma_m) {
+  return !clusters.empty() && clusters.front().weight >= weight &&
+         std::sqrt(std::max(0.0, amcl_max_xy_eigenvalue(clusters.front().covariance))) <= sigma_m;
+}
+
 }  // namespace
 
 void AmclConfig::validate() const {
@@ -51,6 +57,11 @@ void AmclConfig::validate() const {
   require(search_z_hit + search_z_rand > 0.0, "amcl.search_z_hit", "search_z_hit and search_z_rand are both 0");
   require_positive(search_sigma_hit_m, "amcl.search_sigma_hit_m");
   require_positive(search_end_sigma_m, "amcl.search_end_sigma_m");
+  if (scan_proposal) {
+    proposal.validate();
+    require(laser_model == LaserModelType::LikelihoodField, "amcl.scan_proposal",
+            "needs laser_model_type likelihood_field");
+  }
 }
 
 MotionNoise AmclConfig::search_motion_noise() const {
@@ -119,6 +130,7 @@ Amcl::Amcl(const OccupancyGrid& map, const OccupancyThresholds& thresholds, cons
     b.lambda_short = config_.lambda_short;
     beam_model_.emplace(map, thresholds, b);
   }
+  if (config_.scan_proposal && !free_cells_.empty()) proposal_.emplace(geometry_, free_cells_, config_.proposal);
 }
 
 void Amcl::initialize(const Pose2& mean, const Eigen::Matrix3d& cov) {
@@ -140,6 +152,7 @@ void Amcl::initialize(const Pose2& mean, const Eigen::Matrix3d& cov) {
   }
   filter_.set_particles(std::move(poses));
   searching_ = false;  // tracking from a known pose
+  global_proposal_pending_ = false;
   initialized_ = true;
   have_odom_reference_ = false;
   refresh_estimate();
@@ -153,6 +166,7 @@ void Amcl::initialize_global() {
   initialized_ = true;
   have_odom_reference_ = false;
   searching_ = config_.search_phase;
+  global_proposal_pending_ = proposal_.has_value();
   refresh_estimate();
 }
 
@@ -190,41 +204,96 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
   }
 
   const std::vector<ModelBeam> beams = model_beams(scan, config_.max_beams, range_min, range_max);
-  likelihoods_.resize(filter_.size());
+  LikelihoodField* field = nullptr;
   if (field_) {
-    LikelihoodField& field = searching_ && search_field_ ? *search_field_ : *field_;
-    field.set_range_max(range_max);
-    field.weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
-  } else {
-    beam_model_->weigh(filter_.poses(), laser_in_base_, beams, range_max, likelihoods_);
+    field = searching_ && search_field_ ? &*search_field_ : &*field_;
+    field->set_range_max(range_max);
   }
-  filter_.weigh(likelihoods_);
   ++counters_.updates;
+  bool search_over = false;
+  if (global_proposal_pending_) {
+    // The first scan of a global start chooses the particles; weighing them by it again would
+    // count it twice.
+    filter_.set_particles(proposed_poses(*field, beams, static_cast<std::size_t>(config_.max_particles),
+                                          static_cast<std::size_t>(config_.proposal.max_candidates)));
+    global_proposal_pending_ = false;
+  } else {
+    likelihoods_.resize(filter_.size());
+    if (field)
+      field->weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
+    else
+      beam_model_->weigh(filter_.poses(), laser_in_base_, beams, range_max, likelihoods_);
+    if (field && field != &*field_) {
+      // The recovery averages measure with the tracking model while the search model weighs:
+      // the long-term average remembers the tracking model's scale, and the search model's
+      // smaller values would read as "lost" (and inject) at every update of the search.
+      field_->set_range_max(range_max);
+      tracking_likelihoods_.resize(filter_.size());
+      field_->weigh(filter_.poses(), laser_in_base_, beams, tracking_likelihoods_);
+      filter_.weigh(likelihoods_, tracking_likelihoods_);
+    } else {
+      filter_.weigh(likelihoods_);
+    }
 
-  // Every resample_interval updates (when selective resampling agrees), and whenever the
-  // recovery asks for random poses.
-  const bool due = ++resample_count_ % config_.resample_interval == 0;
-  if ((due && filter_.wants_resample()) || filter_.injection_probability() > 0.0) {
-    RandomPoseFn random_pose;
-    if (!free_cells_.empty()) random_pose = [this](Rng& r) { return random_free_pose(r); };
-    const ResampleResult r = filter_.resample(rng_, random_pose);
-    ++counters_.resamples;
-    counters_.injected += r.injected;
-    counters_.last_injected = r.injected;
-    counters_.last_w_diff = r.w_diff;
-    if (r.injected > 0 && config_.search_phase) searching_ = true;
+    // The search ends once the weighed set (the posterior, before any recovery poses join it)
+    // has one cluster with converged_weight of the weight within search_end_sigma_m. Judged
+    // after resampling, the recovery's own poses would keep it going: they join wherever the
+    // scan fits, widening the cluster, while the broad cloud's low likelihood keeps them coming.
+    if (searching_) {
+      const std::vector<ParticleCluster> posterior = cluster_particles(filter_.poses(), filter_.weights(), filter_.config().bins);
+      search_over = amcl_concentrated(posterior, config_.converged_weight, config_.search_end_sigma_m);
+    }
+
+    // Every resample_interval updates (when selective resampling agrees), and whenever the
+    // recovery asks for random poses.
+    const bool due = ++resample_count_ % config_.resample_interval == 0;
+    if ((due && filter_.wants_resample()) || filter_.injection_probability() > 0.0) {
+      RandomPoseFn random_pose;
+      if (proposal_ && config_.proposal.recovery && filter_.injection_probability() > 0.0) {
+        injection_pool_ = proposed_poses(*field, beams, static_cast<std::size_t>(config_.proposal.injection_pool),
+                                         static_cast<std::size_t>(config_.proposal.injection_candidates));
+        if (!injection_pool_.empty())
+          random_pose = [this](Rng& r) {
+            return injection_pool_[static_cast<std::size_t>(
+                r.uniform_int(0, static_cast<std::int64_t>(injection_pool_.size()) - 1))];
+          };
+      } else if (!free_cells_.empty()) {
+        random_pose = [this](Rng& r) { return random_free_pose(r); };
+      }
+      const ResampleResult r = filter_.resample(rng_, random_pose);
+      ++counters_.resamples;
+      counters_.injected += r.injected;
+      counters_.last_injected = r.injected;
+      counters_.last_w_diff = r.w_diff;
+      if (r.injected > 0 && config_.search_phase && !searching_) searching_ = true;
+    }
   }
   odom_reference_ = odom_pose;
   refresh_estimate();
-  if (searching_ && !clusters_.empty()) {
-    const ParticleCluster& best = clusters_.front();
-    if (best.weight >= config_.converged_weight &&
-        std::sqrt(std::max(0.0, amcl_max_xy_eigenvalue(best.covariance))) <= config_.search_end_sigma_m)
-      searching_ = false;
-  }
+  if (searching_ && (search_over || amcl_concentrated(clusters_, config_.converged_weight, config_.search_end_sigma_m)))
+    searching_ = false;
   estimate_.searching = searching_;
   map_to_odom_ = estimate_.pose.compose(odom_pose.inverse());
   return true;
+}
+
+std::vector<Pose2> Amcl::proposed_poses(const LikelihoodField& field, std::span<const ModelBeam> beams, std::size_t count,
+                                        std::size_t limit) {
+  // A scan without a return says nothing about where the robot is: uniform poses then.
+  const bool informative = std::any_of(beams.begin(), beams.end(),
+                                       [&](const ModelBeam& b) { return b.range_m < field.config().range_max_m; });
+  if (!informative) {
+    std::vector<Pose2> poses(count);
+    for (Pose2& p : poses) p = random_free_pose(rng_);
+    return poses;
+  }
+  const std::vector<ScoredPose> best =
+      proposal_->best(field, laser_in_base_, beams, count, limit, rng_);
+  ++counters_.proposals;
+  counters_.proposal_candidates += static_cast<long long>(proposal_->candidates_per_call(limit));
+  std::vector<Pose2> poses(best.size());
+  for (std::size_t k = 0; k < best.size(); ++k) poses[k] = best[k].pose;
+  return poses;
 }
 
 Pose2 Amcl::pose_at(const Pose2& odom) const {
@@ -239,8 +308,7 @@ void Amcl::refresh_estimate() {
     e.pose = best.mean;
     e.covariance = best.covariance;
     e.cluster_weight = best.weight;
-    e.converged = best.weight >= config_.converged_weight &&
-                  std::sqrt(std::max(0.0, amcl_max_xy_eigenvalue(best.covariance))) <= config_.converged_sigma_m;
+    e.converged = amcl_concentrated(clusters_, config_.converged_weight, config_.converged_sigma_m);
   }
   e.particles = static_cast<int>(filter_.size());
   e.clusters = static_cast<int>(clusters_.size());

@@ -26,6 +26,7 @@
 #include "starnav/estimate/amcl_motion_model.hpp"
 #include "starnav/estimate/amcl_sensor_model.hpp"
 #include "starnav/estimate/particle_filter.hpp"
+#include "starnav/estimate/scan_proposal.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 
 namespace starnav {
@@ -90,6 +91,12 @@ struct AmclConfig {
   // The search ends once one cluster holds converged_weight of the weight within this spread (the
   // broad models keep a cloud wider than converged_sigma_m, so convergence itself would never come).
   double search_end_sigma_m = 0.5;
+  // The scan proposal (starnav's; off is Nav2): a global start takes the max_particles candidate
+  // poses that best explain its first scan, and the recovery draws its poses from the
+  // max_particles best for the scan of that update, instead of uniformly over the free space
+  // (scan_proposal.hpp). Needs the likelihood field.
+  bool scan_proposal = false;
+  ScanProposalConfig proposal;
 
   // Throws Error naming the field ("amcl.min_particles", ...) for an impossible value.
   void validate() const;
@@ -128,6 +135,8 @@ struct AmclCounters {
   int resamples = 0;
   long long injected = 0;    // random poses injected, in all
   int last_injected = 0;     // in the last resampling
+  int proposals = 0;         // scan proposals drawn (global start, injections)
+  long long proposal_candidates = 0;  // candidate poses they scored, in all
   double last_w_diff = 0.0;  // injection probability of the last resampling
 };
 
@@ -147,7 +156,9 @@ class Amcl {
   // The same with the configured initial covariance.
   void initialize(const Pose2& mean) { initialize(mean, config_.initial_covariance()); }
   // max_particles poses uniform over the free cells (thresholded free, not unknown): a uniform
-  // cell, a uniform offset inside it, a uniform yaw. Throws Error (field "map") without free cells.
+  // cell, a uniform offset inside it, a uniform yaw; with scan_proposal the first scan replaces
+  // them by the best candidates for it (and the set is not weighed by that scan again). Throws
+  // Error (field "map") without free cells.
   void initialize_global();
   bool initialized() const { return initialized_; }
 
@@ -182,6 +193,10 @@ class Amcl {
 
  private:
   void refresh_estimate();
+  // The `count` best of at most `limit` candidate poses for the scan's beams (scan_proposal); uniform free poses
+  // for a scan without a return.
+  std::vector<Pose2> proposed_poses(const LikelihoodField& field, std::span<const ModelBeam> beams, std::size_t count,
+                                    std::size_t limit);
 
   AmclConfig config_;
   Pose2 laser_in_base_;
@@ -190,6 +205,9 @@ class Amcl {
   std::optional<LikelihoodField> field_;
   std::optional<LikelihoodField> search_field_;  // the search phase's terms, when they differ
   std::optional<BeamModel> beam_model_;
+  std::optional<ScanProposal> proposal_;
+  bool global_proposal_pending_ = false;
+  std::vector<Pose2> injection_pool_;
   bool searching_ = false;
   ParticleFilter filter_;
   Rng rng_;
@@ -202,6 +220,7 @@ class Amcl {
   Pose2 map_to_odom_;
   AmclCounters counters_;
   std::vector<double> likelihoods_;
+  std::vector<double> tracking_likelihoods_;
 };
 
 }  // namespace starnav

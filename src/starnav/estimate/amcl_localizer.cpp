@@ -92,6 +92,26 @@ const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
     t.real("search_sigma_hit_m", f(&AmclConfig::search_sigma_hit_m), closed(1e-4, 10.0), "m", "search phase: sigma_hit");
     t.real("search_end_sigma_m", f(&AmclConfig::search_end_sigma_m), closed(1e-3, 100.0), "m",
            "the search ends when one cluster holds converged_weight within this spread");
+    t.boolean("scan_proposal", [](C& c) -> bool& { return c.filter.scan_proposal; },
+              "global start and recovery draw the poses that best explain the scan, not uniform ones (docs/localization.md)");
+    const auto pf = [](double ScanProposalConfig::*m) { return [m](C& c) -> double& { return c.filter.proposal.*m; }; };
+    const auto pi = [](int ScanProposalConfig::*m) { return [m](C& c) -> int& { return c.filter.proposal.*m; }; };
+    t.real("proposal_spacing_m", pf(&ScanProposalConfig::spacing_m), closed(0.01, 100.0), "m",
+           "scan proposal: one candidate position per block of this size");
+    t.real("proposal_yaw_step_deg", pf(&ScanProposalConfig::yaw_step_rad), closed(0.1, 360.0), "deg",
+           "scan proposal: headings per position every this", kPi / 180.0);
+    t.integer("proposal_coarse_beams", pi(&ScanProposalConfig::coarse_beams), closed(1, 100000), "-",
+              "scan proposal: beams of the first scoring of every candidate");
+    t.integer("proposal_refine", pi(&ScanProposalConfig::refine), closed(1, 10000), "-",
+              "scan proposal: candidates rescored with every beam, per pose wanted");
+    t.integer("proposal_max_candidates", pi(&ScanProposalConfig::max_candidates), closed(1, 100000000), "-",
+              "scan proposal: candidates a global start scores at most (a random subset of the positions above it)");
+    t.integer("proposal_injection_candidates", pi(&ScanProposalConfig::injection_candidates), closed(1, 100000000), "-",
+              "scan proposal: candidates an injection scores at most");
+    t.boolean("proposal_recovery", [](C& c) -> bool& { return c.filter.proposal.recovery; },
+              "scan proposal: the recovery draws from the scan too (false: uniform free poses, as Nav2)");
+    t.integer("proposal_injection_pool", pi(&ScanProposalConfig::injection_pool), closed(1, 1000000), "-",
+              "scan proposal: the recovery draws from this many best candidates");
     t.real("converged_weight", f(&AmclConfig::converged_weight), closed(0.0, 1.0), "-",
            "converged: the best cluster holds at least this share of the weight ...");
     t.real("converged_sigma_m", f(&AmclConfig::converged_sigma_m), closed(0.0, 100.0), "m",

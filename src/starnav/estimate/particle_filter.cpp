@@ -321,8 +321,13 @@ void ParticleFilter::set_particles(std::vector<Pose2> poses) {
   recovery_.reset();
 }
 
-void ParticleFilter::weigh(std::span<const double> likelihoods) {
+void ParticleFilter::weigh(std::span<const double> likelihoods, std::span<const double> recovery_likelihoods) {
   require(likelihoods.size() == poses_.size(), "amcl", "likelihood count differs from the particle count");
+  require(recovery_likelihoods.empty() || recovery_likelihoods.size() == poses_.size(), "amcl",
+          "recovery likelihood count differs from the particle count");
+  // The expected recovery likelihood under the prior (the weights before this update).
+  double recovery_total = 0.0;
+  for (std::size_t i = 0; i < recovery_likelihoods.size(); ++i) recovery_total += weights_[i] * recovery_likelihoods[i];
   double total = 0.0;
   for (std::size_t i = 0; i < weights_.size(); ++i) {
     weights_[i] *= likelihoods[i];
@@ -334,7 +339,10 @@ void ParticleFilter::weigh(std::span<const double> likelihoods) {
   }
   // The weights were normalised, so the total is sum_i w_i p_i.
   for (double& w : weights_) w /= total;
-  recovery_.update(total);
+  if (recovery_likelihoods.empty())
+    recovery_.update(total);
+  else if (recovery_total > 0.0 && std::isfinite(recovery_total))
+    recovery_.update(recovery_total);
 }
 
 bool ParticleFilter::wants_resample() const {

@@ -141,8 +141,10 @@ class ParticleFilter {
   // likelihood under the prior, which does not depend on the particle count (Nav2 averages the
   // unnormalised products over the particles, which shrinks as 1/N, so a KLD change of N alone
   // moved its averages). A zero or non-finite total resets the weights to uniform and leaves
-  // the averages alone.
-  void weigh(std::span<const double> likelihoods);
+  // the averages alone. With `recovery_likelihoods` (one per particle) the averages take
+  // sum_i w_i r_i instead: another model's likelihoods, so that the averages keep one scale
+  // while the weighing model changes (AMCL's search phase).
+  void weigh(std::span<const double> likelihoods, std::span<const double> recovery_likelihoods = {});
 
   double effective_sample_size() const { return starnav::effective_sample_size(weights_); }
   double injection_probability() const { return recovery_.injection_probability(); }

@@ -1,0 +1,84 @@
+#pragma once
+// Poses drawn from the scan instead of from the prior: the candidate poses over a map's free
+// space that best explain one scan under a likelihood field. AMCL starts a global localization
+// from them and draws its recovery poses from them (sensor resetting, Lenser & Veloso 2000; the
+// dual proposal of Mixture MCL, Thrun, Fox, Burgard & Dellaert 2001): a pose drawn uniformly
+// over a 1,500 m^2 map lands within 0.25 m and 5 degrees of the robot with a chance of about
+// 3e-6, so uniform draws rarely find it; scoring a lattice of every position and heading does.
+//
+// Candidates: the free cells grouped into square blocks of `spacing_m`; per block one random free
+// cell and a uniform point in it, with every heading on a `yaw_step_rad` ring from a random
+// offset. Scoring in two stages: every candidate with `coarse_beams` of the scan's returning
+// beams, then the best `refine` times the requested count with all of them.
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/geometry.hpp"
+#include "starnav/core/grid_geometry.hpp"
+#include "starnav/core/rng.hpp"
+#include "starnav/estimate/amcl_sensor_model.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+
+namespace starnav {
+
+struct ScanProposalConfig {
+  double spacing_m = 0.25;
+  double yaw_step_rad = deg_to_rad(5.0);
+  int coarse_beams = 12;
+  int refine = 20;
+  // At most this many candidates for a global start: above it a random subset of the blocks is
+  // scored (memory and time stay bounded on large maps).
+  int max_candidates = 4'000'000;
+  // An injection scores a random subset of at most this many (it recurs at every update while
+  // the filter is lost, each time another subset) and draws from the best `injection_pool` of
+  // them: a small pool puts the recovery's poses where the scan fits best instead of spreading
+  // them over every place that fits a little.
+  bool recovery = true;  // false: the recovery injects uniform free poses (Nav2), the global start still proposes
+  int injection_candidates = 250'000;
+  int injection_pool = 50;
+  // Throws Error naming the field ("amcl.proposal_spacing_m", ...).
+  void validate() const;
+};
+
+struct ScoredPose {
+  Pose2 pose;
+  double score = 0.0;
+};
+
+class ScanProposal {
+ public:
+  // `free_cells`: indices into the grid of `geometry` (AMCL's free cells). Throws Error (field
+  // "map") when there is none.
+  ScanProposal(const GridGeometry& geometry, std::span<const std::int32_t> free_cells, const ScanProposalConfig& config);
+
+  const ScanProposalConfig& config() const { return config_; }
+  std::size_t blocks() const { return block_start_.size() - 1; }
+  int headings() const { return headings_; }
+  // Candidates one call with at most `limit` scores: every block (or a random subset of them
+  // when there are more than limit / headings) times the headings; at least one block.
+  std::size_t candidates_per_call(std::size_t limit) const;
+
+  // The candidates of one call, in the order scored (the draws of `rng` decide them).
+  std::vector<Pose2> candidates(Rng& rng, std::size_t limit) const;
+  // The same candidates handed to `fn` in chunks of about `chunk` (whole blocks).
+  void for_each_chunk(Rng& rng, std::size_t limit, std::size_t chunk,
+                      const std::function<void(std::span<const Pose2>)>& fn) const;
+
+  // The `count` best candidates of one call (at most `limit` candidates) for the scan's `beams` (AMCL's model beams), best
+  // first (ties in a random order), scored by `field` weight() (Nav2's 1 + sum pz^3) with
+  // the laser at `laser_in_base`. Fewer when there are fewer candidates.
+  std::vector<ScoredPose> best(const LikelihoodField& field, const Pose2& laser_in_base,
+                               std::span<const ModelBeam> beams, std::size_t count, std::size_t limit, Rng& rng) const;
+
+ private:
+  ScanProposalConfig config_;
+  GridGeometry geometry_;
+  int headings_ = 1;
+  std::vector<std::int32_t> cells_;        // the free cells, grouped by block
+  std::vector<std::size_t> block_start_;   // block b holds cells_[block_start_[b] .. block_start_[b + 1])
+};
+
+}  // namespace starnav
