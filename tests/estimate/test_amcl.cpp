@@ -145,6 +145,32 @@ TEST(AmclScenario, GlobalLocalizationConverges) {
   EXPECT_FALSE(amcl.estimate().searching);
 }
 
+// While searching the set keeps max_particles; KLD shrinks it once the search has ended.
+TEST(AmclScenario, SearchHoldsTheParticleCount) {
+  const Room room = amcl_test::make_room();
+  AmclTestDrive drive(room, 2);
+  AmclConfig c = amcl_test_config();
+  c.max_particles = 4000;
+  Amcl amcl(room.grid, {}, c, kAmclTestMount, 8);
+  amcl.initialize_global();
+  bool ended = false;
+  for (int k = 0; k < 600 && !ended; ++k) {
+    if (amcl.update(drive.odom(), drive.scan(kAmclTestMount))) {
+      if (amcl.estimate().searching) {
+        ASSERT_EQ(amcl.estimate().particles, 4000) << amcl.estimate().updates;
+      }
+      ended = !amcl.estimate().searching;
+    }
+    drive.step(0.1);
+  }
+  ASSERT_TRUE(ended);
+  for (int k = 0; k < 100; ++k) {
+    amcl.update(drive.odom(), drive.scan(kAmclTestMount));
+    drive.step(0.1);
+  }
+  EXPECT_LT(amcl.estimate().particles, 2000);
+}
+
 // The scan proposal: the first scan chooses the particles among every position and heading of
 // the free space (and the set is not weighed by that scan twice: the weights stay uniform after
 // it); the filter converges at the truth, with a quarter of the particles of the uniform start.

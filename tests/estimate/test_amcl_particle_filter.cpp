@@ -185,13 +185,25 @@ TEST(ParticleFilter, KldSubsetOfSystematicDrawsIsUnbiased) {
   }
 }
 
-TEST(ParticleFilter, ResamplingStopsAtTheKldLimit) {
+// 5,000 poses uniform over a 1 m square and every heading, for 100-5,000 particles: a set whose
+// KLD limit lies strictly between the two.
+ParticleFilterConfig pf_test_square_config() {
   ParticleFilterConfig c;
   c.min_particles = 100;
   c.max_particles = 5000;
-  Rng rng(12);
+  return c;
+}
+
+std::vector<Pose2> pf_test_square_poses(Rng& rng) {
   std::vector<Pose2> poses(5000);
   for (Pose2& q : poses) q = Pose2(rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0), rng.uniform(-kPi, kPi));
+  return poses;
+}
+
+TEST(ParticleFilter, ResamplingStopsAtTheKldLimit) {
+  const ParticleFilterConfig c = pf_test_square_config();
+  Rng rng(12);
+  const std::vector<Pose2> poses = pf_test_square_poses(rng);
   ParticleFilter f(c);
   f.set_particles(poses);
   const ResampleResult r = f.resample(rng, {});
@@ -203,6 +215,21 @@ TEST(ParticleFilter, ResamplingStopsAtTheKldLimit) {
   // One bin: the limit is max_particles.
   f.set_particles(std::vector<Pose2>(10, Pose2(0.1, 0.1, 0.0)));
   EXPECT_EQ(f.resample(rng, {}).particles, c.max_particles);
+}
+
+// A floor on the count (AMCL's search phase holds max_particles): KLD stops no earlier.
+TEST(ParticleFilter, ResamplingHonoursAFloorOnTheCount) {
+  const ParticleFilterConfig c = pf_test_square_config();
+  Rng rng(13);
+  const std::vector<Pose2> poses = pf_test_square_poses(rng);
+  ParticleFilter f(c);
+  f.set_particles(poses);
+  const int kld = f.resample(rng, {}).particles;
+  ASSERT_LT(kld, 4000);
+  f.set_particles(poses);
+  EXPECT_EQ(f.resample(rng, {}, 4000).particles, 4000);
+  f.set_particles(poses);
+  EXPECT_EQ(f.resample(rng, {}, 1).particles, kld_limit(occupied_bins(f.poses(), c.bins), c.pf_err, c.pf_z, 100, 5000));
 }
 
 // -------------------------------------------------------------------------------------------
@@ -324,25 +351,6 @@ TEST(ParticleRecovery, AverageDoesNotDependOnParticleCount) {
     EXPECT_NEAR(f.recovery().w_fast, 7.0, 1e-12) << n;
     EXPECT_NEAR(f.recovery().w_slow, 7.0, 1e-12) << n;
   }
-}
-
-// With recovery likelihoods the averages take sum_i w_i r_i (prior weights) while the weights
-// follow the weighing likelihoods: weights 3:1 from p, averages from r.
-TEST(ParticleRecovery, AveragesCanFollowAnotherModel) {
-  ParticleFilterConfig c;
-  c.min_particles = 1;
-  c.max_particles = 4;
-  c.alpha_slow = c.alpha_fast = 1.0;
-  ParticleFilter f(c);
-  f.set_particles(std::vector<Pose2>(4, Pose2()));
-  f.weigh(std::vector<double>{3.0, 1.0, 1.0, 1.0}, std::vector<double>{10.0, 20.0, 30.0, 40.0});
-  EXPECT_NEAR(f.recovery().w_slow, 25.0, 1e-12);  // the mean of r under uniform prior weights
-  EXPECT_NEAR(f.weights()[0], 0.5, 1e-12);
-  EXPECT_NEAR(f.weights()[1], 1.0 / 6.0, 1e-12);
-  // Prior weights 1/2, 1/6, 1/6, 1/6: 5 + (20 + 30 + 40) / 6 = 20.
-  f.weigh(std::vector<double>(4, 1.0), std::vector<double>{10.0, 20.0, 30.0, 40.0});
-  EXPECT_NEAR(f.recovery().w_fast, 20.0, 1e-12);
-  EXPECT_THROW(f.weigh(std::vector<double>(4, 1.0), std::vector<double>(3, 1.0)), Error);
 }
 
 // Selective resampling waits for N_eff < N / 2, except while recovery wants to inject: after a

@@ -211,6 +211,7 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
   }
   ++counters_.updates;
   bool search_over = false;
+  bool injected_now = false;
   if (global_proposal_pending_) {
     // The first scan of a global start chooses the particles; weighing them by it again would
     // count it twice.
@@ -223,17 +224,7 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
       field->weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
     else
       beam_model_->weigh(filter_.poses(), laser_in_base_, beams, range_max, likelihoods_);
-    if (field && field != &*field_) {
-      // The recovery averages measure with the tracking model while the search model weighs:
-      // the long-term average remembers the tracking model's scale, and the search model's
-      // smaller values would read as "lost" (and inject) at every update of the search.
-      field_->set_range_max(range_max);
-      tracking_likelihoods_.resize(filter_.size());
-      field_->weigh(filter_.poses(), laser_in_base_, beams, tracking_likelihoods_);
-      filter_.weigh(likelihoods_, tracking_likelihoods_);
-    } else {
-      filter_.weigh(likelihoods_);
-    }
+    filter_.weigh(likelihoods_);
 
     // The search ends once the weighed set (the posterior, before any recovery poses join it)
     // has one cluster with converged_weight of the weight within search_end_sigma_m. Judged
@@ -260,16 +251,20 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
       } else if (!free_cells_.empty()) {
         random_pose = [this](Rng& r) { return random_free_pose(r); };
       }
-      const ResampleResult r = filter_.resample(rng_, random_pose);
+      const ResampleResult r = filter_.resample(rng_, random_pose, searching_ && config_.search_holds_particles ? config_.max_particles : 0);
       ++counters_.resamples;
       counters_.injected += r.injected;
       counters_.last_injected = r.injected;
       counters_.last_w_diff = r.w_diff;
-      if (r.injected > 0 && config_.search_phase && !searching_) searching_ = true;
+      injected_now = r.injected > 0;
     }
   }
   odom_reference_ = odom_pose;
   refresh_estimate();
+  // Random poses start a search, unless the set still holds one tight cluster after them (a
+  // few poses injected beside a converged set when the likelihood dips are weeded out by the
+  // tracking models).
+  if (injected_now && config_.search_phase) searching_ = true;
   if (searching_ && (search_over || amcl_concentrated(clusters_, config_.converged_weight, config_.search_end_sigma_m)))
     searching_ = false;
   estimate_.searching = searching_;

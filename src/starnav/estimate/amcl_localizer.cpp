@@ -90,6 +90,8 @@ const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
     t.real("search_z_hit", f(&AmclConfig::search_z_hit), closed(0.0, 1.0), "-", "search phase: z_hit");
     t.real("search_z_rand", f(&AmclConfig::search_z_rand), closed(0.0, 1.0), "-", "search phase: z_rand");
     t.real("search_sigma_hit_m", f(&AmclConfig::search_sigma_hit_m), closed(1e-4, 10.0), "m", "search phase: sigma_hit");
+    t.boolean("search_holds_particles", [](C& c) -> bool& { return c.filter.search_holds_particles; },
+              "search phase: the set keeps max_particles (KLD sizes it after the search)");
     t.real("search_end_sigma_m", f(&AmclConfig::search_end_sigma_m), closed(1e-3, 100.0), "m",
            "the search ends when one cluster holds converged_weight within this spread");
     t.boolean("scan_proposal", [](C& c) -> bool& { return c.filter.scan_proposal; },
@@ -109,7 +111,7 @@ const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
     t.integer("proposal_injection_candidates", pi(&ScanProposalConfig::injection_candidates), closed(1, 100000000), "-",
               "scan proposal: candidates an injection scores at most");
     t.boolean("proposal_recovery", [](C& c) -> bool& { return c.filter.proposal.recovery; },
-              "scan proposal: the recovery draws from the scan too (false: uniform free poses, as Nav2)");
+              "scan proposal: the recovery draws from the scan too (default false: uniform free poses, as Nav2; docs/localization.md)");
     t.integer("proposal_injection_pool", pi(&ScanProposalConfig::injection_pool), closed(1, 1000000), "-",
               "scan proposal: the recovery draws from this many best candidates");
     t.real("converged_weight", f(&AmclConfig::converged_weight), closed(0.0, 1.0), "-",

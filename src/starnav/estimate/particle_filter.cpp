@@ -321,13 +321,8 @@ void ParticleFilter::set_particles(std::vector<Pose2> poses) {
   recovery_.reset();
 }
 
-void ParticleFilter::weigh(std::span<const double> likelihoods, std::span<const double> recovery_likelihoods) {
+void ParticleFilter::weigh(std::span<const double> likelihoods) {
   require(likelihoods.size() == poses_.size(), "amcl", "likelihood count differs from the particle count");
-  require(recovery_likelihoods.empty() || recovery_likelihoods.size() == poses_.size(), "amcl",
-          "recovery likelihood count differs from the particle count");
-  // The expected recovery likelihood under the prior (the weights before this update).
-  double recovery_total = 0.0;
-  for (std::size_t i = 0; i < recovery_likelihoods.size(); ++i) recovery_total += weights_[i] * recovery_likelihoods[i];
   double total = 0.0;
   for (std::size_t i = 0; i < weights_.size(); ++i) {
     weights_[i] *= likelihoods[i];
@@ -339,10 +334,7 @@ void ParticleFilter::weigh(std::span<const double> likelihoods, std::span<const 
   }
   // The weights were normalised, so the total is sum_i w_i p_i.
   for (double& w : weights_) w /= total;
-  if (recovery_likelihoods.empty())
-    recovery_.update(total);
-  else if (recovery_total > 0.0 && std::isfinite(recovery_total))
-    recovery_.update(recovery_total);
+  recovery_.update(total);
 }
 
 bool ParticleFilter::wants_resample() const {
@@ -351,7 +343,7 @@ bool ParticleFilter::wants_resample() const {
   return effective_sample_size() < 0.5 * static_cast<double>(weights_.size());
 }
 
-ResampleResult ParticleFilter::resample(Rng& rng, const RandomPoseFn& random_pose) {
+ResampleResult ParticleFilter::resample(Rng& rng, const RandomPoseFn& random_pose, int at_least) {
   ResampleResult r;
   if (poses_.empty()) return r;
   r.w_diff = injection_probability();
@@ -383,7 +375,8 @@ ResampleResult ParticleFilter::resample(Rng& rng, const RandomPoseFn& random_pos
     const int bins_before = table.size();
     table.insert(amcl_pack_bin(amcl_bin_of(p, config_.bins, nb)));
     if (table.size() != bins_before)
-      limit = kld_limit(table.size(), config_.pf_err, config_.pf_z, config_.min_particles, config_.max_particles);
+      limit = std::max(at_least, kld_limit(table.size(), config_.pf_err, config_.pf_z, config_.min_particles,
+                                           config_.max_particles));
     if (static_cast<int>(scratch_.size()) >= limit) break;
   }
   poses_.swap(scratch_);

@@ -141,10 +141,8 @@ class ParticleFilter {
   // likelihood under the prior, which does not depend on the particle count (Nav2 averages the
   // unnormalised products over the particles, which shrinks as 1/N, so a KLD change of N alone
   // moved its averages). A zero or non-finite total resets the weights to uniform and leaves
-  // the averages alone. With `recovery_likelihoods` (one per particle) the averages take
-  // sum_i w_i r_i instead: another model's likelihoods, so that the averages keep one scale
-  // while the weighing model changes (AMCL's search phase).
-  void weigh(std::span<const double> likelihoods, std::span<const double> recovery_likelihoods = {});
+  // the averages alone.
+  void weigh(std::span<const double> likelihoods);
 
   double effective_sample_size() const { return starnav::effective_sample_size(weights_); }
   double injection_probability() const { return recovery_.injection_probability(); }
@@ -161,7 +159,8 @@ class ParticleFilter {
   // w_diff by random_pose(rng) (when given), until the count reaches the KLD limit of the bins
   // occupied so far. Weights become uniform; after an injection the averages are reset as
   // recovery_reset says.
-  ResampleResult resample(Rng& rng, const RandomPoseFn& random_pose);
+  // `at_least` raises the count KLD may stop at (up to max_particles).
+  ResampleResult resample(Rng& rng, const RandomPoseFn& random_pose, int at_least = 0);
 
  private:
   ParticleFilterConfig config_;

@@ -75,9 +75,8 @@ void write_ekf_square_pictures(const EkfSquareResult& result, const std::string&
 // teleport until it converges again there, and false convergences (claimed with an error over 1 m,
 // the kidnapped window aside: a filter cannot know it was carried until its scans disagree).
 // Cases run on every scenario: tracking (the scenario as written), global (up to 10,000 particles
-// from the scan proposal, recovery on), kidnap (recovery on, its poses from the scan proposal, up
-// to 10,000 particles; a scenario with a route is carried 5 m ahead along it and turned 90
-// degrees at 40 % of its drive).
+// from the scan proposal, recovery on), kidnap (recovery on, up to 10,000 particles; a scenario
+// with a route is carried 5 m ahead along it and turned 90 degrees at 40 % of its drive).
 struct AmclBenchConfig {
   std::vector<std::string> scenarios;
   std::vector<std::string> cases = {"tracking"};
