@@ -1,5 +1,5 @@
-// starnav bench ekf-square (odometry vs EKF vs EKF with the bias state) and starnav bench amcl
-// (experiment/localization_experiment).
+// starnav bench ekf-square (odometry vs EKF vs EKF with the bias state), starnav bench amcl
+// (experiment/localization_experiment) and starnav bench amcl-cost (experiment/amcl_cost_experiment).
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -9,6 +9,7 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/experiment/amcl_cost_experiment.hpp"
 #include "starnav/experiment/localization_experiment.hpp"
 
 namespace starnav::cli {
@@ -89,6 +90,33 @@ void run_bench_amcl(const AmclBenchOptions& o, Context& ctx) {
   ctx.exit_code = 0;
 }
 
+struct AmclCostOptions {
+  AmclCostConfig config;
+  std::string out;
+  bool json = false, force = false, quiet = false;
+};
+
+void run_bench_amcl_cost(const AmclCostOptions& o, Context& ctx) {
+  o.config.validate();
+  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  ProgressBar bar("bench amcl-cost", o.config.particles.size() * o.config.beams.size(), o.quiet);
+  const AmclCostResult r = run_amcl_cost(o.config, [&](std::size_t done, std::size_t) { bar.update(done, "pair"); });
+  bar.finish();
+  std::cout << (o.json ? amcl_cost_json(r) : amcl_cost_markdown(r));
+  if (!o.out.empty()) {
+    fs::create_directories(o.out);
+    const fs::path d(o.out);
+    write_text_file((d / "amcl_cost.md").string(), amcl_cost_markdown(r), "--out");
+    write_text_file((d / "amcl_cost.json").string(), amcl_cost_json(r), "--out");
+    write_text_file((d / "amcl_cost.csv").string(), amcl_cost_csv(r), "--out");
+    write_amcl_cost_pictures(r, o.out);
+    if (!o.quiet)
+      std::cerr << "bench amcl-cost: wrote " << o.out
+                << "/{amcl_cost.md, amcl_cost.json, amcl_cost.csv, cost_vs_particles.svg, cost_vs_beams.svg}\n";
+  }
+  ctx.exit_code = 0;
+}
+
 }  // namespace
 
 void register_bench_localization(CLI::App& app, Context& ctx) {
@@ -127,6 +155,26 @@ void register_bench_localization(CLI::App& app, Context& ctx) {
   amcl->add_flag("--force", a->force, "overwrite the results in --out");
   amcl->add_flag("--quiet", a->quiet, "no progress on stderr");
   amcl->callback([a, &ctx] { run_bench_amcl(*a, ctx); });
+
+  auto k = std::make_shared<AmclCostOptions>();
+  k->config.map_file = "scenarios/maps/indoor_rooms.yaml";
+  auto* cost = bench->add_subcommand(
+      "amcl-cost",
+      "CPU time of one AMCL update against particles and beams on a map_server map (median of repeated timings,\n"
+      "one core; a table and two plots; docs/localization.md)");
+  cost->add_option("--map", k->config.map_file, "MAP.yaml (map_server)")->default_str(k->config.map_file);
+  cost->add_option("--particles", k->config.particles, "particle counts (comma-separated)")
+      ->delimiter(',')->default_str("500,1000,2000,5000,10000,20000");
+  cost->add_option("--beams", k->config.beams, "beams used per update (comma-separated, 2-360)")
+      ->delimiter(',')->default_str("30,60,120,180,360");
+  cost->add_option("--updates", k->config.updates, "updates per timing")->default_str("10");
+  cost->add_option("--repeats", k->config.repeats, "timings per pair (median, min, max)")->default_str("5");
+  cost->add_option("--seed", k->config.seed, "the filter's seed")->default_str("0");
+  cost->add_option("--out", k->out, "folder for amcl_cost.md, amcl_cost.json, amcl_cost.csv and the plots");
+  cost->add_flag("--json", k->json, "print the JSON report instead of the Markdown");
+  cost->add_flag("--force", k->force, "overwrite the results in --out");
+  cost->add_flag("--quiet", k->quiet, "no progress on stderr");
+  cost->callback([k, &ctx] { run_bench_amcl_cost(*k, ctx); });
 }
 
 }  // namespace starnav::cli

@@ -5,22 +5,12 @@ with a ring corridor 3.4 m wide around three rooms, doors into them, and cabinet
 Deterministic: run it again and the bytes are the same."""
 import os
 
+from occupancy_paint import Floor
+
 RES = 0.05
 W, H = 24.0, 16.0
-nx, ny = round(W / RES), round(H / RES)
-occ = [[False] * nx for _ in range(ny)]
-
-
-def paint(x0, y0, x1, y1, value):
-    """Sets the cells whose centres lie in [x0, x1] x [y0, y1] (metres)."""
-    for iy in range(ny):
-        cy = (iy + 0.5) * RES
-        if cy < y0 or cy > y1:
-            continue
-        for ix in range(nx):
-            cx = (ix + 0.5) * RES
-            if x0 <= cx <= x1:
-                occ[iy][ix] = value
+floor = Floor(W, H, RES)
+paint = floor.paint
 
 
 def box(x0, y0, x1, y1):
@@ -56,11 +46,4 @@ for y in (1.8, 4.9, 8.3, 11.6, 14.0):
 box(5.0, 6.0, 6.2, 6.8); box(7.4, 9.6, 8.0, 11.0); box(11.0, 5.0, 11.6, 5.6); box(12.6, 10.2, 13.8, 11.0)
 box(16.2, 6.4, 17.0, 7.2); box(18.4, 8.8, 19.4, 9.4)
 
-here = os.path.dirname(os.path.abspath(__file__))
-with open(os.path.join(here, "indoor_rooms.pgm"), "wb") as f:
-    f.write(b"P5\n%d %d\n255\n" % (nx, ny))
-    for iy in reversed(range(ny)):  # image row 0 is the map's top
-        f.write(bytes(0 if occ[iy][ix] else 254 for ix in range(nx)))
-with open(os.path.join(here, "indoor_rooms.yaml"), "w") as f:
-    f.write("image: indoor_rooms.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
-            "occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n")
+floor.write(os.path.dirname(os.path.abspath(__file__)), "indoor_rooms")
