@@ -172,6 +172,19 @@ TEST(ScanProposal, SameSeedSamePoses) {
   }
 }
 
+// A scan without a return says nothing: no candidates, and the generator is left as it was.
+TEST(ScanProposal, NothingFromAScanWithoutAReturn) {
+  const amcl_test::Room room = amcl_test::make_room();
+  LikelihoodFieldConfig fc;
+  fc.range_max_m = 12.0;
+  const LikelihoodField field(room.grid, {}, fc);
+  const ScanProposal proposal(room.grid.geometry(), proposal_free_cells(room.grid), ScanProposalConfig{});
+  const std::vector<ModelBeam> none = {{12.0, 0.0}, {12.0, 1.0}, {12.0, 2.0}};
+  Rng a(6), b(6);
+  EXPECT_TRUE(proposal.best(field, kProposalMount, none, 100, 20'000, a).empty());
+  EXPECT_EQ(a.next(), b.next());
+}
+
 TEST(ScanProposal, RejectsImpossibleConfigurations) {
   const amcl_test::Room room = amcl_test::make_room();
   const std::vector<std::int32_t> cells = proposal_free_cells(room.grid);

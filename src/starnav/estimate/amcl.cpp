@@ -240,13 +240,13 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
     const bool due = ++resample_count_ % config_.resample_interval == 0;
     if ((due && filter_.wants_resample()) || filter_.injection_probability() > 0.0) {
       RandomPoseFn random_pose;
+      std::vector<Pose2> pool;  // the recovery's poses from the scan (proposal.recovery)
       if (proposal_ && config_.proposal.recovery && filter_.injection_probability() > 0.0) {
-        injection_pool_ = proposed_poses(*field, beams, static_cast<std::size_t>(config_.proposal.injection_pool),
-                                         static_cast<std::size_t>(config_.proposal.injection_candidates));
-        if (!injection_pool_.empty())
-          random_pose = [this](Rng& r) {
-            return injection_pool_[static_cast<std::size_t>(
-                r.uniform_int(0, static_cast<std::int64_t>(injection_pool_.size()) - 1))];
+        pool = proposed_poses(*field, beams, static_cast<std::size_t>(config_.proposal.injection_pool),
+                              static_cast<std::size_t>(config_.proposal.injection_candidates));
+        if (!pool.empty())
+          random_pose = [&pool](Rng& r) {
+            return pool[static_cast<std::size_t>(r.uniform_int(0, static_cast<std::int64_t>(pool.size()) - 1))];
           };
       } else if (!free_cells_.empty()) {
         random_pose = [this](Rng& r) { return random_free_pose(r); };
@@ -274,16 +274,13 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
 
 std::vector<Pose2> Amcl::proposed_poses(const LikelihoodField& field, std::span<const ModelBeam> beams, std::size_t count,
                                         std::size_t limit) {
-  // A scan without a return says nothing about where the robot is: uniform poses then.
-  const bool informative = std::any_of(beams.begin(), beams.end(),
-                                       [&](const ModelBeam& b) { return b.range_m < field.config().range_max_m; });
-  if (!informative) {
+  const std::vector<ScoredPose> best = proposal_->best(field, laser_in_base_, beams, count, limit, rng_);
+  if (best.empty()) {
+    // A scan without a return says nothing about where the robot is: uniform poses then.
     std::vector<Pose2> poses(count);
     for (Pose2& p : poses) p = random_free_pose(rng_);
     return poses;
   }
-  const std::vector<ScoredPose> best =
-      proposal_->best(field, laser_in_base_, beams, count, limit, rng_);
   ++counters_.proposals;
   counters_.proposal_candidates += static_cast<long long>(proposal_->candidates_per_call(limit));
   std::vector<Pose2> poses(best.size());

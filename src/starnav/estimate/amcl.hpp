@@ -215,7 +215,6 @@ class Amcl {
   std::optional<BeamModel> beam_model_;
   std::optional<ScanProposal> proposal_;
   bool global_proposal_pending_ = false;
-  std::vector<Pose2> injection_pool_;
   bool searching_ = false;
   ParticleFilter filter_;
   Rng rng_;

@@ -130,11 +130,11 @@ std::vector<Pose2> ScanProposal::candidates(Rng& rng, std::size_t limit) const {
 std::vector<ScoredPose> ScanProposal::best(const LikelihoodField& field, const Pose2& laser_in_base,
                                            std::span<const ModelBeam> beams, std::size_t count, std::size_t limit,
                                            Rng& rng) const {
-  if (count == 0) return {};
   // The coarse beams: evenly spread over the returning ones (non-returns add nothing to the field).
   std::vector<ModelBeam> returning;
   for (const ModelBeam& b : beams)
     if (b.range_m < field.config().range_max_m) returning.push_back(b);
+  if (count == 0 || returning.empty()) return {};
   std::vector<ModelBeam> coarse;
   const std::size_t nc = std::min(returning.size(), static_cast<std::size_t>(config_.coarse_beams));
   for (std::size_t k = 0; k < nc; ++k) coarse.push_back(returning[k * returning.size() / nc]);

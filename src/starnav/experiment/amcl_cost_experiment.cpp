@@ -14,6 +14,7 @@
 #include "starnav/core/rng.hpp"
 #include "starnav/estimate/amcl.hpp"
 #include "starnav/io/ros_map.hpp"
+#include "starnav/map/distance_transform.hpp"
 #include "starnav/viz/plot_svg.hpp"
 
 namespace starnav {
@@ -56,19 +57,16 @@ AmclCostResult run_amcl_cost(const AmclCostConfig& config, const std::function<v
   const OccupancyThresholds thresholds;
 
   // The robot at the free cell farthest from any obstacle: a pose every map has, found without a seed.
-  LikelihoodFieldConfig fc;
-  fc.max_dist_m = 100.0;
-  const LikelihoodField distances(map, thresholds, fc);
+  const std::vector<double> distance = obstacle_distance_m(map, thresholds, /*unknown_is_obstacle=*/false);
   Vec2 robot(0.0, 0.0);
   double best = -1.0;
   for (int iy = 0; iy < g.height; ++iy)
     for (int ix = 0; ix < g.width; ++ix) {
       if (thresholds.classify(map(ix, iy)) != CellState::Free) continue;
-      const Vec2 c = g.cell_center(ix, iy);
-      const double d = distances.distance_m(c);
+      const double d = distance[g.index(ix, iy)];
       if (d > best) {
         best = d;
-        robot = c;
+        robot = g.cell_center(ix, iy);
       }
     }
   require(best >= 0.0, "map", "has no free cell");
