@@ -5,6 +5,7 @@
 // a DWA controller is another. A controller is built by name from the component registry
 // (registry/components.hpp) with its declared parameters; it knows nothing of the simulator.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,6 +47,7 @@ struct ControlInput {
   Footprint footprint;
   VelocityLimits limits;
   Vec2 goal = Vec2::Zero();
+  std::optional<double> goal_yaw;           // rad (map frame), when the goal has a heading
 };
 
 struct ControlOutput {

@@ -1,0 +1,75 @@
+#pragma once
+// The DWA local controller (registry name "dwa"; dwa.hpp describes the method): the LocalController
+// of the DWA, its path bookkeeping (progress along the path, the local path and goal inside the
+// window), the goal window, and a record of its last step's samples for pictures.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "starnav/control/dwa.hpp"
+#include "starnav/control/dwa_critics.hpp"
+#include "starnav/control/local_controller.hpp"
+
+namespace starnav {
+
+// What the last control step did.
+struct DwaStepRecord {
+  double t_s = 0.0;
+  Pose2 pose;
+  DynamicWindow window;
+  std::vector<DwaSample> samples;  // in sampling order (vx outer, then vy, then wz)
+  int chosen = -1;                 // index into samples; -1: none was valid
+  ControlStatus status = ControlStatus::Idle;
+  Vec2 local_goal = Vec2::Zero();
+};
+
+class DwaController final : public LocalController {
+ public:
+  // Throws Error naming the field for an invalid configuration or robot.
+  DwaController(const DwaConfig& config, const RobotConfig& robot);
+  ~DwaController() override;
+
+  std::string_view name() const override { return "dwa"; }
+  void set_path(std::span<const Vec2> points) override;
+  void clear() override;
+  bool has_path() const override { return !path_.empty(); }
+  const std::vector<Vec2>& path() const override { return path_; }
+  ControlOutput compute(const ControlInput& input) override;
+
+  const DwaConfig& config() const { return config_; }
+  const FootprintChecker& footprint() const { return checker_; }
+  const DwaLimits& limits() const { return limits_; }
+  const std::vector<std::unique_ptr<DwaCritic>>& critics() const { return critics_; }
+  // The last step's samples (kept only with keep_samples).
+  void keep_samples(bool on) { keep_samples_ = on; }
+  const DwaStepRecord& last_step() const { return last_; }
+  // The local map of the last step.
+  const DwaLocalMap& local_map() const { return map_; }
+
+ private:
+  void update_progress(const Vec2& p);
+  void build_local_path(DwaScene& scene) const;
+  // The footprint along poses_ (grown by extra_m) touches an obstacle.
+  bool swept_footprint_collides(double extra_m);
+
+  DwaConfig config_;
+  RobotConfig robot_;
+  std::unique_ptr<RobotModel> model_;
+  bool holonomic_ = false;
+  DwaLimits limits_;
+  FootprintChecker checker_;
+  std::vector<std::unique_ptr<DwaCritic>> critics_;
+  std::vector<Vec2> path_;
+  std::size_t segment_ = 0;   // progress: the path segment the robot is nearest (never goes back)
+  bool in_goal_window_ = false;
+  bool keep_samples_ = false;
+  DwaLocalMap map_;
+  DwaScene scene_;
+  DwaStepRecord last_;
+  std::vector<Pose2> poses_;           // rollout scratch
+  std::vector<Vec2> headings_;         // (cos, sin) of each rollout pose
+  std::vector<double> wheel_scratch_;
+  std::vector<std::size_t> unsure_;
+};
+
+}  // namespace starnav

@@ -1,0 +1,147 @@
+#pragma once
+// What the DWA controller scores its samples against (docs/local_planning.md): a square window of
+// the local obstacle map around the robot on the map's own cell lattice, with per cell the
+// distance to the nearest obstacle cell, and the robot's footprint tested against it.
+//
+// Obstacles are the map's occupied cells (unknown cells are free: the sensed map of an unexplored
+// room is mostly unknown); cells outside the map are obstacles (the robot cannot leave it). The
+// distances are exact (map/distance_transform.hpp) between cell centres; the window is padded so
+// that they are exact out to `pad_m` beyond its edge.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "starnav/core/geometry.hpp"
+#include "starnav/core/grid_geometry.hpp"
+#include "starnav/map/distance_transform.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+
+namespace starnav {
+
+class DwaLocalMap {
+ public:
+  // The window of `map` covering at least `half_m` around `centre` in x and y (rounded out to
+  // whole cells), its distances exact for obstacles up to `pad_m` outside it. Reuses its buffers.
+  void build(const OccupancyGrid& map, const Vec2& centre, double half_m, double pad_m,
+             const OccupancyThresholds& thresholds = {});
+
+  // The window's own grid: the map's lattice, shifted (cell (0, 0) is the window's first cell).
+  const GridGeometry& geometry() const { return geometry_; }
+  int width() const { return geometry_.width; }
+  int height() const { return geometry_.height; }
+  double resolution() const { return geometry_.resolution; }
+  bool contains(int ix, int iy) const { return geometry_.contains(ix, iy); }
+  std::size_t index(int ix, int iy) const { return geometry_.index(ix, iy); }
+  // The window cell holding a world point (may lie outside: check contains()). Inner loops call
+  // these: the origin's rotation is cached rather than recomputed by GridGeometry.
+  Vec2 continuous_cell(const Vec2& w) const {
+    const double dx = w.x() - geometry_.origin.x, dy = w.y() - geometry_.origin.y;
+    return {(cos_ * dx + sin_ * dy) * inv_resolution_, (-sin_ * dx + cos_ * dy) * inv_resolution_};
+  }
+  Cell cell_of(const Vec2& w) const {
+    const Vec2 g = continuous_cell(w);
+    // Far outside (or NaN): a cell that contains() refuses.
+    if (!(std::abs(g.x()) < 1e9 && std::abs(g.y()) < 1e9)) return {-1, -1};
+    return {static_cast<int>(std::floor(g.x())), static_cast<int>(std::floor(g.y()))};
+  }
+  Vec2 cell_center(int ix, int iy) const {
+    const double gx = (ix + 0.5) * geometry_.resolution, gy = (iy + 0.5) * geometry_.resolution;
+    return {geometry_.origin.x + cos_ * gx - sin_ * gy, geometry_.origin.y + sin_ * gx + cos_ * gy};
+  }
+
+  bool occupied(int ix, int iy) const { return mask_[padded_index(ix, iy)] != 0; }
+  // Distance (m) from the cell's centre to the nearest obstacle cell's centre (+inf: none).
+  double clearance_m(std::size_t i) const { return clearance_[i]; }
+  // Centre of a nearest obstacle cell of window cell i (only when clearance_m(i) is finite).
+  Vec2 nearest_obstacle(std::size_t i) const;
+  // Occupied cells of the padded window within the square of half side `r` around `p`, by their
+  // centres (for exact footprint tests).
+  template <class F>
+  void for_each_obstacle_near(const Vec2& p, double r, F&& f) const;
+
+  // Shortest 8-connected distance (m; steps of one cell and sqrt(2) cells) from the seed cells to
+  // every window cell through free cells whose clearance is at least `pass_clearance_m` (the seeds
+  // themselves always count), +inf where it cannot go. `out` is resized to the window.
+  void wavefront(std::span<const Cell> seeds, double pass_clearance_m, std::vector<double>& out) const;
+
+ private:
+  std::size_t padded_index(int ix, int iy) const {
+    return static_cast<std::size_t>(iy + pad_) * static_cast<std::size_t>(padded_width_) + static_cast<std::size_t>(ix + pad_);
+  }
+
+  GridGeometry geometry_;
+  double cos_ = 1.0, sin_ = 0.0, inv_resolution_ = 1.0;  // of the origin's yaw; 1 / resolution
+  int pad_ = 0;  // cells of padding on every side
+  int padded_width_ = 0, padded_height_ = 0;
+  std::vector<std::uint8_t> mask_;    // padded window, 1 = obstacle
+  std::vector<double> clearance_;     // window cells
+  std::vector<std::int32_t> nearest_;  // window cells: padded index of a nearest obstacle
+  DistanceTransform transform_;
+  std::vector<double> padded_squared_;
+};
+
+template <class F>
+void DwaLocalMap::for_each_obstacle_near(const Vec2& p, double r, F&& f) const {
+  const Vec2 lo = continuous_cell(p) - Vec2::Constant(r * inv_resolution_);
+  const Vec2 hi = lo + Vec2::Constant(2.0 * r * inv_resolution_);
+  const auto clamp_floor = [](double v, int lo, int hi) {
+    return static_cast<int>(std::clamp(std::floor(v), static_cast<double>(lo), static_cast<double>(hi)));
+  };
+  const int x0 = clamp_floor(lo.x(), -pad_, padded_width_ - pad_ - 1);
+  const int y0 = clamp_floor(lo.y(), -pad_, padded_height_ - pad_ - 1);
+  const int x1 = clamp_floor(hi.x(), -pad_, padded_width_ - pad_ - 1);
+  const int y1 = clamp_floor(hi.y(), -pad_, padded_height_ - pad_ - 1);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (mask_[padded_index(x, y)]) f(cell_center(x, y));
+}
+
+// The robot's outline for collision tests: a circle, or a rectangle centred on base_link. Every
+// test grows it by `grow_m` and by half the diagonal of a cell, so that an obstacle cell (a
+// square) touching the outline is always found from its centre.
+struct FootprintModel {
+  bool circle = true;
+  double radius_m = 0.25;       // circle
+  double half_length_m = 0.0;   // rectangle, along x
+  double half_width_m = 0.0;    // rectangle, along y
+  double bounding_radius_m() const;
+  double inscribed_radius_m() const;
+};
+
+// What the distance field alone says about a footprint at a pose.
+enum class FootprintTest : std::uint8_t { Clear, Collides, Unsure };
+
+class FootprintChecker {
+ public:
+  FootprintChecker() = default;
+  // A rectangle is also covered by discs along its length (for the quick clear test).
+  FootprintChecker(const FootprintModel& model, double grow_m);
+  const FootprintModel& model() const { return model_; }
+  double grow_m() const { return grow_m_; }
+
+  // True when the footprint at `pose`, grown by grow_m() + `extra_m` + half a cell's diagonal,
+  // holds an obstacle cell centre, or when `pose` lies outside the window. Exact for that rule:
+  // quick_test decides most poses, the cells near the outline the rest.
+  bool collides(const DwaLocalMap& map, const Pose2& pose, double extra_m = 0.0) const;
+  // The distance field's verdict alone: Clear when the discs covering the footprint hold no
+  // obstacle, Collides when a nearest obstacle it looked up lies inside, Unsure otherwise.
+  // `heading` is (cos yaw, sin yaw) of the pose.
+  FootprintTest quick_test(const DwaLocalMap& map, const Pose2& pose, const Vec2& heading, double extra_m = 0.0) const;
+  // The exact test of the cells near the pose (what collides() does when quick_test is unsure).
+  bool exact_test(const DwaLocalMap& map, const Pose2& pose, const Vec2& heading, double extra_m = 0.0) const;
+  // The same by brute force over every obstacle cell of the window (tests).
+  bool collides_brute_force(const DwaLocalMap& map, const Pose2& pose, double extra_m = 0.0) const;
+
+ private:
+  bool holds(const Pose2& pose, const Vec2& heading, const Vec2& point, double grow) const;
+
+  FootprintModel model_;
+  double grow_m_ = 0.0;
+  std::vector<double> cover_x_;  // base_link x of the covering discs' centres (y = 0)
+  double cover_radius_m_ = 0.0;
+};
+
+}  // namespace starnav
