@@ -73,8 +73,8 @@ TEST(SimNavCli, ComponentsAreChosenAndSetFromTheCommandLine) {
   EXPECT_NE(r.out.find("\"controller\": \"straight_to_goal\""), std::string::npos) << r.out;
   const CliResult bad = run_cli({"sim", file, "--out", dir.file("b"), "--quiet", "--set", "navigation.follower.look_ahead_m=-1"});
   expect_one_error_line(bad, 2, {"nav.yaml", "navigation.follower.look_ahead_m (--set)", "> 0"}, "--set bad value");
-  const CliResult unknown = run_cli({"sim", file, "--out", dir.file("c"), "--quiet", "--controller", "dwa"});
-  expect_one_error_line(unknown, 2, {"--controller", "unknown controller 'dwa'", "straight_to_goal"}, "unknown controller");
+  const CliResult unknown = run_cli({"sim", file, "--out", dir.file("c"), "--quiet", "--controller", "teb"});
+  expect_one_error_line(unknown, 2, {"--controller", "unknown controller 'teb'", "straight_to_goal", "dwa"}, "unknown controller");
   // The old D* Lite spelling works, with a warning on stderr.
   const CliResult old = run_cli({"sim", file, "--out", dir.file("d"), "--quiet", "--planner", "dstarlite"});
   EXPECT_EQ(old.exit_code, 0) << old.err;

@@ -209,12 +209,12 @@ TEST(FootprintChecker, AgreesWithBruteForceOnRandomMaps) {
     const OccupancyGrid m = random_map(rng, 5.0, 5.0, rng.uniform(0.002, 0.03));
     DwaLocalMap local;
     local.build(m, {2.5, 2.5}, 1.5, 1.0);
-    for (const bool circle : {true, false}) {
+    for (const int shape : {0, 1, 2}) {
       FootprintModel fm;
-      fm.circle = circle;
+      fm.circle = shape == 0;
       fm.radius_m = 0.3;
-      fm.half_length_m = 0.275;
-      fm.half_width_m = 0.25;
+      fm.half_length_m = shape == 1 ? 0.275 : 0.15;  // shape 2: wider than long
+      fm.half_width_m = shape == 1 ? 0.25 : 0.4;
       const FootprintChecker check(fm, 0.02);
       for (int k = 0; k < 200; ++k) {
         const Pose2 p(rng.uniform(1.2, 3.8), rng.uniform(1.2, 3.8), rng.uniform(-kPi, kPi));
@@ -310,6 +310,39 @@ TEST(DwaController, NeverChoosesAMotionThatTouchesAnObstacle) {
         << "trial " << trial << " twist " << out.twist.vx << " " << out.twist.vy << " " << out.twist.wz;
   }
   EXPECT_GT(chosen, 10);
+}
+
+TEST(DwaController, TestingInOrderOfCostChoosesWhatTestingEverySampleChooses) {
+  Rng rng(17);
+  int blocked = 0;
+  for (int trial = 0; trial < test::scaled(30); ++trial) {
+    OccupancyGrid m = empty_map(6.0, 6.0);
+    for (int b = 0; b < 15; ++b) {
+      const double x = rng.uniform(0.5, 5.5), y = rng.uniform(0.5, 5.5);
+      fill_box(m, x, y, x + rng.uniform(0.05, 0.8), y + rng.uniform(0.05, 0.8));
+    }
+    DwaConfig c;
+    c.vx_samples = 9;
+    c.vy_samples = 5;
+    c.wz_samples = 9;
+    c.min_vx_mps = -0.1;
+    DwaController pruned(c, mecanum()), exhaustive(c, mecanum());
+    exhaustive.keep_samples(true);
+    const std::vector<Vec2> path{{3.0, 3.0}, {rng.uniform(0.5, 5.5), rng.uniform(0.5, 5.5)}};
+    pruned.set_path(path);
+    exhaustive.set_path(path);
+    ControlInput in;
+    in.pose = Pose2(3.0, 3.0, rng.uniform(-kPi, kPi));
+    in.velocity = {rng.uniform(0.0, 0.4), rng.uniform(-0.2, 0.2), rng.uniform(-0.8, 0.8)};
+    in.local_map = &m;
+    const ControlOutput a = pruned.compute(in), b = exhaustive.compute(in);
+    EXPECT_EQ(a.status, b.status) << trial;
+    EXPECT_EQ(a.twist.vx, b.twist.vx) << trial;
+    EXPECT_EQ(a.twist.vy, b.twist.vy) << trial;
+    EXPECT_EQ(a.twist.wz, b.twist.wz) << trial;
+    blocked += b.status == ControlStatus::Blocked;
+  }
+  EXPECT_LT(blocked, test::scaled(30));
 }
 
 TEST(DwaController, SaysBlockedWhenItCannotStopInTime) {
@@ -438,6 +471,20 @@ TEST(DwaCritics, VelocityTwirlingPreferForwardInClosedForm) {
   EXPECT_EQ(PreferForwardCritic(1.0).score(f.scene, f.rollout({0.1, 0.0, 0.0})), 0.0);
 }
 
+TEST(DwaCritics, PathAngleIsTheHeadingErrorAtTheRolloutsEnd) {
+  SceneFixture f;
+  f.scene.local_goal = {5.0, 3.0};
+  f.build(Pose2(1.0, 3.0, 0.2));
+  EXPECT_EQ(PathAngleCritic(1.0).score(f.scene, f.rollout({0.2, 0.0, 0.1})), 0.0);  // no heading to aim at
+  f.scene.path_heading = 1.0;
+  // 0.2 + 0.1 rad/s x 1 s = 0.3: 0.7 short of the path's heading.
+  EXPECT_NEAR(PathAngleCritic(1.0).score(f.scene, f.rollout({0.2, 0.0, 0.1})), 0.7, 1e-9);
+  f.scene.path_heading = -3.0;  // across +-pi: the short way round
+  EXPECT_NEAR(PathAngleCritic(1.0).score(f.scene, f.rollout({0.0, 0.0, 0.1})), 2.0 * kPi - 3.3, 1e-9);
+  f.scene.in_goal_window = true;
+  EXPECT_EQ(PathAngleCritic(1.0).score(f.scene, f.rollout({0.0, 0.0, -0.1})), 0.0);
+}
+
 TEST(DwaCritics, OscillationPenalisesASecondReversalUntilTheRobotMoves) {
   SceneFixture f;
   f.scene.local_goal = {5.0, 3.0};
@@ -508,7 +555,7 @@ struct LoopResult {
 };
 
 LoopResult drive(DwaController& dwa, const OccupancyGrid& m, const Pose2& start, const std::vector<Vec2>& path,
-                 std::optional<double> goal_yaw, double max_s) {
+                 std::optional<double> goal_yaw, double max_s, double yaw_tolerance = 0.05) {
   IdealRobot robot{start, {}};
   dwa.set_path(path);
   LoopResult r;
@@ -521,6 +568,7 @@ LoopResult drive(DwaController& dwa, const OccupancyGrid& m, const Pose2& start,
     in.local_map = &m;
     in.goal = path.back();
     in.goal_yaw = goal_yaw;
+    in.goal_yaw_tolerance_rad = yaw_tolerance;
     const ControlOutput out = dwa.compute(in);
     r.status = out.status;
     if (out.status == ControlStatus::Arrived || out.status == ControlStatus::Blocked) break;
@@ -561,14 +609,12 @@ TEST(DwaController, ADifferentialRobotNeverCommandsSideways) {
 
 TEST(DwaController, ArrivesWithTheGoalsHeading) {
   const OccupancyGrid m = empty_map(6.0, 6.0);
-  DwaConfig c;
-  c.yaw_goal_tolerance_rad = deg_to_rad(2.0);
-  DwaController dwa(c, mecanum());
+  DwaController dwa(DwaConfig{}, mecanum());
   const Pose2 start(1.0, 1.0, 0.0);
   const Vec2 goal(4.0, 3.0);
-  const LoopResult r = drive(dwa, m, start, {start.translation(), goal}, 2.5, 60.0);
+  const LoopResult r = drive(dwa, m, start, {start.translation(), goal}, 2.5, 60.0, deg_to_rad(2.0));
   ASSERT_EQ(r.status, ControlStatus::Arrived) << r.poses.back().x << " " << r.poses.back().y << " " << r.poses.back().yaw;
-  EXPECT_LE((r.poses.back().translation() - goal).norm(), 2.0 * c.xy_goal_tolerance_m);
+  EXPECT_LE((r.poses.back().translation() - goal).norm(), 2.0 * 0.05);
   EXPECT_LE(std::abs(wrap_angle(r.poses.back().yaw - 2.5)), deg_to_rad(2.0));
 }
 

@@ -43,12 +43,11 @@ void DwaConfig::validate() const {
           "footprint_radius_m", "must be in [0, 10] m");
   dwa_require(std::isfinite(safety_margin_m) && safety_margin_m >= 0.0 && safety_margin_m <= 1.0, "safety_margin_m",
           "must be in [0, 1] m");
-  dwa_require(std::isfinite(xy_goal_tolerance_m) && xy_goal_tolerance_m > 0.0, "xy_goal_tolerance_m", "must be > 0");
-  dwa_require(std::isfinite(yaw_goal_tolerance_rad) && yaw_goal_tolerance_rad > 0.0 && yaw_goal_tolerance_rad <= kPi,
-          "yaw_goal_tolerance_deg", "must be in (0, 180] deg");
   dwa_require(std::isfinite(forward_point_m) && forward_point_m >= 0.0 && forward_point_m <= 5.0, "forward_point_m",
           "must be in [0, 5] m");
   dwa_require(align == "auto" || align == "heading" || align == "motion", "align", "must be auto, heading or motion");
+  dwa_require(std::isfinite(holonomic_approach_m) && holonomic_approach_m >= 0.0 && holonomic_approach_m <= 100.0,
+              "holonomic_approach_m", "must be in [0, 100] m");
   dwa_require(std::isfinite(window_m) && window_m >= 0.0 && window_m <= 50.0, "window_m", "must be in [0, 50] m");
   dwa_require(std::isfinite(inflation_radius_m) && inflation_radius_m >= 0.0 && inflation_radius_m <= 10.0,
           "inflation_radius_m", "must be in [0, 10] m");
@@ -58,7 +57,8 @@ void DwaConfig::validate() const {
   for (const auto& [w, field] : {std::pair{path_align_weight, "path_align_weight"}, {path_dist_weight, "path_dist_weight"},
                                  {goal_align_weight, "goal_align_weight"}, {goal_dist_weight, "goal_dist_weight"},
                                  {obstacle_weight, "obstacle_weight"}, {velocity_weight, "velocity_weight"},
-                                 {twirling_weight, "twirling_weight"}, {prefer_forward_weight, "prefer_forward_weight"},
+                                 {twirling_weight, "twirling_weight"}, {path_angle_weight, "path_angle_weight"},
+                                 {prefer_forward_weight, "prefer_forward_weight"},
                                  {oscillation_weight, "oscillation_weight"}, {rotate_to_goal_weight, "rotate_to_goal_weight"}})
     dwa_require(std::isfinite(w) && w >= 0.0 && w <= 1e6, field, "must be in [0, 1e6]");
 }
@@ -88,13 +88,13 @@ const ParamTable<DwaConfig>& dwa_params() {
     t.real("footprint_radius_m", &C::footprint_radius_m, closed(0.0, 10.0), "m",
            "circle footprint radius; 0: the body's circumscribed radius");
     t.real("safety_margin_m", &C::safety_margin_m, closed(0.0, 1.0), "m", "the footprint grown by this for collision tests");
-    t.real("xy_goal_tolerance_m", &C::xy_goal_tolerance_m, positive(), "m", "within this of the goal it only turns");
-    t.real("yaw_goal_tolerance_deg", &C::yaw_goal_tolerance_rad, open(0.0, 180.0), "deg",
-           "arrived when the yaw is this close to the goal's", deg);
     t.real("forward_point_m", &C::forward_point_m, closed(0.0, 5.0), "m", "look-ahead of the alignment critics");
     t.choice("align", {"auto", "heading", "motion"}, [](C& c, const std::string& v) { c.align = v; },
              [](const C& c) { return c.align; },
-             "alignment critics look along the heading or the motion; auto: motion for holonomic robots");
+             "alignment critics look along the heading or the motion; auto: the motion for a holonomic robot, the "
+             "heading otherwise");
+    t.real("holonomic_approach_m", &C::holonomic_approach_m, closed(0.0, 100.0), "m",
+           "path_angle: within this of a goal with a heading the body turns to that heading, not along the path");
     t.real("window_m", &C::window_m, closed(0.0, 50.0), "m", "side of the local window; 0: what the rollouts need");
     t.real("inflation_radius_m", &C::inflation_radius_m, closed(0.0, 10.0), "m",
            "obstacle critic: proximity costs nothing beyond this distance");
@@ -109,6 +109,7 @@ const ParamTable<DwaConfig>& dwa_params() {
     t.real("obstacle_weight", &C::obstacle_weight, closed(0.0, 1e6), "", "weight of the obstacle critic");
     t.real("velocity_weight", &C::velocity_weight, closed(0.0, 1e6), "", "weight of the velocity critic");
     t.real("twirling_weight", &C::twirling_weight, closed(0.0, 1e6), "", "weight of the twirling critic (holonomic robots)");
+    t.real("path_angle_weight", &C::path_angle_weight, closed(0.0, 1e6), "1/rad", "weight of the path_angle critic");
     t.real("prefer_forward_weight", &C::prefer_forward_weight, closed(0.0, 1e6), "", "weight of the prefer_forward critic");
     t.real("oscillation_weight", &C::oscillation_weight, closed(0.0, 1e6), "", "cost of reversing an axis twice");
     t.real("rotate_to_goal_weight", &C::rotate_to_goal_weight, closed(0.0, 1e6), "1/rad",

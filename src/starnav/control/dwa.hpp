@@ -14,10 +14,14 @@
 //      is dropped, so every command the controller gives leaves room to stop;
 //   3. the rest scored by named critics (dwa_critics.hpp), each a cost times its weight; the
 //      cheapest is commanded. No valid sample: zero twist and status Blocked (the navigator
-//      recovers). Near the goal (within xy_goal_tolerance_m) it only turns, to the goal's yaw
-//      when one is given, and reports Arrived when the yaw is within yaw_goal_tolerance_deg.
-// A Mecanum robot gets real sideways velocity: vy is sampled and scored like vx (the alignment
-// critics follow the direction of motion, not the heading, unless align is "heading").
+//      recovers). Near the goal (within the navigator's goal tolerance, ControlInput) it only
+//      turns, to the goal's yaw when one is given, and reports Arrived when the yaw is within
+//      its tolerance too.
+// A Mecanum robot gets real sideways velocity: vy is sampled and scored like vx. Its alignment
+// critics follow the direction of motion, and the path_angle critic turns its body along the path
+// (its LiDAR sees ahead; a rectangular body passes doors straight), and within
+// holonomic_approach_m of a goal with a heading toward that heading instead, so that it reaches
+// such a goal by translating, already turned.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -50,10 +54,9 @@ struct DwaConfig {
   std::string footprint = "rectangle";  // rectangle: the robot's body; circle: footprint_radius_m
   double footprint_radius_m = 0.0;      // circle; 0: the body's circumscribed radius
   double safety_margin_m = 0.02;
-  double xy_goal_tolerance_m = 0.05;
-  double yaw_goal_tolerance_rad = 0.05;
   double forward_point_m = 0.325;
-  std::string align = "auto";  // heading | motion | auto (motion for a holonomic robot)
+  std::string align = "auto";  // heading | motion | auto (motion for a holonomic robot, heading otherwise)
+  double holonomic_approach_m = 1.5;  // path_angle: within this of a goal with a heading, aim at that heading
   double window_m = 0.0;       // side of the local window; 0: what the rollouts need
   double inflation_radius_m = 0.55;
   double cost_scaling_per_m = 3.0;
@@ -67,6 +70,7 @@ struct DwaConfig {
   double obstacle_weight = 1.0;
   double velocity_weight = 1.0;
   double twirling_weight = 1.0;
+  double path_angle_weight = 8.0;
   double prefer_forward_weight = 5.0;
   double oscillation_weight = 100.0;
   double rotate_to_goal_weight = 32.0;
@@ -127,6 +131,7 @@ struct DwaScene {
   double distance_to_goal_m = 0.0;
   bool in_goal_window = false;      // within the xy goal tolerance: only turning
   bool align_by_motion = false;     // alignment critics look along the motion, not the heading
+  std::optional<double> path_heading;  // the heading path_angle aims at (rad), none: off
   std::vector<double> goal_distance;  // per window cell: wavefront distance to the local goal (m)
   std::vector<double> obstacle_cost;  // per window cell: proximity cost in [0, 1]
   DwaLimits limits;

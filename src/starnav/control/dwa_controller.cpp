@@ -84,8 +84,6 @@ bool DwaController::swept_footprint_collides(double extra_m) {
   // any exact test runs.
   unsure_.clear();
   for (std::size_t k = 0; k < poses_.size(); ++k) {
-    const Cell c = map_.cell_of(poses_[k].translation());
-    if (!map_.contains(c.x, c.y)) return true;
     switch (checker_.quick_test(map_, poses_[k], headings_[k], extra_m)) {
       case FootprintTest::Clear: break;
       case FootprintTest::Collides: return true;
@@ -170,6 +168,17 @@ void DwaController::build_local_path(DwaScene& s) const {
     s.align_path.push_back(path_.back() + config_.forward_point_m * d.normalized());
   }
   s.align_goal = s.align_path.back();
+  // The body's heading: along the path where the robot is, or the goal's on the final approach.
+  s.path_heading.reset();
+  if (s.goal_yaw && s.distance_to_goal_m <= config_.holonomic_approach_m) {
+    s.path_heading = s.goal_yaw;
+  } else if (s.local_path.size() >= 2) {
+    const Vec2 d = s.local_path[1] - s.local_path[0];
+    if (d.norm() > 1e-9) s.path_heading = std::atan2(d.y(), d.x());
+  } else if (path_.size() >= 2 && segment_ + 1 < path_.size()) {
+    const Vec2 d = path_[segment_ + 1] - path_[segment_];
+    if (d.norm() > 1e-9) s.path_heading = std::atan2(d.y(), d.x());
+  }
 }
 
 ControlOutput DwaController::compute(const ControlInput& in) {
@@ -184,10 +193,10 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   s.goal = path_.back();
   s.goal_yaw = in.goal_yaw;
   s.distance_to_goal_m = (in.pose.translation() - s.goal).norm();
-  if (s.distance_to_goal_m <= config_.xy_goal_tolerance_m) in_goal_window_ = true;
-  else if (s.distance_to_goal_m > 2.0 * config_.xy_goal_tolerance_m) in_goal_window_ = false;
+  // Within the tolerance (or once the navigator has latched it) only the heading is left.
+  in_goal_window_ = in.goal_xy_reached || s.distance_to_goal_m <= in.goal_tolerance_m;
   s.in_goal_window = in_goal_window_;
-  if (in_goal_window_ && (!s.goal_yaw || std::abs(wrap_angle(*s.goal_yaw - in.pose.yaw)) <= config_.yaw_goal_tolerance_rad)) {
+  if (in_goal_window_ && (!s.goal_yaw || std::abs(wrap_angle(*s.goal_yaw - in.pose.yaw)) <= in.goal_yaw_tolerance_rad)) {
     last_.status = ControlStatus::Arrived;
     return {{}, ControlStatus::Arrived};
   }
@@ -221,6 +230,24 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   }
   for (auto& c : critics_) c->prepare(s);
 
+  // A robot already inside its safety margin (pushed there, or the margin grew with the map) may
+  // still move, but never closer: the margin shrinks to what it has now for this step.
+  double margin_cut = 0.0;
+  if (checker_.collides(map_, in.pose)) {
+    const double full = checker_.grow_m() + res * std::sqrt(0.5);
+    if (checker_.collides(map_, in.pose, -full)) {
+      last_.status = ControlStatus::Blocked;  // touching: nothing is safe
+      return {{}, ControlStatus::Blocked};
+    }
+    double lo = 0.0, hi = full;  // collides at -lo, clear at -hi
+    for (int k = 0; k < 12; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (checker_.collides(map_, in.pose, -mid) ? lo : hi) = mid;
+    }
+    margin_cut = hi;
+  }
+  last_.margin_cut_m = margin_cut;
+
   // The samples.
   const DynamicWindow w = dynamic_window(in.velocity, limits_, config_.control_period_s);
   last_.window = w;
@@ -237,9 +264,13 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   const int n_score = std::max(1, static_cast<int>(std::lround(config_.sim_time_s / config_.sim_step_s)));
   const double wheel_limit = robot_.max_wheel_speed_radps * (1.0 + 1e-9);
 
+  // Every sample is scored first; the footprint is then tested in the order of cost, and the first
+  // sample that is clear is the cheapest valid one (ties to the sampling order), exactly as if
+  // all had been tested. With keep_samples every sample is tested (for the pictures).
   double best = kNoCost;
   BodyTwist best_twist;
   int best_index = -1, index = -1;
+  candidates_.clear();
   for (const double vx : vxs)
     for (const double vy : vys)
       for (const double wz : wzs) {
@@ -261,29 +292,44 @@ ControlOutput DwaController::compute(const ControlInput& in) {
         rec.end = poses_[static_cast<std::size_t>(n_score - 1)];
         // Between two tested poses no point of the footprint moves more than `step`; growing the
         // footprint by half of it covers the swept area.
-        const double step = (std::hypot(vx, vy) + std::abs(wz) * fm.bounding_radius_m()) * config_.sim_step_s;
-        rec.collides = swept_footprint_collides(0.5 * step);
-        if (!rec.collides) {
-          const DwaRollout r{t, std::span<const Pose2>(poses_.data(), static_cast<std::size_t>(n_score))};
-          double cost = 0.0;
-          for (const auto& c : critics_) {
-            const double v = c->score(s, r);
-            if (!std::isfinite(v)) {
-              cost = kNoCost;
-              break;
-            }
-            cost += c->weight() * v;
+        const double extra =
+            0.5 * (std::hypot(vx, vy) + std::abs(wz) * fm.bounding_radius_m()) * config_.sim_step_s - margin_cut;
+        const DwaRollout r{t, std::span<const Pose2>(poses_.data(), static_cast<std::size_t>(n_score))};
+        double cost = 0.0;
+        for (const auto& c : critics_) {
+          const double v = c->score(s, r);
+          if (!std::isfinite(v)) {
+            cost = kNoCost;
+            break;
           }
-          rec.valid = std::isfinite(cost);
+          cost += c->weight() * v;
+        }
+        if (keep_samples_) {
+          rec.collides = swept_footprint_collides(extra);
+          rec.valid = !rec.collides && std::isfinite(cost);
           rec.cost = cost;
           if (rec.valid && cost < best) {
             best = cost;
             best_twist = t;
             best_index = index;
           }
+          last_.samples.push_back(rec);
+        } else if (std::isfinite(cost)) {
+          candidates_.push_back({cost, index, t, n_check, extra});
         }
-        if (keep_samples_) last_.samples.push_back(rec);
       }
+  if (!keep_samples_) {
+    std::sort(candidates_.begin(), candidates_.end(),
+              [](const Candidate& a, const Candidate& b) { return a.cost < b.cost || (a.cost == b.cost && a.index < b.index); });
+    for (const Candidate& c : candidates_) {
+      dwa_rollout(in.pose, c.twist, config_.sim_step_s, c.n_check, poses_, &headings_);
+      if (swept_footprint_collides(c.extra)) continue;
+      best = c.cost;
+      best_twist = c.twist;
+      best_index = c.index;
+      break;
+    }
+  }
   last_.chosen = best_index;
   if (best_index < 0) {
     last_.status = ControlStatus::Blocked;
@@ -300,6 +346,7 @@ LocalControllerDef dwa_controller() {
   d.info.name = "dwa";
   d.info.section = "dwa";
   d.info.summary = "Dynamic Window Approach (Fox et al. 1997) with Nav2 DWB's critics; samples vy on a Mecanum base";
+  d.info.capabilities = {"goal_heading", "checks_footprint"};
   d.info.params = dwa_params().specs();
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const DwaConfig c = configured(dwa_params(), settings, ctx.file);

@@ -21,6 +21,7 @@ struct DwaStepRecord {
   int chosen = -1;                 // index into samples; -1: none was valid
   ControlStatus status = ControlStatus::Idle;
   Vec2 local_goal = Vec2::Zero();
+  double margin_cut_m = 0.0;  // how much of the safety margin this step gave up (the robot started inside it)
 };
 
 class DwaController final : public LocalController {
@@ -35,12 +36,14 @@ class DwaController final : public LocalController {
   bool has_path() const override { return !path_.empty(); }
   const std::vector<Vec2>& path() const override { return path_; }
   ControlOutput compute(const ControlInput& input) override;
+  double control_period_s() const override { return config_.control_period_s; }
 
   const DwaConfig& config() const { return config_; }
   const FootprintChecker& footprint() const { return checker_; }
   const DwaLimits& limits() const { return limits_; }
   const std::vector<std::unique_ptr<DwaCritic>>& critics() const { return critics_; }
-  // The last step's samples (kept only with keep_samples).
+  // The last step's samples (kept only with keep_samples; then every sample's footprint is tested,
+  // otherwise only those cheaper than the first clear one: the same choice either way).
   void keep_samples(bool on) { keep_samples_ = on; }
   const DwaStepRecord& last_step() const { return last_; }
   // The local map of the last step.
@@ -70,6 +73,14 @@ class DwaController final : public LocalController {
   std::vector<Vec2> headings_;         // (cos, sin) of each rollout pose
   std::vector<double> wheel_scratch_;
   std::vector<std::size_t> unsure_;
+  struct Candidate {
+    double cost;
+    int index;
+    BodyTwist twist;
+    int n_check;
+    double extra;
+  };
+  std::vector<Candidate> candidates_;
 };
 
 }  // namespace starnav

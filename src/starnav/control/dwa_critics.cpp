@@ -20,8 +20,12 @@ std::array<int, 3> signs(const BodyTwist& t) {
   return {sign_of(t.vx, kTranslationDeadband), sign_of(t.vy, kTranslationDeadband), sign_of(t.wz, kYawDeadband)};
 }
 
-// In the goal window only the heading matters.
-bool alignment_off(const DwaScene& scene) { return scene.in_goal_window; }
+// In the goal window only the heading matters; within the forward point's distance of the goal the
+// forward point says nothing about the approach but would forbid the last small corrections
+// sideways (as DWB turns them off there).
+bool alignment_off(const DwaScene& scene, double forward_m) {
+  return scene.in_goal_window || (scene.local_goal_is_goal && scene.distance_to_goal_m <= forward_m);
+}
 
 }  // namespace
 
@@ -42,7 +46,7 @@ double dwa_goal_distance(const DwaScene& scene, const Vec2& p) {
 }
 
 double PathAlignCritic::score(const DwaScene& scene, const DwaRollout& r) const {
-  if (alignment_off(scene) || r.poses.empty()) return 0.0;
+  if (alignment_off(scene, forward_m_) || r.poses.empty()) return 0.0;
   return distance_to_polyline(dwa_forward_point(r.poses.back(), r.twist, forward_m_, scene.align_by_motion),
                               scene.align_path);
 }
@@ -53,7 +57,7 @@ double PathDistCritic::score(const DwaScene& scene, const DwaRollout& r) const {
 }
 
 double GoalAlignCritic::score(const DwaScene& scene, const DwaRollout& r) const {
-  if (alignment_off(scene) || r.poses.empty()) return 0.0;
+  if (alignment_off(scene, forward_m_) || r.poses.empty()) return 0.0;
   const Vec2 ahead = dwa_forward_point(r.poses.back(), r.twist, forward_m_, scene.align_by_motion);
   if (scene.local_goal_is_goal) return (ahead - scene.align_goal).norm();
   const double d = dwa_goal_distance(scene, ahead);
@@ -85,6 +89,11 @@ double VelocityCritic::score(const DwaScene& scene, const DwaRollout& r) const {
 double TwirlingCritic::score(const DwaScene& scene, const DwaRollout& r) const {
   if (scene.in_goal_window || !(scene.limits.max_wz > 0.0)) return 0.0;
   return std::abs(r.twist.wz) / scene.limits.max_wz;
+}
+
+double PathAngleCritic::score(const DwaScene& scene, const DwaRollout& r) const {
+  if (scene.in_goal_window || !scene.path_heading || r.poses.empty()) return 0.0;
+  return std::abs(wrap_angle(*scene.path_heading - r.poses.back().yaw));
 }
 
 double PreferForwardCritic::score(const DwaScene& scene, const DwaRollout& r) const {
@@ -152,6 +161,7 @@ std::vector<std::unique_ptr<DwaCritic>> make_dwa_critics(const DwaConfig& c, boo
   add(c.obstacle_weight, [](double w) { return std::make_unique<ObstacleCritic>(w); });
   add(c.velocity_weight, [](double w) { return std::make_unique<VelocityCritic>(w); });
   add(holonomic ? c.twirling_weight : 0.0, [](double w) { return std::make_unique<TwirlingCritic>(w); });
+  add(c.path_angle_weight, [](double w) { return std::make_unique<PathAngleCritic>(w); });
   add(c.prefer_forward_weight, [](double w) { return std::make_unique<PreferForwardCritic>(w); });
   add(c.oscillation_weight, [&](double w) {
     return std::make_unique<OscillationCritic>(w, c.oscillation_reset_m, c.oscillation_reset_rad);

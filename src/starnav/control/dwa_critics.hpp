@@ -6,10 +6,11 @@
 //
 //   path_align      distance from the path of a point forward_point_m ahead of the rollout's end
 //                   (ahead along the heading, or along the motion for a holonomic robot); near
-//                   the goal, from the path carried on past the goal (DwaScene::align_path)
+//                   the goal, from the path carried on past the goal (DwaScene::align_path);
+//                   off within forward_point_m of the goal (DWB's rule)
 //   path_dist       distance from the path of the rollout's end
 //   goal_align      distance of the forward point to the local goal (through free cells), or
-//                   near the goal to the end of the carried-on path
+//                   near the goal to the end of the carried-on path; off like path_align
 //   goal_dist       distance to the local goal of the rollout's end (through free cells; at least
 //                   the straight-line distance); unreachable ends are rejected
 //   obstacle        the largest proximity cost along the rollout: exp(-k (d - r_in)) within the
@@ -18,6 +19,10 @@
 //   velocity        1 - speed / max speed: prefers progress
 //   twirling        |wz| / max wz: a holonomic robot should not spin while it translates (holonomic
 //                   robots only)
+//   path_angle      |heading at the rollout's end - the path's direction at the robot| (or the
+//                   goal's heading on the final approach, DwaConfig::holonomic_approach_m): turns
+//                   the body along the path, from rest too, where the alignment critics pull
+//                   both ways
 //   prefer_forward  backwards speed / max speed
 //   oscillation     1 for a sample that reverses an axis (vx, vy or wz) that has already
 //                   reversed since the robot last moved oscillation_reset_m, turned
@@ -113,6 +118,13 @@ class TwirlingCritic final : public DwaCritic {
  public:
   using DwaCritic::DwaCritic;
   std::string_view name() const override { return "twirling"; }
+  double score(const DwaScene& scene, const DwaRollout& rollout) const override;
+};
+
+class PathAngleCritic final : public DwaCritic {
+ public:
+  using DwaCritic::DwaCritic;
+  std::string_view name() const override { return "path_angle"; }
   double score(const DwaScene& scene, const DwaRollout& rollout) const override;
 };
 

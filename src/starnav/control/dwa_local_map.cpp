@@ -47,6 +47,14 @@ void DwaLocalMap::build(const OccupancyGrid& map, const Vec2& centre, double hal
       row[px] = (mx < 0 || mx >= g.width || thresholds.classify(data[g.index(mx, my)]) == CellState::Occupied) ? 1 : 0;
     }
   }
+  row_columns_.clear();
+  row_start_.assign(static_cast<std::size_t>(padded_height_) + 1, 0);
+  for (int py = 0; py < padded_height_; ++py) {
+    const std::uint8_t* row = mask_.data() + static_cast<std::size_t>(py) * static_cast<std::size_t>(padded_width_);
+    for (int px = 0; px < padded_width_; ++px)
+      if (row[px]) row_columns_.push_back(px);
+    row_start_[static_cast<std::size_t>(py) + 1] = row_columns_.size();
+  }
   transform_.compute(mask_, padded_width_, padded_height_, true);
   const std::vector<double>& sq = transform_.squared_cells();
   const std::vector<std::int32_t>& near = transform_.nearest();
@@ -111,50 +119,54 @@ double FootprintModel::inscribed_radius_m() const {
   return circle ? radius_m : std::min(half_length_m, half_width_m);
 }
 
-bool FootprintChecker::holds(const Pose2& pose, const Vec2& heading, const Vec2& point, double grow) const {
-  const Vec2 d = point - pose.translation();
+FootprintChecker::FootprintChecker(const FootprintModel& model, double grow_m)
+    : model_(model), grow_m_(grow_m), bounding_m_(model.bounding_radius_m()) {
   if (model_.circle) {
-    const double r = model_.radius_m + grow;
-    return d.squaredNorm() <= r * r;
-  }
-  const double qx = heading.x() * d.x() + heading.y() * d.y();
-  const double qy = -heading.y() * d.x() + heading.x() * d.y();
-  const double dx = std::max(std::abs(qx) - model_.half_length_m, 0.0);
-  const double dy = std::max(std::abs(qy) - model_.half_width_m, 0.0);
-  return dx * dx + dy * dy <= grow * grow;
-}
-
-FootprintChecker::FootprintChecker(const FootprintModel& model, double grow_m) : model_(model), grow_m_(grow_m) {
-  if (model_.circle) {
-    cover_x_ = {0.0};
+    cover_ = {Vec2::Zero()};
     cover_radius_m_ = model_.radius_m;
     return;
   }
   // k discs centred along the long axis at the middles of k equal slices of the rectangle; more
-  // discs hug it closer but cost a lookup each (two or three for a near-square body).
-  const double hl = std::max(model_.half_length_m, model_.half_width_m);
-  const double hw = std::min(model_.half_length_m, model_.half_width_m);
+  // discs hug it closer but cost a lookup each (three for a near-square body).
+  const bool along_x = model_.half_length_m >= model_.half_width_m;
+  const double hl = along_x ? model_.half_length_m : model_.half_width_m;
+  const double hw = along_x ? model_.half_width_m : model_.half_length_m;
   const int k = std::clamp(static_cast<int>(std::ceil(hl / hw)) + 1, 1, 8);
   const double slice = 2.0 * hl / k;
-  for (int i = 0; i < k; ++i) cover_x_.push_back(-hl + slice * (i + 0.5));
+  for (int i = 0; i < k; ++i) {
+    const double a = -hl + slice * (i + 0.5);
+    cover_.push_back(along_x ? Vec2(a, 0.0) : Vec2(0.0, a));
+  }
   cover_radius_m_ = std::hypot(0.5 * slice, hw);
-  if (model_.half_width_m > model_.half_length_m) cover_x_.assign(1, 0.0), cover_radius_m_ = model_.bounding_radius_m();
 }
 
 FootprintTest FootprintChecker::quick_test(const DwaLocalMap& map, const Pose2& pose, const Vec2& heading,
                                            double extra_m) const {
-  const double grow = grow_m_ + extra_m + map.resolution() * std::sqrt(0.5);
+  const double grow = std::max(0.0, grow_m_ + extra_m + map.resolution() * std::sqrt(0.5));
+  // Every obstacle centre lies at least d - |q - c| from a point q whose cell (centre c) has
+  // clearance d: clear when that exceeds `radius`.
+  const auto clear_within = [&](const Vec2& q, std::size_t i, const Cell& cell, double radius) {
+    const double d = map.clearance_m(i);
+    if (!std::isfinite(d)) return true;
+    const double room = d - radius;
+    return room > 0.0 && (q - map.cell_center(cell.x, cell.y)).squaredNorm() < room * room;
+  };
+  const Cell centre = map.cell_of(pose.translation());
+  if (!map.contains(centre.x, centre.y)) return FootprintTest::Collides;
+  // One lookup settles open space.
+  if (clear_within(pose.translation(), map.index(centre.x, centre.y), centre, bounding_m_ + grow))
+    return FootprintTest::Clear;
   const double c = heading.x(), s = heading.y();
   bool clear = true;
-  for (const double x : cover_x_) {
-    const Vec2 q(pose.x + c * x, pose.y + s * x);
+  for (const Vec2& o : cover_) {
+    const Vec2 q(pose.x + c * o.x() - s * o.y(), pose.y + s * o.x() + c * o.y());
     const Cell cell = map.cell_of(q);
-    if (!map.contains(cell.x, cell.y)) return FootprintTest::Collides;
+    if (!map.contains(cell.x, cell.y)) {
+      clear = false;  // beyond the window's distances: the exact test decides
+      continue;
+    }
     const std::size_t i = map.index(cell.x, cell.y);
-    const double d = map.clearance_m(i);
-    if (!std::isfinite(d)) continue;
-    // Every obstacle centre lies at least d - |q - cell centre| from q.
-    if (d - (q - map.cell_center(cell.x, cell.y)).norm() > cover_radius_m_ + grow) continue;
+    if (clear_within(q, i, cell, cover_radius_m_ + grow)) continue;
     clear = false;
     if (holds(pose, heading, map.nearest_obstacle(i), grow)) return FootprintTest::Collides;
   }
@@ -162,9 +174,9 @@ FootprintTest FootprintChecker::quick_test(const DwaLocalMap& map, const Pose2& 
 }
 
 bool FootprintChecker::exact_test(const DwaLocalMap& map, const Pose2& pose, const Vec2& heading, double extra_m) const {
-  const double grow = grow_m_ + extra_m + map.resolution() * std::sqrt(0.5);
+  const double grow = std::max(0.0, grow_m_ + extra_m + map.resolution() * std::sqrt(0.5));
   bool hit = false;
-  map.for_each_obstacle_near(pose.translation(), model_.bounding_radius_m() + grow,
+  map.for_each_obstacle_near(pose.translation(), bounding_m_ + grow,
                              [&](const Vec2& o) { hit = hit || holds(pose, heading, o, grow); });
   return hit;
 }
@@ -184,7 +196,7 @@ bool FootprintChecker::collides(const DwaLocalMap& map, const Pose2& pose, doubl
 bool FootprintChecker::collides_brute_force(const DwaLocalMap& map, const Pose2& pose, double extra_m) const {
   const Cell c = map.cell_of(pose.translation());
   if (!map.contains(c.x, c.y)) return true;
-  const double grow = grow_m_ + extra_m + map.resolution() * std::sqrt(0.5);
+  const double grow = std::max(0.0, grow_m_ + extra_m + map.resolution() * std::sqrt(0.5));
   const Vec2 heading(std::cos(pose.yaw), std::sin(pose.yaw));
   bool hit = false;
   map.for_each_obstacle_near(pose.translation(), 1e9, [&](const Vec2& o) { hit = hit || holds(pose, heading, o, grow); });

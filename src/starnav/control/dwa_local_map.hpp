@@ -77,6 +77,8 @@ class DwaLocalMap {
   int pad_ = 0;  // cells of padding on every side
   int padded_width_ = 0, padded_height_ = 0;
   std::vector<std::uint8_t> mask_;    // padded window, 1 = obstacle
+  std::vector<std::int32_t> row_columns_;  // padded columns of the obstacle cells, row by row
+  std::vector<std::size_t> row_start_;     // row y's columns: row_columns_[row_start_[y] .. row_start_[y + 1])
   std::vector<double> clearance_;     // window cells
   std::vector<std::int32_t> nearest_;  // window cells: padded index of a nearest obstacle
   DistanceTransform transform_;
@@ -90,13 +92,16 @@ void DwaLocalMap::for_each_obstacle_near(const Vec2& p, double r, F&& f) const {
   const auto clamp_floor = [](double v, int lo, int hi) {
     return static_cast<int>(std::clamp(std::floor(v), static_cast<double>(lo), static_cast<double>(hi)));
   };
-  const int x0 = clamp_floor(lo.x(), -pad_, padded_width_ - pad_ - 1);
-  const int y0 = clamp_floor(lo.y(), -pad_, padded_height_ - pad_ - 1);
-  const int x1 = clamp_floor(hi.x(), -pad_, padded_width_ - pad_ - 1);
-  const int y1 = clamp_floor(hi.y(), -pad_, padded_height_ - pad_ - 1);
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      if (mask_[padded_index(x, y)]) f(cell_center(x, y));
+  const int x0 = clamp_floor(lo.x(), -pad_, padded_width_ - pad_ - 1) + pad_;
+  const int y0 = clamp_floor(lo.y(), -pad_, padded_height_ - pad_ - 1) + pad_;
+  const int x1 = clamp_floor(hi.x(), -pad_, padded_width_ - pad_ - 1) + pad_;
+  const int y1 = clamp_floor(hi.y(), -pad_, padded_height_ - pad_ - 1) + pad_;
+  // Walk the obstacle cells of each row (sorted columns), not every cell of the square.
+  for (int y = y0; y <= y1; ++y) {
+    const auto first = row_columns_.begin() + row_start_[static_cast<std::size_t>(y)];
+    const auto last = row_columns_.begin() + row_start_[static_cast<std::size_t>(y) + 1];
+    for (auto it = std::lower_bound(first, last, x0); it != last && *it <= x1; ++it) f(cell_center(*it - pad_, y - pad_));
+  }
 }
 
 // The robot's outline for collision tests: a circle, or a rectangle centred on base_link. Every
@@ -122,8 +127,9 @@ class FootprintChecker {
   const FootprintModel& model() const { return model_; }
   double grow_m() const { return grow_m_; }
 
-  // True when the footprint at `pose`, grown by grow_m() + `extra_m` + half a cell's diagonal,
-  // holds an obstacle cell centre, or when `pose` lies outside the window. Exact for that rule:
+  // True when the footprint at `pose`, grown by grow_m() + `extra_m` + half a cell's diagonal
+  // (never by less than nothing: `extra_m` may be negative), holds an obstacle cell centre, or when
+  // `pose` lies outside the window. Exact for that rule:
   // quick_test decides most poses, the cells near the outline the rest.
   bool collides(const DwaLocalMap& map, const Pose2& pose, double extra_m = 0.0) const;
   // The distance field's verdict alone: Clear when the discs covering the footprint hold no
@@ -136,11 +142,24 @@ class FootprintChecker {
   bool collides_brute_force(const DwaLocalMap& map, const Pose2& pose, double extra_m = 0.0) const;
 
  private:
-  bool holds(const Pose2& pose, const Vec2& heading, const Vec2& point, double grow) const;
+  // The grown footprint at `pose` (heading = its cos, sin) holds `point`.
+  bool holds(const Pose2& pose, const Vec2& heading, const Vec2& point, double grow) const {
+    const double dx = point.x() - pose.x, dy = point.y() - pose.y;
+    if (model_.circle) {
+      const double r = model_.radius_m + grow;
+      return dx * dx + dy * dy <= r * r;
+    }
+    const double qx = heading.x() * dx + heading.y() * dy;
+    const double qy = -heading.y() * dx + heading.x() * dy;
+    const double ox = std::max(std::abs(qx) - model_.half_length_m, 0.0);
+    const double oy = std::max(std::abs(qy) - model_.half_width_m, 0.0);
+    return ox * ox + oy * oy <= grow * grow;
+  }
 
   FootprintModel model_;
   double grow_m_ = 0.0;
-  std::vector<double> cover_x_;  // base_link x of the covering discs' centres (y = 0)
+  double bounding_m_ = 0.0;  // the model's bounding radius
+  std::vector<Vec2> cover_;      // base_link centres of the covering discs (along the long axis)
   double cover_radius_m_ = 0.0;
 };
 

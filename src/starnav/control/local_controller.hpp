@@ -43,11 +43,15 @@ struct ControlInput {
   double t_s = 0.0;
   Pose2 pose;                               // map frame (from the localizer)
   BodyTwist velocity;                       // current body twist (odometry or estimate)
-  const OccupancyGrid* local_map = nullptr; // obstacles as sensed (inflated for planning); may be null
+  const OccupancyGrid* local_map = nullptr; // obstacles as sensed, not inflated (occupied cells); may be null
   Footprint footprint;
   VelocityLimits limits;
   Vec2 goal = Vec2::Zero();
   std::optional<double> goal_yaw;           // rad (map frame), when the goal has a heading
+  double goal_tolerance_m = 0.05;           // the navigator's goal check: arrived within this distance
+  double goal_yaw_tolerance_rad = 0.05;     // and, with a goal heading, within this angle of it
+  bool goal_xy_reached = false;             // the navigator's goal check has latched the position
+                                            // (reached at low speed): only the heading remains
 };
 
 struct ControlOutput {
@@ -71,6 +75,9 @@ class LocalController {
   // The grid path's vertices this controller wants: true when it cannot turn on the spot and
   // needs line-of-sight smoothed paths instead of 45-degree grid corners.
   virtual bool wants_smoothed_path() const { return false; }
+  // Time between two compute() calls the controller is designed for (its command is held in
+  // between); 0: every simulation step.
+  virtual double control_period_s() const { return 0.0; }
 };
 
 // What a controller is built from: the robot, and the scenario file its settings came from.

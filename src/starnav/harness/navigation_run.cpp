@@ -125,6 +125,38 @@ const ParamTable<NavigationSettings>& navigation_params() {
     t.choice("controller", component_names(Role::LocalController), name_of(&C::controller), get_of(&C::controller),
              "the local controller (registry name)", false);
     t.real("goal_tolerance_m", &C::goal_tolerance_m, positive(), "m", "arrived within this distance of the goal");
+    t.real("goal_yaw_tolerance_deg", &C::goal_yaw_tolerance_rad, open(0.0, 180.0), "deg",
+           "with a goal heading (goal.yaw_deg), arrived within this angle of it too", kPi / 180.0);
+    t.choice("map.prior", {"(none)", "world", "FILE.yaml"}, [](C& c, const std::string& v) { c.prior_map = v; },
+             [](const C& c) { return c.prior_map; },
+             "obstacles known before the run: world (the world's occupancy_map) or a map_server YAML, relative to the "
+             "scenario (2D map mode); empty: none",
+             false);
+    t.boolean("recovery.enabled", [](C& c) -> bool& { return c.recovery.enabled; },
+              "rotate, back up and replan when the controller is blocked or the robot makes no progress");
+    t.real("recovery.blocked_patience_s", [](C& c) -> double& { return c.recovery.blocked_patience_s; }, positive(), "s",
+           "the controller blocked this long starts a recovery (a new plan is asked for at once)");
+    t.real("recovery.stuck_time_s", [](C& c) -> double& { return c.recovery.stuck_time_s; }, positive(), "s",
+           "moving less than stuck_distance_m in this long starts a recovery");
+    t.real("recovery.stuck_distance_m", [](C& c) -> double& { return c.recovery.stuck_distance_m; }, positive(), "m",
+           "progress that resets the stuck timer");
+    t.real("recovery.rotate_deg", [](C& c) -> double& { return c.recovery.rotate_rad; }, open(0.0, 360.0), "deg",
+           "a recovery first turns in place this far (left if clear, else right)", kPi / 180.0);
+    t.real("recovery.rotate_speed_degps", [](C& c) -> double& { return c.recovery.rotate_speed_radps; }, positive(), "deg/s",
+           "turning speed of a recovery", kPi / 180.0);
+    t.real("recovery.backup_m", [](C& c) -> double& { return c.recovery.backup_m; }, open(0.0, 5.0), "m",
+           "then backs up this far (while the footprint stays clear)");
+    t.real("recovery.backup_speed_mps", [](C& c) -> double& { return c.recovery.backup_speed_mps; }, open(0.0, 2.0), "m/s",
+           "backing speed of a recovery");
+    t.integer("recovery.max_recoveries", [](C& c) -> int& { return c.recovery.max_recoveries; }, closed(0, 1000), "",
+              "recoveries per goal before the navigation gives up (no_path, stuck)");
+    t.boolean("bumper.stop", [](C& c) -> bool& { return c.bumper.bumper_stop; },
+              "a bumper contact stops the robot (outranks manual and autonomous commands)");
+    t.real("bumper.resume_delay_s", [](C& c) -> double& { return c.bumper.resume_delay_s; }, closed(0.0, 60.0), "s",
+           "wait this long after a contact ends before moving again");
+    t.real("settle_speed_mps", &C::settle_speed_mps, positive(), "m/s",
+           "an arrival is measured once the robot is this slow (or after settle_max_s)");
+    t.real("settle_max_s", &C::settle_max_s, closed(0.0, 60.0), "s", "longest wait for the robot to come to rest at a goal");
     t.real("map.resolution_m", &C::resolution_m, positive(), "m", "cell size of the navigation map");
     t.choice("map.extent", {"world", "paper"}, name_of(&C::extent), get_of(&C::extent),
              "world: the world's bounds; paper: 1.5 x |goal - start| per axis around their midpoint");
@@ -133,7 +165,8 @@ const ParamTable<NavigationSettings>& navigation_params() {
              "auto: nodes_3d with a 3D LiDAR, lidar_2d with a 2D one");
     t.real("map.barrier_distance_m", [](C& c) -> double& { return c.map.barrier_distance_m; }, non_negative(), "m",
            "obstacle expansion radius");
-    t.default_rule("map.barrier_distance_m", "the body's circumscribed radius");
+    t.default_rule("map.barrier_distance_m",
+                   "the body's circumscribed radius; its inscribed radius with a controller that checks the footprint (dwa)");
     t.real("map.max_step_m", [](C& c) -> double& { return c.map.li.max_step_m; }, positive(), "m",
            "largest height spread of a walkable cell");
     t.default_rule("map.max_step_m", "robot.max_step_m");
@@ -154,8 +187,29 @@ const ParamTable<NavigationSettings>& navigation_params() {
   return table;
 }
 
+namespace {
+
+// The prior map's obstacles on the navigation grid: a navigation cell is an obstacle when the
+// map's cell under its centre is occupied (by the map's own threshold).
+std::vector<std::uint8_t> prior_mask(const std::string& file, const GridGeometry& g) {
+  RosMapMetadata meta;
+  const OccupancyGrid prior = read_ros_map(file, &meta);
+  OccupancyThresholds th;
+  th.occupied_percent = meta.occupied_thresh * 100.0;
+  th.free_percent = meta.free_thresh * 100.0;
+  std::vector<std::uint8_t> mask(g.cell_count(), 0);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const auto c = prior.geometry().world_to_cell(g.cell_center(x, y));
+      if (c && th.classify(prior(c->x, c->y)) == CellState::Occupied) mask[g.index(x, y)] = 1;
+    }
+  return mask;
+}
+
+}  // namespace
+
 NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescription& world,
-                                 const NavigationOptions& options) {
+                                 const NavigationOptions& options, NavigationSettings* settings_out) {
   if (!spec.navigation)
     throw Error("not a navigation scenario (no navigation section)", spec.file, 0, "navigation");
   const ScenarioNavigation& n = *spec.navigation;
@@ -165,8 +219,6 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   // Defaults that come from the robot, then the scenario's settings.
   NavigationSettings s;
   s.map.li.max_step_m = rc.max_step_m;
-  // The robot is a point in the expanded map: the body's circumscribed radius by default.
-  s.map.barrier_distance_m = 0.5 * std::hypot(rc.body_length_m, rc.body_width_m);
   std::vector<ParamSetting> rest = n.settings;
   NavigatorConfig c;
   c.planner = choice_of(rest, "planner", "astar", "navigation", spec);
@@ -193,6 +245,11 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   };
   const ComponentInfo& pinfo = planner_info();
   const ComponentInfo& cinfo = controller_info();
+  // The robot is a point in the expanded map: the body's circumscribed radius by default; a
+  // controller that checks the whole footprint needs only the inscribed radius (the planner then
+  // finds the doors the body fits through sideways or straight).
+  s.map.barrier_distance_m = cinfo.has("checks_footprint") ? 0.5 * std::min(rc.body_length_m, rc.body_width_m)
+                                                           : 0.5 * std::hypot(rc.body_length_m, rc.body_width_m);
   take_section(c.planner, pinfo);
   take_section(c.controller, cinfo);
   // The top-level motion_mode (and --motion-mode) is the path follower's motion_mode.
@@ -235,16 +292,75 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
                                 : (s.map_mode == "lidar_2d" ? NodeMapMode::Lidar2D : NodeMapMode::Nodes3D);
   c.no_return_clear_m = s.no_return_clear_m;
   c.goal_tolerance_m = s.goal_tolerance_m;
+  c.goal_yaw_tolerance_rad = s.goal_yaw_tolerance_rad;
+  c.recovery = s.recovery;
+  if (!s.prior_map.empty()) {
+    const auto at = std::find_if(own.begin(), own.end(), [](const ParamSetting& v) { return v.key == "map.prior"; });
+    const std::string field = at != own.end() ? at->field : "navigation.map.prior";
+    const int line = at != own.end() ? at->line : 0;
+    if (m.mode != NodeMapMode::Lidar2D) throw Error("a prior map needs the 2D map mode (a 2D LiDAR or map.mode lidar_2d)", spec.file, line, field);
+    std::string file;
+    if (s.prior_map == "world") {
+      if (!spec.occupancy_map) throw Error("world: the scenario has no world.occupancy_map", spec.file, line, field);
+      file = spec.occupancy_map->resolved_file;
+    } else {
+      file = (std::filesystem::path(spec.file).parent_path() / s.prior_map).string();
+    }
+    try {
+      c.prior_obstacles = prior_mask(file, c.geometry);
+    } catch (const Error& e) {
+      const std::string what = e.file().empty() ? file + ": " + e.what() : std::string(e.what());
+      throw Error("cannot read the prior map: " + what, spec.file, line, field);
+    }
+  }
   c.compare_astar = options.compare_astar && pinfo.has("incremental");
   try {
     c.validate();
   } catch (const Error& e) {
     rethrow_at_setting(e, own, spec.file);
   }
-  if (!c.geometry.world_to_cell(n.goal)) fail_at(spec, n.goal_source, "the goal lies outside the navigation map");
+  for (const ScenarioGoal& g : n.goals)
+    if (!c.geometry.world_to_cell(g.position)) fail_at(spec, g.source, "the goal lies outside the navigation map");
+  if (settings_out) *settings_out = s;
   if (!c.geometry.world_to_cell(spec.start.translation()))
     fail_at(spec, spec.start_source, "the start lies outside the navigation map");
   return c;
+}
+
+namespace {
+
+// The navigator of a scenario; errors about a goal name the goal's line.
+std::unique_ptr<Navigator> make_navigator(const ScenarioSpec& spec, const NavigatorConfig& config) {
+  const ScenarioGoal& first = spec.navigation->goals.front();
+  std::unique_ptr<Navigator> nav;
+  try {
+    nav = std::make_unique<Navigator>(config, spec.vehicle.robot, first.position, first.yaw_rad);
+    // Every goal's heading must suit the controller, not only the first's.
+    for (const ScenarioGoal& g : spec.navigation->goals)
+      if (g.yaw_rad && !first.yaw_rad) Navigator(config, spec.vehicle.robot, g.position, g.yaw_rad);
+  } catch (const Error& e) {
+    if (e.file().empty() && e.field().rfind("navigation.goal", 0) == 0)
+      throw Error(e.message(), spec.file, first.source.line, first.source.field + e.field().substr(15));
+    throw;
+  }
+  return nav;
+}
+
+}  // namespace
+
+LidarScan scan_placed_at(const LidarScan& scan, const Pose2& truth, const Pose2& estimate) {
+  // The rigid motion taking the true pose to the estimate, applied to everything world-framed.
+  const double dyaw = wrap_angle(estimate.yaw - truth.yaw);
+  const double c = std::cos(dyaw), s = std::sin(dyaw);
+  const auto place = [&](const Vec3& p) {
+    const double dx = p.x() - truth.x, dy = p.y() - truth.y;
+    return Vec3(estimate.x + c * dx - s * dy, estimate.y + s * dx + c * dy, p.z());
+  };
+  LidarScan out = scan;
+  for (Vec3& p : out.points_world) p = place(p);
+  out.sensor_pose.position = place(scan.sensor_pose.position);
+  out.sensor_pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(dyaw, Vec3::UnitZ())) * scan.sensor_pose.orientation;
+  return out;
 }
 
 void check_navigation_scenario(const ScenarioSpec& spec) {
@@ -252,7 +368,7 @@ void check_navigation_scenario(const ScenarioSpec& spec) {
   WorldDescription empty;
   const NavigatorConfig c = navigator_config(spec, empty, {});
   // Building the components validates their parameters (and the motion mode against the drive).
-  Navigator(c, spec.vehicle.robot, spec.navigation->goal);
+  make_navigator(spec, c);
   const LocalizationConfig l = localization_config(spec);
   const LocalizerContext ctx = localizer_context(spec);
   // Without its map (not loaded here) a map-based localizer still checks its parameters.
@@ -266,17 +382,25 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   if (!spec_.navigation)
     throw Error("not a navigation scenario (no navigation section)", spec_.file, 0, "navigation");
   const WorldDescription world = build_world(spec_);
-  const NavigatorConfig config = navigator_config(spec_, world, options_);
+  const NavigatorConfig config = navigator_config(spec_, world, options_, &settings_);
   localization_ = localization_config(spec_);
   sim_ = std::make_unique<Simulation>(spec_, world);
-  nav_ = std::make_unique<Navigator>(config, spec_.vehicle.robot, spec_.navigation->goal);
+  nav_ = make_navigator(spec_, config);
+  CommandArbiterConfig arbiter = settings_.bumper;
+  arbiter.bumper_stop = arbiter.bumper_stop && spec_.bumper;
+  arbiter_ = std::make_unique<CommandArbiter>(arbiter, spec_.navigation->manual);
   // The pose the navigator uses: the localizer's, after it has seen the truth (simulation only).
   const auto localized = [this](double t) { return chain_->pose(t); };
 
-  sim_->on_scan = [this, localized](const LidarScan& scan) {
+  sim_->on_scan = [this, localized](const LidarScan& truth_scan) {
     const Pose3 pose3 = sim_->vehicle().state().pose;
     const double t = sim_->time();
     const Pose2 pose = localized(t);
+    // The robot places its returns with the pose it believes, not the truth.
+    const Pose2 truth = pose3.to_pose2();
+    std::optional<LidarScan> placed;
+    if (pose.x != truth.x || pose.y != truth.y || pose.yaw != truth.yaw) placed = scan_placed_at(truth_scan, truth, pose);
+    const LidarScan& scan = placed ? *placed : truth_scan;
     NavCycle cycle = nav_->on_scan(scan, pose, t);
     if (options_.record_steps) {
       NavStepRecord r;
@@ -312,18 +436,64 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
     }
     if (nav_->status() == NavStatus::NoPath) sim_->stop();
   };
-  sim_->command_source = [this, localized](double t) {
+  // Several goals, laps or a goal heading: each arrival is measured once the robot is at rest.
+  const ScenarioNavigation& n = *spec_.navigation;
+  const bool measured = n.goals.size() > 1 || n.laps > 1 ||
+                        std::any_of(n.goals.begin(), n.goals.end(), [](const ScenarioGoal& g) { return g.yaw_rad.has_value(); });
+  const std::size_t total = n.goals.size() * static_cast<std::size_t>(n.laps);
+  sim_->command_source = [this, localized, measured, total](double t) {
     const Pose2 pose = localized(t);
-    const BodyTwist cmd = nav_->command(pose, t, sim_->vehicle().state().twist);
-    if (nav_->status() == NavStatus::Arrived || nav_->status() == NavStatus::NoPath) {
+    const VehicleState& state = sim_->vehicle().state();
+    if (settling_) {
+      NavArrival& a = arrivals_.back();
+      const bool at_rest = std::hypot(state.twist.vx, state.twist.vy) <= settings_.settle_speed_mps &&
+                           std::abs(state.twist.wz) <= 10.0 * settings_.settle_speed_mps;
+      if (!at_rest && t - a.t_s < settings_.settle_max_s) return BodyTwist{};
+      settling_ = false;
+      a.settled_t_s = t;
+      a.truth = state.pose.to_pose2();
+      a.estimate = pose;
+      if (++goal_index_ >= total) {
+        sim_->stop();
+        return BodyTwist{};
+      }
+      const ScenarioGoal& g = spec_.navigation->goals[goal_index_ % spec_.navigation->goals.size()];
+      nav_->set_goal(g.position, g.yaw_rad);
+      return BodyTwist{};
+    }
+    const CommandArbiter::Decision d = arbiter_->decide(t, sim_->vehicle().bumper_contact());
+    if (d.source != CommandSource::Autonomous) {
+      nav_->hold(t);
+      return d.twist;
+    }
+    const BodyTwist cmd = nav_->command(pose, t, state.twist);
+    if (nav_->status() == NavStatus::Arrived) {
+      const ScenarioGoal& g = spec_.navigation->goals[goal_index_ % spec_.navigation->goals.size()];
+      NavArrival a;
+      a.goal = static_cast<int>(goal_index_ % spec_.navigation->goals.size());
+      a.lap = static_cast<int>(goal_index_ / spec_.navigation->goals.size());
+      a.t_s = a.settled_t_s = t;
+      a.goal_pose = Pose2(g.position.x(), g.position.y(), g.yaw_rad.value_or(0.0));
+      a.has_yaw = g.yaw_rad.has_value();
+      a.truth = state.pose.to_pose2();
+      a.estimate = pose;
+      arrivals_.push_back(a);
+      if (measured) {
+        settling_ = true;
+        return BodyTwist{};
+      }
+      sim_->stop();
+      return BodyTwist{};
+    }
+    if (nav_->status() == NavStatus::NoPath) {
       sim_->stop();
       return BodyTwist{};
     }
     if (nav_->status() == NavStatus::Navigating && nav_->controller().has_path()) {
       // Deviation of the robot itself (ground truth) from the path it follows.
-      const double d = nav_->distance_to_path(sim_->vehicle().state().pose.to_pose2().translation());
-      deviation_sum_ += d;
-      deviation_max_ = std::max(deviation_max_, d);
+      const double dev = nav_->distance_to_path(state.pose.to_pose2().translation());
+      deviation_sum_ += dev;
+      deviation_max_ = std::max(deviation_max_, dev);
       ++deviation_n_;
     }
     return cmd;
@@ -335,6 +505,8 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
 
 NavigationRun::~NavigationRun() = default;
 
+double NavArrival::error_yaw_rad() const { return has_yaw ? wrap_angle(truth.yaw - goal_pose.yaw) : 0.0; }
+
 void NavigationRun::run(const std::function<void(double)>& progress) {
   const auto t0 = Clock::now();
   sim_->run(progress);
@@ -345,10 +517,17 @@ NavigationMetrics NavigationRun::metrics() const {
   NavigationMetrics m;
   const SimulationMetrics s = sim_->metrics();
   const Navigator& nav = *nav_;
-  m.success = nav.status() == NavStatus::Arrived;
+  const ScenarioNavigation& n = *spec_.navigation;
+  m.goals_total = static_cast<int>(n.goals.size()) * n.laps;
+  m.arrivals = static_cast<int>(arrivals_.size());
+  m.success = m.arrivals == m.goals_total && !settling_;
   m.outcome = m.success ? "arrived" : nav.status() == NavStatus::NoPath ? "no_path" : "timeout";
+  for (const NavEvent& e : nav.events())
+    if (e.kind == "recovery" && (e.detail == "controller_blocked" || e.detail == "no_progress")) ++m.recoveries;
+  for (const ArbiterEvent& e : arbiter_->events())
+    if (e.kind == "bumper_stop") ++m.bumper_stops;
   m.reason = nav.no_path_reason();
-  m.time_to_goal_s = m.success ? nav.arrival_time_s() : -1.0;
+  m.time_to_goal_s = m.success ? arrivals_.back().t_s : -1.0;
   m.duration_s = s.duration_s;
   m.distance_m = s.distance_m;
   m.plans = static_cast<int>(nav.plans().size());
@@ -407,6 +586,13 @@ std::string navigation_metrics_json(const NavigationRun& run) {
     j["costs_match_astar"] = m.costs_match;
   }
   j["collisions"] = m.collisions;
+  // Only where they say something, so the records of the paper's single-goal runs keep their bytes.
+  if (m.goals_total > 1 || (!run.arrivals().empty() && run.arrivals().front().has_yaw)) {
+    j["goals_total"] = m.goals_total;
+    j["arrivals"] = m.arrivals;
+  }
+  if (m.recoveries > 0) j["recoveries"] = m.recoveries;
+  if (m.bumper_stops > 0) j["bumper_stops"] = m.bumper_stops;
   j["deviation_mean_m"] = m.deviation_mean_m;
   j["deviation_max_m"] = m.deviation_max_m;
   const Navigator& nav = run.navigator();
@@ -428,6 +614,32 @@ std::string paths_csv(const NavigationRun& run) {
 }
 
 namespace {
+
+std::string arrivals_csv(const NavigationRun& run) {
+  std::string out =
+      "goal,lap,t_s,settled_t_s,goal_x_m,goal_y_m,goal_yaw_deg,x_m,y_m,yaw_deg,est_x_m,est_y_m,est_yaw_deg,error_x_m,error_y_m,"
+      "error_yaw_deg\n";
+  for (const NavArrival& a : run.arrivals()) {
+    const auto deg = [](double r) { return format_fixed6(rad_to_deg(r)); };
+    out += std::to_string(a.goal) + ',' + std::to_string(a.lap) + ',' + format_fixed6(a.t_s) + ',' + format_fixed6(a.settled_t_s) +
+           ',' + format_fixed6(a.goal_pose.x) + ',' + format_fixed6(a.goal_pose.y) + ',' + (a.has_yaw ? deg(a.goal_pose.yaw) : "") +
+           ',' + format_fixed6(a.truth.x) + ',' + format_fixed6(a.truth.y) + ',' + deg(a.truth.yaw) + ',' +
+           format_fixed6(a.estimate.x) + ',' + format_fixed6(a.estimate.y) + ',' + deg(a.estimate.yaw) + ',' +
+           format_fixed6(a.error_x_m()) + ',' + format_fixed6(a.error_y_m()) + ',' + (a.has_yaw ? deg(a.error_yaw_rad()) : "") + '\n';
+  }
+  return out;
+}
+
+// The navigator's events and the command sources' changes, in time order.
+std::string nav_events_csv(const NavigationRun& run) {
+  std::vector<std::pair<double, std::string>> rows;
+  for (const NavEvent& e : run.navigator().events()) rows.emplace_back(e.t_s, e.kind + ',' + e.detail);
+  for (const ArbiterEvent& e : run.arbiter().events()) rows.emplace_back(e.t_s, "command_source," + e.kind);
+  std::stable_sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::string out = "t_s,kind,detail\n";
+  for (const auto& [t, rest] : rows) out += format_fixed6(t) + ',' + rest + '\n';
+  return out;
+}
 
 std::string replans_csv(const NavigationRun& run) {
   const bool compare = run.navigator().config().compare_astar;
@@ -488,6 +700,11 @@ void write_navigation_records(const NavigationRun& run, const std::string& dir) 
   write_file_bytes((d / "replans.csv").string(), replans_csv(run));
   if (run.spec().localization) write_file_bytes((d / "estimate.csv").string(), estimate_csv(run.localization_chain().records()));
   if (run.options().record_steps) write_file_bytes((d / "steps.jsonl").string(), steps_jsonl(run));
+  const ScenarioNavigation& n = *run.spec().navigation;
+  if (n.goals.size() > 1 || n.laps > 1 || std::any_of(n.goals.begin(), n.goals.end(), [](const ScenarioGoal& g) { return g.yaw_rad.has_value(); }))
+    write_file_bytes((d / "arrivals.csv").string(), arrivals_csv(run));
+  if (!run.navigator().events().empty() || !run.arbiter().events().empty())
+    write_file_bytes((d / "nav_events.csv").string(), nav_events_csv(run));
   write_ros_map(run.navigator().map().occupancy(), (d / "map.yaml").string());
 
   const SimulationMetrics s = run.simulation().metrics();

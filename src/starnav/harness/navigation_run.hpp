@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "starnav/harness/command_arbiter.hpp"
 #include "starnav/harness/localization_chain.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/sim/scenario.hpp"
@@ -40,6 +41,12 @@ struct NavigationSettings {
   std::string planner = "astar";
   std::string controller = "path_follower";
   double goal_tolerance_m = 0.15;
+  double goal_yaw_tolerance_rad = 0.08726646259971647;
+  std::string prior_map;   // "" none, "world" (world.occupancy_map), or a map_server YAML (relative to the scenario)
+  RecoveryConfig recovery;
+  CommandArbiterConfig bumper;
+  double settle_speed_mps = 0.01;  // an arrival is measured once the robot is this slow (or after settle_max_s)
+  double settle_max_s = 3.0;
   double resolution_m = 0.1;
   std::string extent = "world";
   double paper_min_size_m = 4.0;
@@ -55,10 +62,15 @@ void check_navigation_scenario(const ScenarioSpec& spec);
 
 // The navigator's configuration for a scenario: the map grid (world bounds or the paper's
 // extent), node-map parameters (defaults from the robot: max_step from robot.max_step_m,
-// barrier distance = the body's circumscribed radius), planner, follower. Errors name the
-// scenario file, line and field.
+// barrier distance = the body's circumscribed radius, or its inscribed radius for a controller
+// that checks the whole footprint), the prior map, planner, controller. Errors name the scenario
+// file, line and field. `settings`, when given, receives the navigation section's own settings.
 NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescription& world,
-                                 const NavigationOptions& options = {});
+                                 const NavigationOptions& options = {}, NavigationSettings* settings = nullptr);
+
+// `scan` (taken at the true pose `truth`) with its world-framed points and sensor pose placed as
+// a robot that believes it is at `estimate` places them.
+LidarScan scan_placed_at(const LidarScan& scan, const Pose2& truth, const Pose2& estimate);
 
 // One sensor cycle as recorded for steps.jsonl.
 struct NavStepRecord {
@@ -69,6 +81,20 @@ struct NavStepRecord {
   std::vector<std::pair<Cell, std::int8_t>> changed;  // occupancy changes: cell, new value
   int path_id = 0;                                // current plan (0: none)
   bool new_path = false;                          // planned in this cycle
+};
+
+// One arrival at a goal: the true pose once the robot has come to rest there.
+struct NavArrival {
+  int goal = 0;            // index into the scenario's goals
+  int lap = 0;             // 0-based
+  double t_s = 0.0;        // when the navigator declared it (within the goal tolerances)
+  double settled_t_s = 0.0;
+  Pose2 goal_pose;         // yaw 0 when the goal has no heading
+  bool has_yaw = false;
+  Pose2 truth, estimate;   // at settled_t_s
+  double error_x_m() const { return truth.x - goal_pose.x; }
+  double error_y_m() const { return truth.y - goal_pose.y; }
+  double error_yaw_rad() const;
 };
 
 struct NavigationMetrics {
@@ -89,6 +115,10 @@ struct NavigationMetrics {
   double deviation_mean_m = 0.0, deviation_max_m = 0.0;  // robot to the path it was following, every step
   double goal_distance_m = 0.0;  // at the end
   std::string planner, controller, motion_mode;
+  int goals_total = 1;          // goals x laps
+  int arrivals = 0;
+  int recoveries = 0;
+  int bumper_stops = 0;
 };
 
 class NavigationRun {
@@ -113,6 +143,8 @@ class NavigationRun {
   // Wheel odometry from the encoder hook (odometry: wheel or ekf), else null.
   const WheelOdometry* odometry() const { return chain_->odometry(); }
   const std::vector<NavStepRecord>& steps() const { return steps_; }
+  const std::vector<NavArrival>& arrivals() const { return arrivals_; }
+  const CommandArbiter& arbiter() const { return *arbiter_; }
   NavigationMetrics metrics() const;
   double setup_s() const { return setup_s_; }
   double wall_s() const { return wall_s_; }
@@ -125,6 +157,11 @@ class NavigationRun {
   LocalizationConfig localization_;
   std::unique_ptr<LocalizationChain> chain_;
   std::vector<NavStepRecord> steps_;
+  std::unique_ptr<CommandArbiter> arbiter_;
+  NavigationSettings settings_;
+  std::vector<NavArrival> arrivals_;
+  std::size_t goal_index_ = 0;  // into the flattened goals x laps
+  bool settling_ = false;
   double deviation_sum_ = 0.0, deviation_max_ = 0.0;
   std::int64_t deviation_n_ = 0;
   double setup_s_ = 0.0, wall_s_ = 0.0;
@@ -136,6 +173,9 @@ class NavigationRun {
 //                 astar_backward_expanded,astar_backward_cost_m]
 //   steps.jsonl   one object per sensor cycle (docs/navigation.md)
 //   estimate.csv  the localization chain's estimate beside the truth (scenarios with a localization section)
+//   arrivals.csv  goal,lap,t_s,settled_t_s,goal_x_m,goal_y_m,goal_yaw_deg,x_m,y_m,yaw_deg,est_x_m,est_y_m,
+//                 est_yaw_deg,error_x_m,error_y_m,error_yaw_deg   (scenarios with several goals, laps or a heading)
+//   nav_events.csv  t_s,kind,detail: recoveries, bumper stops, manual commands (when there are any)
 //   map.yaml + map.pgm   the final occupancy (ROS map_server; unknown -1)
 //   metrics.json  NavigationMetrics plus the simulator's metrics under "sim"
 //   timing.json   wall-clock figures incl. real_time_factor and each plan's search time

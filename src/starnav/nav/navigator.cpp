@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "starnav/control/dwa_local_map.hpp"
+#include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/planar_motion.hpp"
 #include "starnav/core/polyline.hpp"
 #include "starnav/plan/grid_graph.hpp"
 #include "starnav/plan/path_smoothing.hpp"
@@ -21,6 +24,20 @@ const char* nav_status_name(NavStatus s) {
   return "unknown";
 }
 
+void RecoveryConfig::validate() const {
+  const auto positive_finite = [](double v, const char* field) {
+    if (!(v > 0.0) || !std::isfinite(v)) throw Error("must be > 0", "", 0, field);
+  };
+  positive_finite(blocked_patience_s, "recovery.blocked_patience_s");
+  positive_finite(stuck_time_s, "recovery.stuck_time_s");
+  positive_finite(stuck_distance_m, "recovery.stuck_distance_m");
+  positive_finite(rotate_rad, "recovery.rotate_deg");
+  positive_finite(rotate_speed_radps, "recovery.rotate_speed_degps");
+  positive_finite(backup_m, "recovery.backup_m");
+  positive_finite(backup_speed_mps, "recovery.backup_speed_mps");
+  if (max_recoveries < 0 || max_recoveries > 1000) throw Error("must be in [0, 1000]", "", 0, "recovery.max_recoveries");
+}
+
 void NavigatorConfig::validate() const {
   if (geometry.width <= 0 || geometry.height <= 0 || !(geometry.resolution > 0.0) || geometry.y_down)
     throw Error("the map grid must have a positive size and resolution, rows bottom-up", "", 0, "navigation.map");
@@ -29,6 +46,11 @@ void NavigatorConfig::validate() const {
     throw Error("must be > 0", "", 0, "navigation.goal_tolerance_m");
   if (!(no_return_clear_m >= 0.0) || !std::isfinite(no_return_clear_m))
     throw Error("must be >= 0", "", 0, "navigation.map.no_return_clear_m");
+  if (!(goal_yaw_tolerance_rad > 0.0) || !(goal_yaw_tolerance_rad <= kPi))
+    throw Error("must be in (0, 180] deg", "", 0, "navigation.goal_yaw_tolerance_deg");
+  recovery.validate();
+  if (!prior_obstacles.empty() && prior_obstacles.size() != geometry.cell_count())
+    throw Error("the prior map does not cover the navigation grid", "", 0, "navigation.map.prior");
 }
 
 namespace {
@@ -71,7 +93,8 @@ namespace {
 
 }  // namespace
 
-Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal)
+Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal,
+                     std::optional<double> goal_yaw)
     : config_(config),
       goal_(goal),
       map_((config.validate(), config.geometry), config.map),
@@ -106,9 +129,33 @@ Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, co
   controller_ = controller->make({robot, cc.file}, cc.settings);
   if (incremental_) pending_mark_.assign(config_.geometry.cell_count(), 0);
 
-  const auto g = config_.geometry.world_to_cell(goal_);
+  if (!config_.prior_obstacles.empty()) map_.set_static_obstacles(config_.prior_obstacles);
+  set_goal(goal, goal_yaw);
+}
+
+void Navigator::set_goal(const Vec2& goal, std::optional<double> goal_yaw) {
+  if (goal_yaw && !std::isfinite(*goal_yaw)) throw Error("the goal heading is not finite", "", 0, "navigation.goal.yaw_deg");
+  if (goal_yaw && !find_local_controller(controller_name_).info.has("goal_heading"))
+    throw Error("the " + controller_name_ + " controller cannot turn to a goal heading (give the goal without yaw_deg)", "", 0,
+                "navigation.goal.yaw_deg");
+  const auto g = config_.geometry.world_to_cell(goal);
   if (!g) throw Error("the goal lies outside the navigation map", "", 0, "navigation.goal");
+  goal_ = goal;
+  goal_yaw_ = goal_yaw;
+  goal_xy_reached_ = false;
   goal_cell_ = *g;
+  status_ = NavStatus::Waiting;
+  no_path_reason_.clear();
+  arrival_t_ = -1.0;
+  replan_cause_.clear();
+  controller_->clear();
+  progress_ = 0;
+  held_ = {};
+  next_control_t_ = -1.0;
+  action_ = RecoveryAction::None;
+  blocked_since_ = -1.0;
+  progress_t_ = -1.0;
+  recoveries_ = 0;
 }
 
 Navigator::~Navigator() = default;
@@ -144,7 +191,7 @@ NavCycle Navigator::after_update(NodeMapUpdate update, const Pose2& pose, double
   } else {
     advance_progress(pose.translation());
     if (remaining_path_blocked()) cause = "blocked";
-    else if (replan_missed_) cause = "missed";
+    else if (!replan_cause_.empty()) cause = replan_cause_;
   }
   if (!cause.empty()) {
     plan(pose, t, cause);
@@ -213,7 +260,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   p.t_s = t;
   p.cause = cause;
   p.from = pose;
-  replan_missed_ = false;
+  replan_cause_.clear();
 
   const auto fail = [&](const std::string& status, const std::string& reason) {
     p.status = status;
@@ -289,27 +336,134 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
 
 BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& velocity) {
   if (status_ != NavStatus::Navigating) return {};
-  if ((pose.translation() - goal_).norm() <= config_.goal_tolerance_m) {
+  const bool heading_ok = !goal_yaw_ || std::abs(wrap_angle(*goal_yaw_ - pose.yaw)) <= config_.goal_yaw_tolerance_rad;
+  // Without a heading the position is the goal. With one, the position latches once the robot is
+  // slow there (passing through is not reaching), and then only the heading is left.
+  const bool within = (pose.translation() - goal_).norm() <= config_.goal_tolerance_m;
+  if (within && (!goal_yaw_ || std::hypot(velocity.vx, velocity.vy) <= 0.05)) goal_xy_reached_ = true;
+  if (goal_xy_reached_ && heading_ok) {
     status_ = NavStatus::Arrived;
     arrival_t_ = t;
     controller_->clear();
+    action_ = RecoveryAction::None;
     return {};
   }
+  if (const std::optional<BodyTwist> r = recovery_twist(pose, t)) return *r;
+  if (status_ != NavStatus::Navigating) return {};
+  // Progress: a robot that has not moved for stuck_time_s recovers.
+  if (progress_t_ < 0.0 || (pose.translation() - progress_pose_.translation()).norm() >= config_.recovery.stuck_distance_m) {
+    progress_pose_ = pose;
+    progress_t_ = t;
+  } else if (config_.recovery.enabled && t - progress_t_ >= config_.recovery.stuck_time_s) {
+    progress_t_ = t;
+    if (!start_recovery(pose, t, "no_progress")) return {};
+    if (const std::optional<BodyTwist> r = recovery_twist(pose, t)) return *r;
+  }
+  const double period = controller_->control_period_s();
+  if (period > 0.0 && t < next_control_t_ - 1e-9) return held_;
   ControlInput in;
   in.t_s = t;
   in.pose = pose;
   in.velocity = velocity;
-  in.local_map = &map_.occupancy();
+  in.local_map = &map_.raw_occupancy();
   in.footprint = footprint_;
   in.limits = limits_;
   in.goal = goal_;
+  in.goal_yaw = goal_yaw_;
+  in.goal_tolerance_m = config_.goal_tolerance_m;
+  in.goal_yaw_tolerance_rad = config_.goal_yaw_tolerance_rad;
+  in.goal_xy_reached = goal_xy_reached_;
   const ControlOutput out = controller_->compute(in);
+  control_status_ = out.status;
+  next_control_t_ = t + period;
+  held_ = {};
   if (out.status == ControlStatus::Arrived || out.status == ControlStatus::CannotReach) {
     // The controller ended its path outside the goal tolerance: plan again at the next cycle.
-    replan_missed_ = true;
+    replan_cause_ = "missed";
     return {};
   }
+  if (out.status == ControlStatus::Blocked) {
+    if (blocked_since_ < 0.0) {
+      blocked_since_ = t;
+      replan_cause_ = "controller_blocked";  // perhaps the path runs into something new
+    } else if (config_.recovery.enabled && t - blocked_since_ >= config_.recovery.blocked_patience_s) {
+      blocked_since_ = -1.0;
+      if (!start_recovery(pose, t, "controller_blocked")) return {};
+      if (const std::optional<BodyTwist> r = recovery_twist(pose, t)) return *r;
+    }
+    return {};
+  }
+  blocked_since_ = -1.0;
+  held_ = out.twist;
   return out.twist;
+}
+
+void Navigator::hold(double t) {
+  progress_t_ = t;
+  blocked_since_ = -1.0;
+  next_control_t_ = -1.0;
+  held_ = {};
+}
+
+bool Navigator::start_recovery(const Pose2& pose, double t, const std::string& why) {
+  if (recoveries_ >= config_.recovery.max_recoveries) {
+    events_.push_back({t, "stuck", why});
+    status_ = NavStatus::NoPath;
+    no_path_reason_ = "stuck: " + std::to_string(recoveries_) + " recoveries did not free the robot (" + why + ")";
+    controller_->clear();
+    action_ = RecoveryAction::None;
+    return false;
+  }
+  ++recoveries_;
+  events_.push_back({t, "recovery", why});
+  goal_xy_reached_ = false;  // the recovery moves the robot: the goal must be reached again
+  action_ = RecoveryAction::Rotate;
+  action_end_t_ = t + config_.recovery.rotate_rad / config_.recovery.rotate_speed_radps;
+  // Turn the way that is clear (left first).
+  action_sign_ = motion_clear(pose, {0.0, 0.0, config_.recovery.rotate_speed_radps}, action_end_t_ - t) ? 1.0 : -1.0;
+  return true;
+}
+
+bool Navigator::motion_clear(const Pose2& pose, const BodyTwist& twist, double duration_s) const {
+  FootprintModel fm;
+  fm.circle = false;
+  fm.half_length_m = 0.5 * footprint_.length_m;
+  fm.half_width_m = 0.5 * footprint_.width_m;
+  const FootprintChecker checker(fm, 0.0);
+  DwaLocalMap local;
+  const double reach = fm.bounding_radius_m() + std::hypot(twist.vx, twist.vy) * duration_s + 0.5;
+  local.build(map_.raw_occupancy(), pose.translation(), reach, fm.bounding_radius_m() + 0.2);
+  const double step = 0.05;
+  for (double s = step; s <= duration_s + 1e-9; s += step)
+    if (checker.collides(local, advance_on_arc(pose, twist.vx, twist.vy, twist.wz, s))) return false;
+  return true;
+}
+
+std::optional<BodyTwist> Navigator::recovery_twist(const Pose2& pose, double t) {
+  const RecoveryConfig& r = config_.recovery;
+  for (;;) {
+    switch (action_) {
+      case RecoveryAction::None: return std::nullopt;
+      case RecoveryAction::Rotate: {
+        const BodyTwist w{0.0, 0.0, action_sign_ * r.rotate_speed_radps};
+        if (t < action_end_t_ && motion_clear(pose, w, 0.5)) return w;
+        events_.push_back({t, "recovery", "back_up"});
+        action_ = RecoveryAction::BackUp;
+        action_end_t_ = t + r.backup_m / r.backup_speed_mps;
+        break;
+      }
+      case RecoveryAction::BackUp: {
+        const BodyTwist b{-r.backup_speed_mps, 0.0, 0.0};
+        if (t < action_end_t_ && motion_clear(pose, b, 0.5)) return b;
+        events_.push_back({t, "recovery", "replan"});
+        action_ = RecoveryAction::None;
+        replan_cause_ = "recovery";
+        progress_t_ = -1.0;
+        next_control_t_ = -1.0;
+        return BodyTwist{};
+      }
+    }
+  }
 }
 
 }  // namespace starnav

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,14 +41,33 @@
 
 namespace starnav {
 
+// What the navigator does when the controller cannot go on (status Blocked for a while) or the
+// robot makes no progress: ask for a new plan, turn in place, back up, plan again; each motion
+// only while the robot's footprint stays clear of the obstacles it knows.
+struct RecoveryConfig {
+  bool enabled = true;
+  double blocked_patience_s = 1.0;  // Blocked this long (a new plan asked for at once) starts a recovery
+  double stuck_time_s = 15.0;       // or moving less than stuck_distance_m in this long
+  double stuck_distance_m = 0.1;
+  double rotate_rad = 1.5707963267948966;
+  double rotate_speed_radps = 0.5;
+  double backup_m = 0.25;
+  double backup_speed_mps = 0.1;
+  int max_recoveries = 8;           // per goal; then the navigation gives up (status NoPath)
+  void validate() const;            // Error naming the field (prefix "recovery.")
+};
+
 struct NavigatorConfig {
   GridGeometry geometry;  // the map's grid (world-aligned, y up)
   NodeMapParams map;
+  std::vector<std::uint8_t> prior_obstacles;  // obstacles known before the run (2D map mode), empty: none
   ComponentChoice planner{"astar", {}, "navigation.planner", 0, {}};              // a global planner on occupancy grids
   ComponentChoice controller{"path_follower", {}, "navigation.controller", 0, {}};  // a local controller
   bool compare_astar = false;     // incremental planners: also A* from scratch at every plan
   double goal_tolerance_m = 0.15;
-  double no_return_clear_m = 0.0; // see NodeHeightMap::integrate(const LidarScan&, double)
+  double goal_yaw_tolerance_rad = 0.08726646259971647;  // 5 deg: with a goal heading, arrived within it
+  double no_return_clear_m = 0.0;
+  RecoveryConfig recovery; // see NodeHeightMap::integrate(const LidarScan&, double)
   std::vector<std::string> warnings;  // from whoever built the configuration; Navigator::warnings() repeats them
   void validate() const;  // Error naming the field
 };
@@ -59,7 +79,7 @@ const char* nav_status_name(NavStatus s);  // "waiting", "navigating", "arrived"
 struct NavPlan {
   int id = 0;                  // 1-based
   double t_s = 0.0;
-  std::string cause;           // initial | blocked | missed
+  std::string cause;           // initial | blocked | missed | controller_blocked | recovery
   std::string status;          // plan_status_reason of the search ("found", "no_path", ...)
   std::uint64_t expanded = 0;  // the planner's search (D* Lite: the repair)
   double cost_m = 0.0;         // path cost on the grid, metres (escape prefix excluded)
@@ -79,6 +99,13 @@ struct NavPlan {
   std::vector<Vec2> points;         // what the follower got: robot position, turning points, goal
 };
 
+// Something the navigator did besides planning (recoveries, giving up).
+struct NavEvent {
+  double t_s = 0.0;
+  std::string kind;    // recovery, stuck
+  std::string detail;  // controller_blocked | no_progress; rotate | back_up | replan
+};
+
 // What one sensor cycle did.
 struct NavCycle {
   double t_s = 0.0;
@@ -91,8 +118,12 @@ class Navigator {
  public:
   // Builds the planner and the controller from the registry. Throws Error naming the field for
   // bad configurations, unknown components or parameters, a planner that needs an elevation map,
-  // a goal outside the map, or a motion mode the robot cannot do.
-  Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal);
+  // a goal outside the map, a goal heading the controller cannot turn to, or a motion mode the
+  // robot cannot do.
+  Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal,
+            std::optional<double> goal_yaw = std::nullopt);
+  // A new goal: navigation starts again (status Waiting; the next cycle plans, cause "initial").
+  void set_goal(const Vec2& goal, std::optional<double> goal_yaw = std::nullopt);
   ~Navigator();
   Navigator(const Navigator&) = delete;
   Navigator& operator=(const Navigator&) = delete;
@@ -104,8 +135,14 @@ class Navigator {
   NavCycle on_scan(const LidarScan& scan, const Pose2& pose, double t);
   // The same with a scan given as sensor origin and world points (tests, other sensors).
   NavCycle on_points(const Vec3& sensor_origin, std::span<const Vec3> points, const Pose2& pose, double t);
-  // One control step at the localizer's pose, with the robot's current body twist.
+  // One control step at the localizer's pose, with the robot's current body twist. A controller
+  // with a control period is asked at that period; its command is held in between. Arrived when
+  // within goal_tolerance_m of the goal and, with a goal heading, within goal_yaw_tolerance_rad;
+  // the position, once reached, stays reached while the robot turns (a latching goal check).
   BodyTwist command(const Pose2& pose, double t, const BodyTwist& velocity = {});
+  // Another source commands the robot at t (a manual command, a bumper stop): the navigator's
+  // timers (progress, blocked) restart and its next command() asks the controller afresh.
+  void hold(double t);
 
   NavStatus status() const { return status_; }
   const std::string& no_path_reason() const { return no_path_reason_; }
@@ -120,6 +157,10 @@ class Navigator {
   // What the registry said about deprecated names (empty when none were used).
   const std::vector<std::string>& warnings() const { return warnings_; }
   const Vec2& goal() const { return goal_; }
+  const std::optional<double>& goal_yaw() const { return goal_yaw_; }
+  const std::vector<NavEvent>& events() const { return events_; }
+  // The controller's status at its last compute().
+  ControlStatus control_status() const { return control_status_; }
   const std::vector<NavPlan>& plans() const { return plans_; }
   // The index of the remaining path's first cell in plans().back().cells.
   std::size_t progress() const { return progress_; }
@@ -130,6 +171,10 @@ class Navigator {
 
  private:
   NavCycle after_update(NodeMapUpdate update, const Pose2& pose, double t);
+  // Recovery: starts one (false when the navigation gives up), and the twist of the running one.
+  bool start_recovery(const Pose2& pose, double t, const std::string& why);
+  std::optional<BodyTwist> recovery_twist(const Pose2& pose, double t);
+  bool motion_clear(const Pose2& pose, const BodyTwist& twist, double duration_s) const;
   void plan(const Pose2& pose, double t, const std::string& cause);
   void advance_progress(const Vec2& p);
   std::vector<Vec2> follower_points(const std::vector<Cell>& cells, const Vec2& robot) const;
@@ -149,7 +194,22 @@ class Navigator {
   std::vector<std::uint8_t> pending_mark_;  // 1 = in pending_
   std::vector<NavPlan> plans_;
   std::size_t progress_ = 0;
-  bool replan_missed_ = false;
+  std::string replan_cause_;  // a plan asked for by the controller or a recovery ("" none)
+  std::optional<double> goal_yaw_;
+  bool goal_xy_reached_ = false;
+  std::vector<NavEvent> events_;
+  ControlStatus control_status_ = ControlStatus::Idle;
+  BodyTwist held_;
+  double next_control_t_ = -1.0;
+  // Recovery state.
+  enum class RecoveryAction : std::uint8_t { None, Rotate, BackUp };
+  RecoveryAction action_ = RecoveryAction::None;
+  double action_end_t_ = 0.0;
+  double action_sign_ = 1.0;
+  double blocked_since_ = -1.0;
+  Pose2 progress_pose_;
+  double progress_t_ = -1.0;
+  int recoveries_ = 0;
   NavStatus status_ = NavStatus::Waiting;
   std::string no_path_reason_;
   double arrival_t_ = -1.0;

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <queue>
+#include <string>
 
 #include "starnav/core/error.hpp"
 #include "starnav/map/distance_transform.hpp"
@@ -49,12 +50,24 @@ NodeHeightMap::NodeHeightMap(const GridGeometry& geometry, const NodeMapParams& 
   tile_dirty_.assign(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 0);
   elevation_ = ElevationMap(geometry_);
   occupancy_ = OccupancyGrid(geometry_, kUnknownOccupancy);
+  raw_occupancy_ = OccupancyGrid(geometry_, kUnknownOccupancy);
+  rebuild();
+}
+
+void NodeHeightMap::set_static_obstacles(std::span<const std::uint8_t> mask) {
+  if (params_.mode != NodeMapMode::Lidar2D)
+    throw Error("a prior map needs the 2D map mode (map.mode lidar_2d)", {}, 0, "map.prior");
+  if (mask.size() != geometry_.cell_count())
+    throw Error("the prior map's mask has " + std::to_string(mask.size()) + " cells, the grid " +
+                    std::to_string(geometry_.cell_count()),
+                {}, 0, "map.prior");
+  static_.assign(mask.begin(), mask.end());
   rebuild();
 }
 
 void NodeHeightMap::rebuild() {
   const std::size_t n = geometry_.cell_count();
-  for (std::size_t i = 0; i < n; ++i) raw2d_[i] = evidence_[i] > 0 ? 1 : 0;
+  for (std::size_t i = 0; i < n; ++i) raw2d_[i] = raw2d_value(i) ? 1 : 0;
   if (params_.mode == NodeMapMode::Nodes3D) {
     TerrainAnalysisOptions options;
     options.unobserved = UnobservedPolicy::FreeFlat;  // unknown cells are free for planning
@@ -64,7 +77,15 @@ void NodeHeightMap::rebuild() {
   }
   blocked_ = inflate_mask(raw_blocked(), geometry_.width, geometry_.height,
                          inflation_radius_cells(params_.barrier_distance_m, geometry_.resolution));
-  for (std::size_t i = 0; i < n; ++i) occupancy_.data()[i] = occupancy_value(i);
+  for (std::size_t i = 0; i < n; ++i) {
+    occupancy_.data()[i] = occupancy_value(i);
+    raw_occupancy_.data()[i] = raw_occupancy_value(i);
+  }
+}
+
+std::int8_t NodeHeightMap::raw_occupancy_value(std::size_t i) const {
+  if (raw_blocked()[i]) return kOccupiedOccupancy;
+  return evidence_[i] > 0 ? kFreeOccupancy : kUnknownOccupancy;
 }
 
 std::int8_t NodeHeightMap::occupancy_value(std::size_t i) const {
@@ -227,7 +248,7 @@ NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3>
     if (!changed) continue;
     ++update.cells_changed;
     const Cell c = geometry_.cell_of_index(i);
-    raw2d_[i] = now_observed ? 1 : 0;
+    raw2d_[i] = raw2d_value(i) ? 1 : 0;
     if (!planar) {
       if (now_observed) elevation_.set_cell(c.x, c.y, 0.5 * (lo_[i] + hi_[i]), lo_[i], hi_[i]);
       else elevation_.clear_cell(c.x, c.y);
@@ -267,6 +288,7 @@ void NodeHeightMap::refresh_occupancy(const CellRect& raw_changed, NodeMapUpdate
   for (int y = region.y0; y < region.y1; ++y)
     for (int x = region.x0; x < region.x1; ++x) {
       const std::size_t i = geometry_.index(x, y);
+      raw_occupancy_.data()[i] = raw_occupancy_value(i);
       const std::int8_t v = occupancy_value(i);
       if (occupancy_.data()[i] == v) continue;
       occupancy_.data()[i] = v;

@@ -96,6 +96,11 @@ class NodeHeightMap {
   // Recomputes every derived layer (analysis, raw mask, expansion, occupancy) from the evidence.
   void rebuild();
 
+  // Obstacles known before the run (a map_server map of the building): cells blocked whatever
+  // the scans say, expanded like sensed ones. `mask` is row-major over the grid, non-zero =
+  // obstacle. 2D mode only (Error naming "map.prior" otherwise, or for a mask of another size).
+  void set_static_obstacles(std::span<const std::uint8_t> mask);
+
   // Per-cell state.
   int evidence(int x, int y) const { return evidence_[geometry_.index(x, y)]; }
   bool observed(int x, int y) const { return evidence_[geometry_.index(x, y)] > 0; }
@@ -112,6 +117,9 @@ class NodeHeightMap {
   // The planners' view: 100 blocked, 0 observed and free, -1 unobserved and free (plan with
   // unknown_is_free = true).
   const OccupancyGrid& occupancy() const { return occupancy_; }
+  // The obstacles before expansion (what a controller that checks the robot's footprint reads):
+  // 100 raw blocked, 0 observed and free, -1 unobserved.
+  const OccupancyGrid& raw_occupancy() const { return raw_occupancy_; }
   // Valid in Nodes3D mode only.
   const TerrainAnalysis& analysis() const { return analysis_; }
 
@@ -134,6 +142,8 @@ class NodeHeightMap {
   void refresh_occupancy(const CellRect& raw_changed, NodeMapUpdate& update);
   void refresh_expansion(const CellRect& raw_changed);
   std::int8_t occupancy_value(std::size_t i) const;
+  std::int8_t raw_occupancy_value(std::size_t i) const;
+  bool raw2d_value(std::size_t i) const { return evidence_[i] > 0 || (!static_.empty() && static_[i]); }
 
   GridGeometry geometry_;
   NodeMapParams params_;
@@ -142,8 +152,10 @@ class NodeHeightMap {
   ElevationMap elevation_;
   TerrainAnalysis analysis_;
   std::vector<std::uint8_t> raw2d_;
+  std::vector<std::uint8_t> static_;  // prior obstacles (2D mode), empty when none
   std::vector<std::uint8_t> blocked_;
   OccupancyGrid occupancy_;
+  OccupancyGrid raw_occupancy_;
   // Per-scan scratch: stamps say whether a cell was hit / contradicted in the current scan.
   std::uint32_t scan_ = 0;
   std::vector<std::uint32_t> hit_stamp_, miss_stamp_, touch_stamp_;

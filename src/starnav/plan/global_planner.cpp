@@ -18,6 +18,44 @@ PlanResult GridGlobalPlanner::plan(const PlanningLayers& layers, Cell start, Cel
   return r;
 }
 
+namespace {
+
+// The graded cost band of GridPlannerOptions::ou2022.inflation, for the planners that honour it:
+// moves near obstacles cost more, so paths keep to the middle of corridors (ROS costmap_2d's
+// inflation costs, ou2022_options.hpp).
+struct CostBandSettings {
+  double cost_radius_m = 0.0;
+  double cost_scale_per_m = 10.0;
+  double cost_weight = 4.0;
+};
+
+const ParamTable<CostBandSettings>& cost_band_params() {
+  static const ParamTable<CostBandSettings> table = [] {
+    using C = CostBandSettings;
+    ParamTable<C> t;
+    t.real("cost_radius_m", &C::cost_radius_m, closed(0.0, 10.0), "m",
+           "moves within this distance of an obstacle cost more (0: off)");
+    t.real("cost_scale_per_m", &C::cost_scale_per_m, closed(0.0, 100.0), "1/m", "decay of the extra cost with distance");
+    t.real("cost_weight", &C::cost_weight, closed(0.0, 1000.0), "",
+           "a move next to an obstacle costs 1 + cost_weight times its length");
+    return t;
+  }();
+  return table;
+}
+
+bool honours_cost_band(const std::string& name) {
+  GridPlannerOptions o;
+  o.ou2022.inflation.cost_radius_m = 1.0;
+  try {
+    make_grid_planner(name, OccupancyGrid(GridGeometry{1, 1, 1.0, {}}, 0), o);
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+}  // namespace
+
 GlobalPlannerDef grid_global_planner(const std::string& name, std::string summary,
                                      std::vector<std::string> deprecated_aliases) {
   GlobalPlannerDef d;
@@ -33,11 +71,20 @@ GlobalPlannerDef grid_global_planner(const std::string& name, std::string summar
     if (p->incremental()) d.info.capabilities.push_back("incremental");
   }
   d.info.capabilities.push_back("occupancy");
-  d.make = [name](const GlobalPlannerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GlobalPlanner> {
-    if (!settings.empty())
+  const bool band = honours_cost_band(name);
+  if (band) d.info.params = cost_band_params().specs();
+  d.make = [name, band](const GlobalPlannerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GlobalPlanner> {
+    if (!band && !settings.empty())
       throw Error("planner '" + name + "' takes no parameters here", settings.front().file, settings.front().line,
                   settings.front().field);
-    return std::make_unique<GridGlobalPlanner>(name, ctx.grid);
+    GridPlannerOptions options = ctx.grid;
+    if (band) {
+      const CostBandSettings c = configured(cost_band_params(), settings, ctx.file);
+      options.ou2022.inflation.cost_radius_m = c.cost_radius_m;
+      options.ou2022.inflation.cost_scale = c.cost_scale_per_m;
+      options.ou2022.inflation.cost_weight = c.cost_weight;
+    }
+    return std::make_unique<GridGlobalPlanner>(name, options);
   };
   return d;
 }

@@ -741,18 +741,57 @@ void collect_settings(Fields& f, const Doc& doc, const std::string& prefix, std:
   }
 }
 
+ScenarioGoal parse_goal(const Value& g, const Doc& doc) {
+  ScenarioGoal goal;
+  goal.source = {g.line(), g.field()};
+  Fields gf = fields_of(g, doc);
+  goal.position = Vec2(gf.required("x_m").number(), gf.required("y_m").number());
+  if (auto y = gf.take("yaw_deg")) goal.yaw_rad = deg_to_rad(y->number());
+  gf.finish("x_m, y_m, yaw_deg");
+  return goal;
+}
+
 ScenarioNavigation parse_navigation(const Value& v, const Doc& doc) {
   ScenarioNavigation n;
   n.source = {v.line(), v.field()};
   Fields f = fields_of(v, doc);
-  {
-    const Value g = f.required("goal");
-    n.goal_source = {g.line(), g.field()};
-    Fields gf = fields_of(g, doc);
-    n.goal = Vec2(gf.required("x_m").number(), gf.required("y_m").number());
-    gf.finish("x_m, y_m");
+  auto one = f.take("goal");
+  auto many = f.take("goals");
+  if (one && many) many->fail("give either goal or goals, not both");
+  if (one) {
+    n.goals.push_back(parse_goal(*one, doc));
+  } else if (many) {
+    if (!many->node().IsSequence() || many->node().size() < 1 || many->node().size() > 1000)
+      many->fail("expected a list of 1 to 1,000 goals {x_m, y_m, yaw_deg}, found " + node_kind(many->node()));
+    for (std::size_t i = 0; i < many->node().size(); ++i) n.goals.push_back(parse_goal(many->element(i), doc));
+  } else {
+    f.required("goal");  // the error names the missing field
   }
-  collect_settings(f, doc, "", n.settings);  // everything but the goal
+  n.goal = n.goals.front().position;
+  n.goal_source = n.goals.front().source;
+  if (auto l = f.take("laps")) n.laps = static_cast<int>(l->integer(1, 1000));
+  if (auto m = f.take("manual")) {
+    if (!m->node().IsSequence()) m->fail("expected a list of manual commands {t_s, duration_s, vx_mps, vy_mps, wz_degps}");
+    for (std::size_t i = 0; i < m->node().size(); ++i) {
+      const Value e = m->element(i);
+      Fields mf = fields_of(e, doc);
+      ScenarioManualCommand c;
+      c.source = {e.line(), e.field()};
+      c.t_s = mf.required("t_s").non_negative();
+      c.duration_s = mf.required("duration_s").positive();
+      c.twist.vx = mf.number("vx_mps", 0.0);
+      c.twist.vy = mf.number("vy_mps", 0.0);
+      c.twist.wz = deg_to_rad(mf.number("wz_degps", 0.0));
+      mf.finish("t_s, duration_s, vx_mps, vy_mps, wz_degps");
+      if (std::abs(c.twist.vx) > 10.0 || std::abs(c.twist.vy) > 10.0 || std::abs(c.twist.wz) > 20.0)
+        e.fail("a manual command beyond 10 m/s or 1,146 deg/s");
+      if (c.t_s > 1e6 || c.duration_s > 1e6) e.fail("t_s and duration_s must be at most 1e6 s");
+      if (!n.manual.empty() && c.t_s < n.manual.back().t_s + n.manual.back().duration_s)
+        e.fail("manual commands must be in time order and must not overlap");
+      n.manual.push_back(c);
+    }
+  }
+  collect_settings(f, doc, "", n.settings);  // everything else: the navigation's and its components' parameters
   return n;
 }
 

@@ -143,8 +143,27 @@ struct ScenarioOutputs {
 // (dotted key relative to the section, its text and line). The navigation harness checks the
 // settings against the declared parameters of the components the scenario names (planner,
 // controller, the map, the navigator); the simulator knows none of them.
+// A navigation goal: a position and, optionally, the heading to arrive with.
+struct ScenarioGoal {
+  Vec2 position = Vec2::Zero();
+  std::optional<double> yaw_rad;
+  ScenarioSource source;
+};
+
+// A manual command (a person with a joystick): this body twist from t_s for duration_s. It
+// outranks the navigation's command; a bumper contact outranks both.
+struct ScenarioManualCommand {
+  double t_s = 0.0;
+  double duration_s = 0.0;
+  BodyTwist twist;
+  ScenarioSource source;
+};
+
 struct ScenarioNavigation {
-  Vec2 goal = Vec2::Zero();
+  Vec2 goal = Vec2::Zero();            // goals[0].position
+  std::vector<ScenarioGoal> goals;     // navigation.goal (one) or navigation.goals (visited in order)
+  int laps = 1;                        // the goals are visited this many times over
+  std::vector<ScenarioManualCommand> manual;  // in time order, not overlapping
   std::vector<ParamSetting> settings;  // "planner", "goal_tolerance_m", "map.resolution_m", "follower.look_ahead_m", ...
   ScenarioSource source;       // the section
   ScenarioSource goal_source;  // navigation.goal
