@@ -162,6 +162,7 @@ void register_bench_commands(CLI::App& app, Context& ctx) {
   register_bench_nav(app, ctx);      // Li 2019 navigation over seeds (cmd_bench_nav.cpp)
   register_bench_slam(app, ctx);     // the Freiburg SLAM benchmark (cmd_bench_slam.cpp)
   register_bench_localization(app, ctx);  // Ren 2022 localization (cmd_bench_localization.cpp)
+  register_bench_ren(app, ctx);           // Ren 2022 local planning and the whole stack (cmd_bench_ren.cpp)
 }
 
 }  // namespace starnav::cli

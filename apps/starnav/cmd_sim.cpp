@@ -124,13 +124,18 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     const double sim_s = run.simulation().time();
     std::printf("%s (%s, %s): %s after %.2f s simulated in %.2f s (%.0fx real time); %.2f m driven, %d plan%s "
                 "(%llu nodes expanded), %lld collision%s, deviation from the path mean %.3f m, max %.3f m\n",
-                spec.name.c_str(), m.planner.c_str(), m.motion_mode.c_str(), m.outcome.c_str(), sim_s, run.wall_s(),
+                spec.name.c_str(), m.planner.c_str(), (m.motion_mode == "none" ? m.controller : m.motion_mode).c_str(),
+                m.outcome.c_str(), sim_s, run.wall_s(),
                 run.wall_s() > 0 ? sim_s / run.wall_s() : 0.0, m.distance_m, m.plans, m.plans == 1 ? "" : "s",
                 static_cast<unsigned long long>(m.expanded_total), static_cast<long long>(m.collisions),
                 m.collisions == 1 ? "" : "s", m.deviation_mean_m, m.deviation_max_m);
+    if (m.goals_total > 1) std::printf("%d of %d goals reached\n", m.arrivals, m.goals_total);
+    const bool arrivals = std::filesystem::exists(std::filesystem::path(o.out) / "arrivals.csv");
+    const bool nav_events = std::filesystem::exists(std::filesystem::path(o.out) / "nav_events.csv");
     std::printf("wrote %s/{trajectory.csv, paths.csv, replans.csv, events.csv, steps.jsonl, map.yaml, map.pgm, "
-                "metrics.json, timing.json, scene.svg, overlay.svg%s%s}\n",
-                o.out.c_str(), o.png ? ", scene.png, overlay.png" : "", recorder ? ", log.clf" : "");
+                "metrics.json, timing.json, scene.svg, overlay.svg%s%s%s%s%s}\n",
+                o.out.c_str(), o.png ? ", scene.png, overlay.png" : "", recorder ? ", log.clf" : "",
+                spec.localization ? ", estimate.csv" : "", arrivals ? ", arrivals.csv" : "", nav_events ? ", nav_events.csv" : "");
   }
   if (m.success) {
     ctx.exit_code = 0;
