@@ -10,6 +10,7 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/experiment/dwa_experiment.hpp"
 #include "starnav/experiment/ren_table1_experiment.hpp"
 #include "starnav/experiment/ren_table4_experiment.hpp"
 
@@ -81,6 +82,44 @@ void run_bench_table1(const Table1Options& o, Context& ctx) {
   ctx.exit_code = r.cost_mismatches == 0 ? 0 : 1;
 }
 
+struct DwaOptions {
+  std::string experiment = "doorway", scenario, out;
+  std::vector<std::string> sets;
+  std::uint64_t seeds = 20, seed_base = 0;
+  bool json = false, force = false, quiet = false;
+};
+
+void run_bench_dwa(const DwaOptions& o, Context& ctx) {
+  DwaExperimentConfig c;
+  c.experiment = o.experiment;
+  c.scenario_file = o.scenario.empty() ? "scenarios/dwa_" + o.experiment + ".yaml" : o.scenario;
+  for (const std::string& s : o.sets) c.overrides.push_back(parse_scenario_override(s));
+  c.seeds = o.seeds;
+  c.seed_base = o.seed_base;
+  c.validate();
+  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  ProgressBar bar("bench dwa", o.seeds, o.quiet);
+  const DwaExperimentResult r = run_dwa_experiment(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
+    bar.update(done, "seed " + std::to_string(next.seed));
+  });
+  bar.finish();
+  std::cout << (o.json ? dwa_experiment_json(r) : dwa_experiment_markdown(r));
+  if (!o.out.empty()) {
+    fs::create_directories(o.out);
+    const fs::path d(o.out);
+    write_text_file((d / "dwa.md").string(), dwa_experiment_markdown(r), "--out");
+    write_text_file((d / "dwa.json").string(), dwa_experiment_json(r), "--out");
+    write_text_file((d / "runs.csv").string(), dwa_experiment_csv(r), "--out");
+    if (!o.quiet) std::cerr << "bench dwa: wrote " << o.out << "/{dwa.md, dwa.json, runs.csv}\n";
+  }
+  for (const auto& t : r.trials)
+    if (!t.completed) {
+      ctx.exit_code = 1;
+      return;
+    }
+  ctx.exit_code = 0;
+}
+
 }  // namespace
 
 void register_bench_ren(CLI::App& app, Context& ctx) {
@@ -119,6 +158,23 @@ void register_bench_ren(CLI::App& app, Context& ctx) {
   t1->add_flag("--force", t->force, "overwrite the results in --out");
   t1->add_flag("--quiet", t->quiet, "no progress on stderr");
   t1->callback([t, &ctx] { run_bench_table1(*t, ctx); });
+
+  auto w = std::make_shared<DwaOptions>();
+  auto* dwa = bench->add_subcommand(
+      "dwa",
+      "DWA's experiments over seeds: doorway (0.8 m door: arrivals, sign changes of vx and wz per 2 s), sideways\n"
+      "(a goal to a Mecanum robot's side: |vy|, turn, final error), people (walking people-like obstacles: arrivals,\n"
+      "contacts the robot caused) (docs/local_planning.md)");
+  dwa->add_option("--case", w->experiment, "doorway, sideways or people")->default_str("doorway");
+  dwa->add_option("--scenario", w->scenario, "the scenario (default scenarios/dwa_CASE.yaml)");
+  dwa->add_option("--seeds", w->seeds, "how many seeds")->default_str("20")->check(CLI::Range(1, 100000));
+  dwa->add_option("--seed-base", w->seed_base, "the first seed")->default_str("0");
+  dwa->add_option("--set", w->sets, "a scenario key=value (repeatable)")->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  dwa->add_option("--out", w->out, "folder for dwa.md, dwa.json and runs.csv");
+  dwa->add_flag("--json", w->json, "print the JSON report instead of the Markdown");
+  dwa->add_flag("--force", w->force, "overwrite the results in --out");
+  dwa->add_flag("--quiet", w->quiet, "no progress on stderr");
+  dwa->callback([w, &ctx] { run_bench_dwa(*w, ctx); });
 }
 
 }  // namespace starnav::cli

@@ -46,6 +46,7 @@ struct SimOptions {
   std::vector<std::string> sets;
   bool compare_astar = false;
   bool step_all_hits = false;
+  std::vector<double> dwa_pictures;
   bool png = false;
   bool force = false;
   bool json = false;
@@ -97,6 +98,10 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   if (!o.controller.empty()) options.controller = o.controller;
   options.compare_astar = o.compare_astar;
   options.step_all_hits = o.step_all_hits;
+  for (const double t : o.dwa_pictures)
+    if (!std::isfinite(t) || t < 0.0 || t > spec.duration_s)
+      throw Error("each time must be in [0, sim.duration_s]", "", 0, "--dwa-pictures");
+  options.dwa_snapshot_times_s = o.dwa_pictures;
   NavigationRun run(spec, options);
   for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
   prepare_out_dir(o.out);
@@ -117,6 +122,21 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     write_navigation_scene(run, (dir / "scene.png").string());
     write_navigation_overlay(run, (dir / "overlay.png").string());
   }
+  std::string dwa_files;
+  if (run.navigator().controller_name() == "dwa") {
+    speed_profile_plot(run.simulation().trajectory(), spec.name + ": achieved velocities").write_svg((dir / "speed.svg").string());
+    dwa_files = ", speed.svg";
+    for (const DwaSnapshot& s : run.dwa_snapshots()) {
+      const std::string stem = "dwa_" + format_fixed(s.step.t_s, 2) + "s";
+      const viz::MapPicture pic = dwa_step_picture(s, spec.name + ": DWA at t = " + format_fixed(s.step.t_s, 2) + " s");
+      pic.write_svg((dir / (stem + ".svg")).string());
+      dwa_files += ", " + stem + ".svg";
+      if (o.png) {
+        pic.write_png((dir / (stem + ".png")).string());
+        dwa_files += ", " + stem + ".png";
+      }
+    }
+  }
   const NavigationMetrics m = run.metrics();
   if (o.json) {
     std::cout << navigation_metrics_json(run);
@@ -133,9 +153,10 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     const bool arrivals = std::filesystem::exists(std::filesystem::path(o.out) / "arrivals.csv");
     const bool nav_events = std::filesystem::exists(std::filesystem::path(o.out) / "nav_events.csv");
     std::printf("wrote %s/{trajectory.csv, paths.csv, replans.csv, events.csv, steps.jsonl, map.yaml, map.pgm, "
-                "metrics.json, timing.json, scene.svg, overlay.svg%s%s%s%s%s}\n",
+                "metrics.json, timing.json, scene.svg, overlay.svg%s%s%s%s%s%s}\n",
                 o.out.c_str(), o.png ? ", scene.png, overlay.png" : "", recorder ? ", log.clf" : "",
-                spec.localization ? ", estimate.csv" : "", arrivals ? ", arrivals.csv" : "", nav_events ? ", nav_events.csv" : "");
+                spec.localization ? ", estimate.csv" : "", arrivals ? ", arrivals.csv" : "", nav_events ? ", nav_events.csv" : "",
+                dwa_files.c_str());
   }
   if (m.success) {
     ctx.exit_code = 0;
@@ -161,7 +182,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
   if (!spec.navigation) {
     for (const auto& [flag, given] : {std::pair{"--motion-mode", !o.motion_mode.empty()}, std::pair{"--planner", !o.planner.empty()},
                                       std::pair{"--controller", !o.controller.empty()},
-                                      std::pair{"--compare-astar", o.compare_astar}, std::pair{"--all-hits", o.step_all_hits}})
+                                      std::pair{"--compare-astar", o.compare_astar}, std::pair{"--all-hits", o.step_all_hits},
+                                      std::pair{"--dwa-pictures", !o.dwa_pictures.empty()}})
       if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
   }
   check_out_dir(o.out, o.force);
@@ -235,6 +257,9 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
                   "(repeatable; checked as if written in the file)");
   sim->add_flag("--compare-astar", o->compare_astar, "navigation with an incremental planner (dstar_lite): also run A* from scratch at every plan");
   sim->add_flag("--all-hits", o->step_all_hits, "navigation: steps.jsonl holds every LiDAR return, not only obstacle hits");
+  sim->add_option("--dwa-pictures", o->dwa_pictures,
+                  "navigation with dwa: T1,T2,... (s): draw the DWA step at each time (dwa_T.svg: local map, every sample, the chosen one)")
+      ->delimiter(',');
   sim->add_flag("--png", o->png, "navigation: also write scene.png and overlay.png");
   sim->add_flag("--force", o->force, "write into a non-empty output folder");
   sim->add_flag("--json", o->json, "print metrics.json to stdout");

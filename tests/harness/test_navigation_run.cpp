@@ -11,6 +11,7 @@
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/sim/scenario.hpp"
+#include "harness/scenario_errors.hpp"
 
 namespace starnav {
 namespace {
@@ -160,18 +161,7 @@ TEST(NavigationRun, SameSeedSameBytes) {
   }
 }
 
-void expect_scenario_error(const std::string& yaml, const std::string& field, bool at_run = false) {
-  try {
-    const ScenarioSpec spec = parse_scenario(yaml, "bad.yaml");
-    if (!at_run) FAIL() << "parsed: " << field;
-    NavigationRun run(spec);
-    FAIL() << "accepted: " << field;
-  } catch (const Error& e) {
-    EXPECT_EQ(e.file(), "bad.yaml") << e.what();
-    EXPECT_EQ(e.field(), field) << e.what();
-    EXPECT_GT(e.line(), 0) << e.what();
-  }
-}
+using test::expect_scenario_error;
 
 TEST(NavigationRun, NavigationSectionErrorsNameTheField) {
   const std::string head = R"(

@@ -13,6 +13,7 @@
 #include "starnav/core/error.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/sim/scenario.hpp"
+#include "harness/scenario_errors.hpp"
 
 namespace starnav {
 namespace {
@@ -62,19 +63,6 @@ TEST(RenStack, ScansArePlacedWithThePoseTheRobotBelieves) {
   EXPECT_NEAR(forward.y(), 1.0, 1e-12);
 }
 
-void expect_ren_error(const std::string& yaml, const std::string& field, bool at_run = false) {
-  try {
-    const ScenarioSpec spec = parse_scenario(yaml, "bad.yaml");
-    if (!at_run) FAIL() << "parsed: " << field;
-    NavigationRun run(spec);
-    FAIL() << "accepted: " << field;
-  } catch (const Error& e) {
-    EXPECT_EQ(e.file(), "bad.yaml") << e.what();
-    EXPECT_EQ(e.field(), field) << e.what();
-    EXPECT_GT(e.line(), 0) << e.what();
-  }
-}
-
 TEST(RenStack, NavigationGoalsAndManualCommandsAreCheckedWithTheirField) {
   const std::string head = R"(
 world:
@@ -88,21 +76,21 @@ sensors:
 sim: {dt_s: 0.01, duration_s: 30.0}
 navigation:
 )";
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  goals: [{x_m: 6.0, y_m: 2.4}]\n", "navigation.goals");
-  expect_ren_error(head + "  goals: []\n", "navigation.goals");
-  expect_ren_error(head + "  goals: [{x_m: 6.0, y_m: 2.4, heading: 3}]\n", "navigation.goals[0].heading");
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  laps: 0\n", "navigation.laps");
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  manual: [{t_s: 1, duration_s: 2}, {t_s: 2, duration_s: 1}]\n",
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  goals: [{x_m: 6.0, y_m: 2.4}]\n", "navigation.goals");
+  test::expect_scenario_error(head + "  goals: []\n", "navigation.goals");
+  test::expect_scenario_error(head + "  goals: [{x_m: 6.0, y_m: 2.4, heading: 3}]\n", "navigation.goals[0].heading");
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  laps: 0\n", "navigation.laps");
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  manual: [{t_s: 1, duration_s: 2}, {t_s: 2, duration_s: 1}]\n",
                "navigation.manual[1]");
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  manual: [{t_s: 1, duration_s: 0}]\n", "navigation.manual[0].duration_s");
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  manual: [{t_s: 1, duration_s: 0}]\n", "navigation.manual[0].duration_s");
   // A heading the path follower cannot turn to; a prior map the scenario does not have.
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4, yaw_deg: 90}\n", "navigation.goal.yaw_deg", true);
-  expect_ren_error(head + "  goals: [{x_m: 6.0, y_m: 2.4}, {x_m: 2.0, y_m: 2.4, yaw_deg: 90}]\n", "navigation.goals[0].yaw_deg", true);
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  map: {prior: world}\n", "navigation.map.prior", true);
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  map: {prior: nonesuch.yaml}\n", "navigation.map.prior", true);
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  controller: dwa\n  dwa: {sim_step_s: 5}\n", "navigation.dwa.sim_step_s", true);
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  astar: {cost_radius_m: -1}\n", "navigation.astar.cost_radius_m", true);
-  expect_ren_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  planner: jps\n  jps: {cost_radius_m: 1}\n", "navigation.jps.cost_radius_m", true);
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4, yaw_deg: 90}\n", "navigation.goal.yaw_deg", true);
+  test::expect_scenario_error(head + "  goals: [{x_m: 6.0, y_m: 2.4}, {x_m: 2.0, y_m: 2.4, yaw_deg: 90}]\n", "navigation.goals[0].yaw_deg", true);
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  map: {prior: world}\n", "navigation.map.prior", true);
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  map: {prior: nonesuch.yaml}\n", "navigation.map.prior", true);
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  controller: dwa\n  dwa: {sim_step_s: 5}\n", "navigation.dwa.sim_step_s", true);
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  astar: {cost_radius_m: -1}\n", "navigation.astar.cost_radius_m", true);
+  test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  planner: jps\n  jps: {cost_radius_m: 1}\n", "navigation.jps.cost_radius_m", true);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "starnav/control/dwa_controller.hpp"
 #include "starnav/control/path_follower.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
@@ -132,6 +133,9 @@ const ParamTable<NavigationSettings>& navigation_params() {
              "obstacles known before the run: world (the world's occupancy_map) or a map_server YAML, relative to the "
              "scenario (2D map mode); empty: none",
              false);
+    t.real("no_path_retry_s", &C::no_path_retry_s, closed(0.0, 3600.0), "s",
+           "no path (a blocked start, a cut-off goal): wait and plan again at every cycle this long before giving up "
+           "(0: give up at once, the paper's rule)");
     t.boolean("recovery.enabled", [](C& c) -> bool& { return c.recovery.enabled; },
               "rotate, back up and replan when the controller is blocked or the robot makes no progress");
     t.real("recovery.blocked_patience_s", [](C& c) -> double& { return c.recovery.blocked_patience_s; }, positive(), "s",
@@ -294,6 +298,7 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   c.goal_tolerance_m = s.goal_tolerance_m;
   c.goal_yaw_tolerance_rad = s.goal_yaw_tolerance_rad;
   c.recovery = s.recovery;
+  c.no_path_retry_s = s.no_path_retry_s;
   if (!s.prior_map.empty()) {
     const auto at = std::find_if(own.begin(), own.end(), [](const ParamSetting& v) { return v.key == "map.prior"; });
     const std::string field = at != own.end() ? at->field : "navigation.map.prior";
@@ -467,6 +472,18 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
       return d.twist;
     }
     const BodyTwist cmd = nav_->command(pose, t, state.twist);
+    if (snapshots_.size() < options_.dwa_snapshot_times_s.size()) {
+      const auto* dwa = dynamic_cast<const DwaController*>(&nav_->controller());
+      if (dwa && dwa->last_step().t_s == t && t >= options_.dwa_snapshot_times_s[snapshots_.size()] - 1e-9) {
+        DwaSnapshot snap;
+        snap.step = dwa->last_step();
+        snap.local_map = crop_map(nav_->map().raw_occupancy(), pose.translation(), 4.0);
+        snap.path = dwa->path();
+        snap.config = dwa->config();
+        snap.footprint = footprint_of(spec_.vehicle.robot);
+        snapshots_.push_back(std::move(snap));
+      }
+    }
     if (nav_->status() == NavStatus::Arrived) {
       const ScenarioGoal& g = spec_.navigation->goals[goal_index_ % spec_.navigation->goals.size()];
       NavArrival a;
@@ -498,6 +515,12 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
     }
     return cmd;
   };
+  if (!options_.dwa_snapshot_times_s.empty()) {
+    auto* dwa = dynamic_cast<DwaController*>(&nav_->controller());
+    if (!dwa) throw Error("DWA pictures need the dwa controller, not " + nav_->controller_name(), "", 0, "--dwa-pictures");
+    dwa->keep_samples(true);
+    std::sort(options_.dwa_snapshot_times_s.begin(), options_.dwa_snapshot_times_s.end());
+  }
   // After the run's own scan hook: the chain's hook feeds the localizer first, then calls it.
   chain_ = std::make_unique<LocalizationChain>(*sim_, localization_);
   setup_s_ = seconds_since(t0);

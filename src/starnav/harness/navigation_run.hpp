@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "starnav/harness/command_arbiter.hpp"
+#include "starnav/harness/local_planning_pictures.hpp"
 #include "starnav/harness/localization_chain.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/sim/scenario.hpp"
@@ -33,6 +34,7 @@ struct NavigationOptions {
   bool compare_astar = false;              // incremental planners: A* from scratch beside every plan
   bool record_steps = true;                // keep the per-cycle records for steps.jsonl
   bool step_all_hits = false;              // steps.jsonl: every return, not only the obstacle hits
+  std::vector<double> dwa_snapshot_times_s;  // with the dwa controller: keep its first step at or after each time
 };
 
 // The navigation section's own parameters (docs/parameters.md); the planner and controller
@@ -44,6 +46,7 @@ struct NavigationSettings {
   double goal_yaw_tolerance_rad = 0.08726646259971647;
   std::string prior_map;   // "" none, "world" (world.occupancy_map), or a map_server YAML (relative to the scenario)
   RecoveryConfig recovery;
+  double no_path_retry_s = 0.0;
   CommandArbiterConfig bumper;
   double settle_speed_mps = 0.01;  // an arrival is measured once the robot is this slow (or after settle_max_s)
   double settle_max_s = 3.0;
@@ -145,6 +148,8 @@ class NavigationRun {
   const std::vector<NavStepRecord>& steps() const { return steps_; }
   const std::vector<NavArrival>& arrivals() const { return arrivals_; }
   const CommandArbiter& arbiter() const { return *arbiter_; }
+  // The DWA steps kept at NavigationOptions::dwa_snapshot_times_s.
+  const std::vector<DwaSnapshot>& dwa_snapshots() const { return snapshots_; }
   NavigationMetrics metrics() const;
   double setup_s() const { return setup_s_; }
   double wall_s() const { return wall_s_; }
@@ -160,6 +165,7 @@ class NavigationRun {
   std::unique_ptr<CommandArbiter> arbiter_;
   NavigationSettings settings_;
   std::vector<NavArrival> arrivals_;
+  std::vector<DwaSnapshot> snapshots_;
   std::size_t goal_index_ = 0;  // into the flattened goals x laps
   bool settling_ = false;
   double deviation_sum_ = 0.0, deviation_max_ = 0.0;

@@ -46,6 +46,8 @@ void NavigatorConfig::validate() const {
     throw Error("must be > 0", "", 0, "navigation.goal_tolerance_m");
   if (!(no_return_clear_m >= 0.0) || !std::isfinite(no_return_clear_m))
     throw Error("must be >= 0", "", 0, "navigation.map.no_return_clear_m");
+  if (!(no_path_retry_s >= 0.0) || !std::isfinite(no_path_retry_s))
+    throw Error("must be >= 0", "", 0, "navigation.no_path_retry_s");
   if (!(goal_yaw_tolerance_rad > 0.0) || !(goal_yaw_tolerance_rad <= kPi))
     throw Error("must be in (0, 180] deg", "", 0, "navigation.goal_yaw_tolerance_deg");
   recovery.validate();
@@ -156,6 +158,7 @@ void Navigator::set_goal(const Vec2& goal, std::optional<double> goal_yaw) {
   blocked_since_ = -1.0;
   progress_t_ = -1.0;
   recoveries_ = 0;
+  no_path_since_ = -1.0;
 }
 
 Navigator::~Navigator() = default;
@@ -266,9 +269,17 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
     p.status = status;
     plans_.push_back(std::move(p));
     progress_ = 0;
-    status_ = NavStatus::NoPath;
-    no_path_reason_ = reason;
     controller_->clear();
+    // Among moving people a blocked start or a cut-off goal may be a person passing: wait and
+    // plan again at every cycle for a while before giving up.
+    if (no_path_since_ < 0.0) no_path_since_ = t;
+    if (t - no_path_since_ < config_.no_path_retry_s) {
+      if (t == no_path_since_) events_.push_back({t, "no_path_wait", reason});
+      status_ = NavStatus::Waiting;
+    } else {
+      status_ = NavStatus::NoPath;
+      no_path_reason_ = reason;
+    }
     if (on_plan) on_plan(*this, plans_.back());
   };
 
@@ -330,6 +341,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   controller_->set_path(p.points);
   progress_ = 0;
   status_ = NavStatus::Navigating;
+  no_path_since_ = -1.0;
   plans_.push_back(std::move(p));
   if (on_plan) on_plan(*this, plans_.back());
 }

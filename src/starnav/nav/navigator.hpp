@@ -67,6 +67,7 @@ struct NavigatorConfig {
   double goal_tolerance_m = 0.15;
   double goal_yaw_tolerance_rad = 0.08726646259971647;  // 5 deg: with a goal heading, arrived within it
   double no_return_clear_m = 0.0;
+  double no_path_retry_s = 0.0;  // > 0: no path keeps the robot waiting and planning this long before giving up
   RecoveryConfig recovery; // see NodeHeightMap::integrate(const LidarScan&, double)
   std::vector<std::string> warnings;  // from whoever built the configuration; Navigator::warnings() repeats them
   void validate() const;  // Error naming the field
@@ -102,7 +103,7 @@ struct NavPlan {
 // Something the navigator did besides planning (recoveries, giving up).
 struct NavEvent {
   double t_s = 0.0;
-  std::string kind;    // recovery, stuck
+  std::string kind;    // recovery, stuck, no_path_wait
   std::string detail;  // controller_blocked | no_progress; rotate | back_up | replan
 };
 
@@ -150,6 +151,7 @@ class Navigator {
   const NodeHeightMap& map() const { return map_; }
   const NavigatorConfig& config() const { return config_; }
   const LocalController& controller() const { return *controller_; }
+  LocalController& controller() { return *controller_; }
   const GlobalPlanner& planner() const { return *planner_; }
   // The registry names of the planner and the controller (aliases resolved).
   const std::string& planner_name() const { return planner_name_; }
@@ -210,6 +212,7 @@ class Navigator {
   Pose2 progress_pose_;
   double progress_t_ = -1.0;
   int recoveries_ = 0;
+  double no_path_since_ = -1.0;  // first failed plan of the current wait
   NavStatus status_ = NavStatus::Waiting;
   std::string no_path_reason_;
   double arrival_t_ = -1.0;
