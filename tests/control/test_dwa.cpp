@@ -449,6 +449,27 @@ TEST(DwaCritics, GoalDistGoesRoundWallsAndRejectsTheUnreachable) {
   EXPECT_EQ(GoalDistCritic(1.0).score(boxed.scene, boxed.rollout({0.3, 0.0, 0.0})), kInvalidTrajectory);
 }
 
+TEST(DwaCritics, GoalAlignMeasuresTheForwardPointToTheGoal) {
+  SceneFixture f;
+  f.scene.local_path = {{1.0, 3.0}, {5.0, 3.0}};
+  f.scene.align_path = f.scene.local_path;
+  f.scene.local_goal = {3.0, 3.0};
+  f.build(Pose2(1.0, 3.0, 0.0));
+  f.scene.distance_to_goal_m = 4.0;
+  // 0.5 m/s for 1 s ends at (1.5, 3); the forward point 0.3 m ahead is 1.2 m from the goal (a
+  // straight line through free cells: the wavefront less a cell diagonal, at least the line).
+  const double d = GoalAlignCritic(1.0, 0.3).score(f.scene, f.rollout({0.5, 0.0, 0.0}));
+  EXPECT_GE(d, 1.2 - 1e-9);
+  EXPECT_LE(d, 1.2 + 0.05 * std::sqrt(2.0));
+  // Near the goal it measures to the path carried on past it.
+  f.scene.local_goal_is_goal = true;
+  f.scene.align_goal = {3.3, 3.0};
+  EXPECT_NEAR(GoalAlignCritic(1.0, 0.3).score(f.scene, f.rollout({0.5, 0.0, 0.0})), 1.5, 1e-9);
+  // Within the forward distance of the goal, off.
+  f.scene.distance_to_goal_m = 0.2;
+  EXPECT_EQ(GoalAlignCritic(1.0, 0.3).score(f.scene, f.rollout({0.5, 0.0, 0.0})), 0.0);
+}
+
 TEST(DwaCritics, ObstacleIsTheWorstProximityCostAlongTheRollout) {
   SceneFixture f;
   f.scene.local_goal = {5.0, 3.0};

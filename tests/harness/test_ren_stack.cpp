@@ -5,6 +5,7 @@
 // refused with the file, line and field when wrong.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -42,6 +43,49 @@ TEST(RenStack, OneCycleBetweenTheTwoGoalPosesArrivesWithinTheTableFourBounds) {
   // The planner saw the prior map: its first plan went round the room's walls, through the door.
   ASSERT_FALSE(run.navigator().plans().empty());
   EXPECT_GT(run.navigator().plans().front().cost_m, 8.0);
+}
+
+// A robot at 0.5 m/s with a wall 0.175 m ahead of its front: every DWA sample would touch the wall
+// before the robot could stop, so the controller says blocked and the command is zero; the
+// navigator asks for a new plan at once and, blocked for blocked_patience_s, starts a recovery
+// whose first motion (turning in place) is clear.
+TEST(RenStack, NoValidSampleGivesBlockedAZeroCommandAndARecovery) {
+  RobotConfig robot;
+  robot.actuator_lag_s = 0.05;
+  NavigatorConfig c;
+  c.geometry.resolution = 0.05;
+  c.geometry.width = 200;
+  c.geometry.height = 60;
+  c.map.mode = NodeMapMode::Lidar2D;
+  c.map.barrier_distance_m = 0.25;
+  c.controller = {"dwa", {}, "navigation.controller", 0, {}};
+  c.prior_obstacles.assign(c.geometry.cell_count(), 0);
+  for (int y = 0; y < 48; ++y)  // a wall at x = 3.75-3.85 m from y = 0 to 2.4 m; open above
+    for (int x = 75; x < 77; ++x) c.prior_obstacles[c.geometry.index(x, y)] = 1;
+  Navigator nav(c, robot, {9.0, 1.5});
+  const Pose2 pose(3.3, 1.5, 0.0);
+  nav.on_points(Vec3(3.4, 1.5, 0.4), {}, pose, 0.0);
+  ASSERT_EQ(nav.status(), NavStatus::Navigating);
+  bool recovered = false;
+  for (int k = 0; k <= 150 && !recovered; ++k) {
+    const double t = 0.01 * k;
+    const BodyTwist cmd = nav.command(pose, t, {0.5, 0.0, 0.0});
+    for (const NavEvent& e : nav.events()) recovered = recovered || (e.kind == "recovery" && e.detail == "controller_blocked");
+    if (!recovered) {
+      EXPECT_EQ(nav.control_status(), ControlStatus::Blocked) << t;
+      EXPECT_EQ(cmd.vx, 0.0) << t;
+      EXPECT_EQ(cmd.wz, 0.0) << t;
+    } else {
+      EXPECT_EQ(cmd.vx, 0.0);  // the recovery turns in place first
+      EXPECT_NE(cmd.wz, 0.0);
+    }
+  }
+  EXPECT_TRUE(recovered);
+  // The next cycle plans again, asked for by the blocked controller.
+  nav.on_points(Vec3(3.4, 1.5, 0.4), {}, pose, 1.6);
+  bool replanned = false;
+  for (const NavPlan& p : nav.plans()) replanned = replanned || p.cause == "controller_blocked";
+  EXPECT_TRUE(replanned);
 }
 
 TEST(RenStack, ScansArePlacedWithThePoseTheRobotBelieves) {
