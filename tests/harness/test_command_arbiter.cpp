@@ -53,35 +53,10 @@ TEST(CommandArbiter, WithoutBumperStopContactsChangeNothing) {
   EXPECT_TRUE(a.events().empty());
 }
 
-// A Mecanum robot driving east along an open floor to (8, 1); a low box (below the LiDAR plane,
-// so only the bumper finds it) stands in its way from 0 s to 8 s; a manual command makes it back
-// away at 10 s for 1 s.
-const std::string kBumperRun = R"(
-name: bumper_stop
-world:
-  terrain:
-    generate: {kind: flat, size_m: [10.0, 2.0], resolution_m: 0.05}
-  obstacles:
-    - {name: box, kind: box, position_m: [3.0, 1.0], size_m: [0.2, 1.0, 0.15], appear_s: 0.0, disappear_s: 8.0}
-robot:
-  drive: mecanum
-  actuator_lag_s: 0.05
-  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 0.0}
-sensors:
-  lidar: {preset: hokuyo_utm30lx, mount: {x_m: 0.1, y_m: 0.0, z_m: 0.41}}
-  bumper: true
-sim: {dt_s: 0.01, duration_s: 60.0, seed: 0}
-navigation:
-  goal: {x_m: 8.0, y_m: 1.0}
-  controller: dwa
-  recovery: {enabled: false}
-  bumper: {resume_delay_s: 0.5}
-  manual:
-    - {t_s: 10.0, duration_s: 1.0, vx_mps: -0.1}
-)";
-
+// scenarios/ren_bumper.yaml: a low box (only the bumper finds it) in the robot's way until 8 s; a
+// manual command backing it away at 10 s.
 TEST(CommandArbiter, BumperStopsTheRobotItWaitsAndResumesOnceTheObstacleIsGone) {
-  const ScenarioSpec spec = parse_scenario(kBumperRun, "bumper.yaml");
+  const ScenarioSpec spec = load_scenario(std::string(STARNAV_SOURCE_DIR) + "/scenarios/ren_bumper.yaml");
   NavigationRun run(spec);
   run.run();
   const NavigationMetrics m = run.metrics();
