@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "starnav/cloud/cloud_io.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/elevation_io.hpp"
 #include "starnav/io/image.hpp"
@@ -469,6 +470,37 @@ inline void fuzz_ros_bag(std::string_view data) {
   }
 }
 
+inline void check_cloud(const PointCloudFile& f) {
+  require(f.points.size() + f.dropped_non_finite <= kMaxCloudPoints, "a cloud larger than its limit");
+  for (const Vec3& p : f.points) require(p.allFinite(), "a non-finite point was kept");
+}
+
+// PCD (ascii, binary, binary_compressed), PLY and KITTI .bin on the same bytes; LZF on its own with
+// the size the first four bytes claim (bounded).
+inline void fuzz_point_cloud(std::string_view data) {
+  try {
+    check_cloud(parse_pcd(data, "fuzz.pcd"));
+  } catch (const Error&) {
+  }
+  try {
+    check_cloud(parse_ply(data, "fuzz.ply"));
+  } catch (const Error&) {
+  }
+  try {
+    check_cloud(parse_kitti_bin(data, "fuzz.bin"));
+  } catch (const Error&) {
+  }
+  if (data.size() >= 4) {
+    std::uint32_t size = 0;
+    std::memcpy(&size, data.data(), 4);
+    try {
+      const std::string out = lzf_decompress(data.substr(4), size % (1U << 20), "fuzz.lzf");
+      require(out.size() == size % (1U << 20), "LZF returned another size than asked");
+    } catch (const Error&) {
+    }
+  }
+}
+
 struct Target {
   const char* name;
   void (*run)(std::string_view);
@@ -487,6 +519,7 @@ inline constexpr Target kTargets[] = {
     {"fuzz_scenario", fuzz_scenario},
     {"fuzz_carmen_log", fuzz_carmen_log},
     {"fuzz_ros_bag", fuzz_ros_bag},
+    {"fuzz_point_cloud", fuzz_point_cloud},
 };
 
 inline const Target* find_target(std::string_view name) {

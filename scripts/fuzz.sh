@@ -48,9 +48,11 @@ declare -A MAX_LEN=(
   [fuzz_scenario]=8192
   [fuzz_carmen_log]=16384
   [fuzz_ros_bag]=16384
+  [fuzz_point_cloud]=16384
 )
 ALL_TARGETS=(fuzz_movingai_map fuzz_movingai_scen fuzz_pgm fuzz_png fuzz_ros_yaml fuzz_asc
-             fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw fuzz_scenario fuzz_carmen_log fuzz_ros_bag)
+             fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw fuzz_scenario fuzz_carmen_log fuzz_ros_bag
+             fuzz_point_cloud)
 COMMON_FLAGS=(-rss_limit_mb=2048 -timeout=5)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:symbolize=1}

@@ -163,6 +163,7 @@ void register_bench_commands(CLI::App& app, Context& ctx) {
   register_bench_slam(app, ctx);     // the Freiburg SLAM benchmark (cmd_bench_slam.cpp)
   register_bench_localization(app, ctx);  // Ren 2022 localization (cmd_bench_localization.cpp)
   register_bench_ren(app, ctx);           // Ren 2022 local planning and the whole stack (cmd_bench_ren.cpp)
+  register_bench_cloud(app, ctx);         // 3D registration on KITTI (cmd_bench_cloud.cpp)
 }
 
 }  // namespace starnav::cli

@@ -19,6 +19,7 @@ void register_bench_nav(CLI::App& app, Context& ctx);       // cmd_bench_nav.cpp
 void register_bench_slam(CLI::App& app, Context& ctx);      // cmd_bench_slam.cpp (called by register_bench_commands)
 void register_bench_localization(CLI::App& app, Context& ctx);  // cmd_bench_localization.cpp (called by register_bench_commands)
 void register_bench_ren(CLI::App& app, Context& ctx);           // cmd_bench_ren.cpp (called by register_bench_commands)
+void register_bench_cloud(CLI::App& app, Context& ctx);         // cmd_bench_cloud.cpp (called by register_bench_commands)
 void register_map_render(CLI::App& map, Context& ctx);       // cmd_map_render.cpp
 void register_map_build(CLI::App& map, Context& ctx);        // cmd_map_build.cpp
 void register_terrain_commands(CLI::App& app, Context& ctx);  // cmd_terrain.cpp

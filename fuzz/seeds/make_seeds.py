@@ -450,6 +450,25 @@ def ros_bags():
     }
 
 
+def point_clouds():
+    xyz = [(1.5, -2.25, 0.125), (0.0, 0.0, 0.0), (-3.5, 4.75, 10.0)]
+    header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\n"
+    binary = b"".join(struct.pack("<fff", *p) for p in xyz)
+    soa = b"".join(struct.pack("<fff", *[p[a] for p in xyz]) for a in range(3))
+    lzf = bytes([31]) + soa[:32] + bytes([len(soa) - 33]) + soa[32:]  # two literal runs (at most 32 bytes each)
+    ply_head = "ply\nformat {} 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+    return {
+        "ascii.pcd": (header + "DATA ascii\n" + "".join("%g %g %g\n" % p for p in xyz)).encode(),
+        "binary.pcd": (header + "DATA binary\n").encode() + binary,
+        "compressed.pcd": (header + "DATA binary_compressed\n").encode() + struct.pack("<II", len(lzf), len(soa)) + lzf,
+        "ascii.ply": (ply_head.format("ascii") + "".join("%g %g %g\n" % p for p in xyz)).encode(),
+        "binary.ply": ply_head.format("binary_little_endian").encode() + binary,
+        "big.ply": ply_head.format("binary_big_endian").encode() + b"".join(struct.pack(">fff", *p) for p in xyz),
+        "kitti.bin": b"".join(struct.pack("<ffff", *p, 0.5) for p in xyz),
+        "lzf_backref": struct.pack("<I", 9) + b"\x02abc\x80\x02",
+    }
+
+
 TARGETS = {
     "fuzz_movingai_map": maps,
     "fuzz_movingai_scen": scens,
@@ -463,6 +482,7 @@ TARGETS = {
     "fuzz_scenario": scenarios,
     "fuzz_carmen_log": carmen_logs,
     "fuzz_ros_bag": ros_bags,
+    "fuzz_point_cloud": point_clouds,
 }
 
 

@@ -11,7 +11,7 @@
 
 #include "support/test_support.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/io/point_cloud_io.hpp"
+#include "starnav/cloud/cloud_io.hpp"
 #include "starnav/sim/simulation.hpp"
 
 namespace starnav {

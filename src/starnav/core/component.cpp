@@ -11,6 +11,7 @@ const char* role_name(Role r) {
     case Role::Localizer: return "localizer";
     case Role::Slam: return "slam";
     case Role::ScanMatcher: return "scan_matcher";
+    case Role::ScanMatcher3d: return "scan_matcher_3d";
   }
   return "unknown";
 }

@@ -16,8 +16,9 @@
 
 namespace starnav {
 
-enum class Role : std::uint8_t { GlobalPlanner, LocalController, Localizer, Slam, ScanMatcher };
-const char* role_name(Role r);  // "global_planner", "local_controller", "localizer", "slam", "scan_matcher"
+enum class Role : std::uint8_t { GlobalPlanner, LocalController, Localizer, Slam, ScanMatcher, ScanMatcher3d };
+// "global_planner", "local_controller", "localizer", "slam", "scan_matcher", "scan_matcher_3d"
+const char* role_name(Role r);
 
 struct ComponentInfo {
   Role role = Role::GlobalPlanner;

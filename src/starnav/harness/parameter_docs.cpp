@@ -17,6 +17,7 @@ std::string scenario_prefix(Role role) {
     case Role::Localizer: return "localization";
     case Role::Slam: return "slam";
     case Role::ScanMatcher: return "scan_matcher";
+    case Role::ScanMatcher3d: return "scan_matcher_3d";
   }
   return "";
 }
@@ -28,6 +29,7 @@ const char* role_title(Role role) {
     case Role::Localizer: return "Localizers";
     case Role::Slam: return "SLAM";
     case Role::ScanMatcher: return "Scan matchers";
+    case Role::ScanMatcher3d: return "3D scan matchers";
   }
   return "";
 }
@@ -39,6 +41,7 @@ const char* role_key(Role role) {
     case Role::Localizer: return "localization.localizer";
     case Role::Slam: return "slam.name";
     case Role::ScanMatcher: return "scan_matcher.name";
+    case Role::ScanMatcher3d: return "--matcher";
   }
   return "";
 }
@@ -73,7 +76,7 @@ std::string parameters_markdown() {
       "relative to the scenario |\n"
       "| `localization.localizer` | choice | `ground_truth` | " +
       join(component_names(Role::Localizer), " \\| ") + " |  | the localizer the run reads its pose from (a scripted run records it in estimate.csv) |\n\n";
-  for (Role role : {Role::GlobalPlanner, Role::LocalController, Role::Localizer, Role::Slam, Role::ScanMatcher}) {
+  for (Role role : {Role::GlobalPlanner, Role::LocalController, Role::Localizer, Role::Slam, Role::ScanMatcher, Role::ScanMatcher3d}) {
     s += std::string("## ") + role_title(role) + "\n\n";
     const auto names = component_names(role);
     if (names.empty()) {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "starnav/core/error.hpp"
-#include "starnav/io/point_cloud_io.hpp"
+#include "starnav/cloud/cloud_io.hpp"
 #include "starnav/harness/navigation_pictures.hpp"
 #include "starnav/sim/outline.hpp"
 #include "starnav/viz/map_picture.hpp"

@@ -24,17 +24,25 @@ namespace starnav {
 #define STARNAV_SCAN_MATCHERS(X) \
   X(correlative_scan_matcher) /* slam/correlative_scan_matcher.cpp */
 
+#define STARNAV_SCAN_MATCHERS_3D(X) \
+  X(icp_scan_matcher)    /* cloud/icp.cpp */ \
+  X(gicp_scan_matcher)   /* cloud/gicp.cpp */ \
+  X(ndt_scan_matcher)    /* cloud/ndt.cpp */ \
+  X(ndt_mt_scan_matcher) /* cloud/ndt.cpp */
+
 #define STARNAV_SLAM(X) \
   X(graph_slam) /* slam/graph_slam.cpp */
 
 #define STARNAV_DECLARE_CONTROLLER(f) LocalControllerDef f();
 #define STARNAV_DECLARE_LOCALIZER(f) LocalizerDef f();
 #define STARNAV_DECLARE_SCAN_MATCHER(f) ScanMatcherDef f();
+#define STARNAV_DECLARE_SCAN_MATCHER_3D(f) ScanMatcher3dDef f();
 #define STARNAV_DECLARE_SLAM(f) SlamDef f();
 #define STARNAV_LIST(f) f(),
 STARNAV_LOCAL_CONTROLLERS(STARNAV_DECLARE_CONTROLLER)
 STARNAV_LOCALIZERS(STARNAV_DECLARE_LOCALIZER)
 STARNAV_SCAN_MATCHERS(STARNAV_DECLARE_SCAN_MATCHER)
+STARNAV_SCAN_MATCHERS_3D(STARNAV_DECLARE_SCAN_MATCHER_3D)
 STARNAV_SLAM(STARNAV_DECLARE_SLAM)
 
 const std::vector<GlobalPlannerDef>& global_planners() {
@@ -72,6 +80,11 @@ const std::vector<SlamDef>& slam_components() {
 
 const std::vector<ScanMatcherDef>& scan_matchers() {
   static const std::vector<ScanMatcherDef> all = {STARNAV_SCAN_MATCHERS(STARNAV_LIST)};
+  return all;
+}
+
+const std::vector<ScanMatcher3dDef>& scan_matchers_3d() {
+  static const std::vector<ScanMatcher3dDef> all = {STARNAV_SCAN_MATCHERS_3D(STARNAV_LIST)};
   return all;
 }
 
@@ -115,6 +128,10 @@ const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::stri
   return find_in(scan_matchers(), name, field, warning, "scan matcher");
 }
 
+const ScanMatcher3dDef& find_scan_matcher_3d(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(scan_matchers_3d(), name, field, warning, "3D scan matcher");
+}
+
 const SlamDef& find_slam(const std::string& name, const std::string& field, std::string* warning) {
   return find_in(slam_components(), name, field, warning, "SLAM method");
 }
@@ -126,6 +143,7 @@ std::vector<ComponentInfo> all_components() {
   append_infos(localizers(), out);
   append_infos(slam_components(), out);
   append_infos(scan_matchers(), out);
+  append_infos(scan_matchers_3d(), out);
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "starnav/cloud/scan_matcher_3d.hpp"
 #include "starnav/control/local_controller.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/estimate/localizer.hpp"
@@ -20,6 +21,7 @@ const std::vector<LocalControllerDef>& local_controllers();
 const std::vector<LocalizerDef>& localizers();
 const std::vector<SlamDef>& slam_components();
 const std::vector<ScanMatcherDef>& scan_matchers();
+const std::vector<ScanMatcher3dDef>& scan_matchers_3d();
 
 // By name or deprecated alias. `warning` (when given) gets "'old' is deprecated; use 'new'" for an
 // alias, "" otherwise. An unknown name is an Error naming `field` and listing the known names.
@@ -31,6 +33,8 @@ const LocalizerDef& find_localizer(const std::string& name, const std::string& f
                                    std::string* warning = nullptr);
 const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::string& field = "scan_matcher",
                                         std::string* warning = nullptr);
+const ScanMatcher3dDef& find_scan_matcher_3d(const std::string& name, const std::string& field = "matcher",
+                                            std::string* warning = nullptr);
 const SlamDef& find_slam(const std::string& name, const std::string& field = "slam", std::string* warning = nullptr);
 
 // The names of a role, in registry order.

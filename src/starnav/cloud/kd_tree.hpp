@@ -1,0 +1,46 @@
+#pragma once
+// A k-d tree over a 3D point cloud (nanoflann underneath, exact searches): nearest neighbour,
+// k nearest and all within a radius. The tree keeps its own copy of the points, so the cloud it
+// was built from may go away. Results are deterministic: ties keep the lower index first.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "starnav/core/geometry.hpp"
+
+namespace starnav {
+
+struct Neighbour {
+  std::uint32_t index = 0;
+  double squared_distance = 0.0;
+};
+
+class KdTree3 {
+ public:
+  explicit KdTree3(std::span<const Vec3> points);
+  ~KdTree3();
+  KdTree3(KdTree3&&) noexcept;
+  KdTree3& operator=(KdTree3&&) noexcept;
+  KdTree3(const KdTree3&) = delete;
+  KdTree3& operator=(const KdTree3&) = delete;
+
+  std::size_t size() const;
+  const std::vector<Vec3>& points() const;
+
+  // The nearest point; false for an empty tree.
+  bool nearest(const Vec3& query, Neighbour& out) const;
+  // Up to k nearest points, nearest first (fewer when the tree is smaller).
+  void k_nearest(const Vec3& query, std::size_t k, std::vector<Neighbour>& out) const;
+  // Every point within `radius` (inclusive), nearest first.
+  void within_radius(const Vec3& query, double radius, std::vector<Neighbour>& out) const;
+  // How many points lie within `radius`, stopping early once `enough` are found (0: count all).
+  std::size_t count_within_radius(const Vec3& query, double radius, std::size_t enough = 0) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace starnav

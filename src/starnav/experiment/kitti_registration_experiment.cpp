@@ -1,0 +1,301 @@
+#include "starnav/experiment/kitti_registration_experiment.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "starnav/cloud/cloud_io.hpp"
+#include "starnav/cloud/kitti_dataset.hpp"
+#include "starnav/cloud/ndt.hpp"
+#include "starnav/cloud/ransac_plane.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/core/rng.hpp"
+#include "starnav/core/statistics.hpp"
+#include "starnav/registry/components.hpp"
+
+namespace starnav {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+ParamSetting matcher_setting(const std::string& key, const std::string& value) {
+  ParamSetting s;
+  s.key = key;
+  s.value = value;
+  s.field = key;
+  return s;
+}
+
+std::string frame_file(const std::string& dir, int k, const char* ext) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%06d%s", k, ext);
+  return (fs::path(dir) / name).string();
+}
+
+double median_of(std::vector<double> v) { return sample_stats(std::move(v)).median; }
+
+}  // namespace
+
+std::vector<MatcherVariant> standard_matcher_variants() {
+  return {
+      {"icp", "icp", {}},
+      {"icp_plane", "icp", {matcher_setting("metric", "point_to_plane")}},
+      {"gicp", "gicp", {}},
+      {"ndt", "ndt", {}},
+      {"ndt_mt", "ndt_mt", {}},
+  };
+}
+
+std::vector<MatcherVariant> matcher_variants(const std::vector<std::string>& labels, const std::string& field) {
+  const std::vector<MatcherVariant> all = standard_matcher_variants();
+  std::vector<MatcherVariant> out;
+  for (const std::string& l : labels) {
+    auto it = std::find_if(all.begin(), all.end(), [&](const MatcherVariant& v) { return v.label == l; });
+    if (it == all.end()) {
+      std::string known;
+      for (const MatcherVariant& v : all) known += (known.empty() ? "" : ", ") + v.label;
+      throw Error("unknown matcher '" + printable(l, 40) + "' (" + known + ")", "", 0, field);
+    }
+    out.push_back(*it);
+  }
+  return out;
+}
+
+void KittiRegistrationConfig::validate() const {
+  require(!sequences.empty(), "--sequences", "needs at least one sequence");
+  require(!matchers.empty(), "--matchers", "needs at least one matcher");
+  (void)matcher_variants(matchers, "--matchers");
+  require(frames >= 2 && frames <= 10000, "--frames", "must be in [2, 10000]");
+  for (const std::string& s : sequences) (void)kitti_velodyne_to_camera(s);
+  try {
+    prefilter.validate();
+  } catch (const Error& e) {
+    throw Error(e.message(), "", 0, "prefilter." + e.field());
+  }
+}
+
+KittiRegistrationResult run_kitti_registration(const KittiRegistrationConfig& config, const KittiProgress& progress) {
+  config.validate();
+  KittiRegistrationResult r;
+  r.config = config;
+  const std::vector<MatcherVariant> variants = matcher_variants(config.matchers, "--matchers");
+  if (!fs::is_directory(config.dataset)) throw Error("is not a folder", config.dataset, 0, "--dataset");
+  const std::size_t total = config.sequences.size() * static_cast<std::size_t>(config.frames - 1) * variants.size();
+  std::size_t done = 0;
+  double raw_sum = 0.0, kept_sum = 0.0;
+  std::size_t frames_read = 0;
+  for (const std::string& seq : config.sequences) {
+    const fs::path dir = fs::path(config.dataset) / "sequences" / seq;
+    // SemanticKITTI's poses on 00 (KITTI's ground truth disagrees with the scans there), else KITTI's.
+    const bool semantic = seq == "00";
+    const std::vector<Rigid3> poses =
+        semantic ? read_kitti_poses((dir / "poses.txt").string())
+                 : read_kitti_poses((fs::path(config.dataset) / "ground_truth" / "egusa" / (seq + ".txt")).string(), true);
+    r.references.push_back(semantic ? "semantickitti" : "kitti_gt");
+    if (poses.size() < static_cast<std::size_t>(config.frames))
+      throw Error("holds " + std::to_string(poses.size()) + " poses, fewer than --frames", (dir / "poses.txt").string());
+    const Rigid3 tr = kitti_velodyne_to_camera(seq);
+    std::vector<PointCloud> clouds;
+    PointCloud first_raw;
+    for (int k = 0; k < config.frames; ++k) {
+      const std::string file = frame_file((dir / "velodyne").string(), k, ".bin.gz");
+      PointCloudFile f = read_point_cloud(fs::exists(file) ? file : frame_file((dir / "velodyne").string(), k, ".bin"));
+      PrefilterCounts counts;
+      clouds.push_back(prefilter_cloud(f.points, config.prefilter, &counts));
+      raw_sum += static_cast<double>(counts.raw);
+      kept_sum += static_cast<double>(counts.kept);
+      ++frames_read;
+      if (k == 0) first_raw = std::move(f.points);
+    }
+    // The floor of frame 0 against the ground labels.
+    {
+      KittiFloorResult fl;
+      fl.sequence = seq;
+      PointCloud band;
+      for (const Vec3& p : first_raw)
+        if (p.z() > -3.0 && p.z() < -0.8 && p.head<2>().norm() > 3.0 && p.head<2>().norm() < 40.0) band.push_back(p);
+      fl.band_points = band.size();
+      RansacPlaneConfig rc;
+      rc.distance_threshold_m = 0.1;  // hdl_graph_slam's floor_detection default
+      rc.iterations = 500;
+      rc.min_inliers = 512;  // hdl_graph_slam's floor_pts_thresh
+      rc.max_axis_angle_rad = 20.0 * kPi / 180.0;
+      Rng rng(config.seed);
+      const RansacPlane plane = ransac_plane(voxel_downsample(band, 0.2), rc, rng);
+      fl.found = plane.found;
+      if (plane.found) {
+        fl.normal_x = plane.plane.normal.x();
+        fl.normal_y = plane.plane.normal.y();
+        fl.normal_z = plane.plane.normal.z();
+        fl.d = plane.plane.d;
+        fl.inliers = plane.inliers.size();
+        const std::string labels_file = frame_file((dir / "labels").string(), 0, ".label.gz");
+        if (fs::exists(labels_file)) {
+          const std::vector<std::uint16_t> labels = read_kitti_labels(labels_file);
+          if (labels.size() != first_raw.size())
+            throw Error(std::to_string(labels.size()) + " labels for " + std::to_string(first_raw.size()) + " points", labels_file);
+          std::vector<double> all, near;
+          PointCloud ground;
+          for (std::size_t i = 0; i < labels.size(); ++i) {
+            if (!is_kitti_ground_class(labels[i])) continue;
+            const double e = std::abs(plane.plane.signed_distance(first_raw[i]));
+            all.push_back(e);
+            ground.push_back(first_raw[i]);
+            if (first_raw[i].head<2>().norm() < 20.0) near.push_back(e);
+          }
+          fl.ground_points = all.size();
+          fl.median_ground_distance_m = median_of(all);
+          fl.median_ground_distance_20m = median_of(near);
+          RansacPlaneConfig lc = rc;
+          lc.distance_threshold_m = 0.05;
+          lc.min_inliers = 3;
+          Rng labelled_rng(config.seed);
+          const RansacPlane labelled = ransac_plane(ground, lc, labelled_rng);
+          if (labelled.found) {
+            std::vector<double> e;
+            for (const Vec3& p : ground) e.push_back(std::abs(labelled.plane.signed_distance(p)));
+            fl.median_ground_distance_labelled_fit_m = median_of(e);
+          }
+        }
+      }
+      r.floors.push_back(fl);
+    }
+    for (const MatcherVariant& v : variants) {
+      auto matcher = find_scan_matcher_3d(v.matcher).make({}, v.settings);
+      if (auto* ndt = dynamic_cast<NdtMatcher*>(matcher.get()); ndt && v.matcher == "ndt_mt") r.ndt_mt_threads = ndt->threads();
+      for (int k = 0; k + 1 < config.frames; ++k) {
+        if (progress) progress(done, total, seq + " " + v.label + " " + std::to_string(k));
+        const Rigid3 truth = kitti_lidar_pose(poses[static_cast<std::size_t>(k)], tr).inverse() *
+                             kitti_lidar_pose(poses[static_cast<std::size_t>(k + 1)], tr);
+        const CloudMatch m = register_clouds(*matcher, clouds[static_cast<std::size_t>(k)], clouds[static_cast<std::size_t>(k + 1)]);
+        const Rigid3 error = truth.inverse() * m.transform;
+        KittiPairResult p;
+        p.sequence = seq;
+        p.matcher = v.label;
+        p.frame = k;
+        p.reference_points = clouds[static_cast<std::size_t>(k)].size();
+        p.scan_points = clouds[static_cast<std::size_t>(k + 1)].size();
+        p.translation_error_m = translation_norm(error);
+        p.rotation_error_deg = rotation_angle(error) * 180.0 / kPi;
+        p.reference_motion_m = translation_norm(truth);
+        p.time_s = m.time_s;
+        p.fitness = m.fitness;
+        p.iterations = m.iterations;
+        p.converged = m.converged;
+        r.pairs.push_back(p);
+        ++done;
+      }
+    }
+  }
+  if (progress) progress(done, total, "done");
+  r.mean_raw_points = raw_sum / static_cast<double>(std::max<std::size_t>(1, frames_read));
+  r.mean_filtered_points = kept_sum / static_cast<double>(std::max<std::size_t>(1, frames_read));
+  for (const MatcherVariant& v : variants) {
+    KittiMatcherSummary s;
+    s.matcher = v.label;
+    std::vector<double> t, rot, time, iters;
+    for (const KittiPairResult& p : r.pairs) {
+      if (p.matcher != v.label) continue;
+      t.push_back(p.translation_error_m);
+      rot.push_back(p.rotation_error_deg);
+      time.push_back(p.time_s);
+      iters.push_back(p.iterations);
+      s.converged += p.converged;
+    }
+    s.pairs = static_cast<int>(t.size());
+    const SampleStats st = sample_stats(t), sr = sample_stats(rot);
+    s.mean_translation_m = st.mean;
+    s.max_translation_m = st.max;
+    s.mean_rotation_deg = sr.mean;
+    s.max_rotation_deg = sr.max;
+    s.median_time_s = sample_stats(time).median;
+    s.mean_iterations = sample_stats(iters).mean;
+    r.summaries.push_back(s);
+  }
+  return r;
+}
+
+std::string kitti_registration_markdown(const KittiRegistrationResult& r) {
+  const KittiRegistrationConfig& c = r.config;
+  std::string s = "# Scan-to-scan registration on KITTI odometry\n\n";
+  s += "Sequences";
+  for (std::size_t i = 0; i < c.sequences.size(); ++i)
+    s += std::string(i ? "," : "") + " " + c.sequences[i] + " (" + r.references[i] + ")";
+  s += "; frames 0-" + std::to_string(c.frames - 1) + ", each pair from the identity. Prefilter: range " +
+       format_fixed(c.prefilter.window.min_range_m, 1) + "-" + format_fixed(c.prefilter.window.max_range_m, 1) + " m, voxel " +
+       format_fixed(c.prefilter.voxel_leaf_m, 2) + " m: " + format_fixed(r.mean_raw_points, 0) + " -> " +
+       format_fixed(r.mean_filtered_points, 0) + " points per frame. ndt_mt ran on " + std::to_string(r.ndt_mt_threads) +
+       " threads.\n\n";
+  s += "| matcher | pairs | converged | translation error mean / max (cm) | rotation error mean / max (deg) | median time (ms) | "
+       "iterations |\n|---|---|---|---|---|---|---|\n";
+  for (const KittiMatcherSummary& m : r.summaries)
+    s += "| " + m.matcher + " | " + std::to_string(m.pairs) + " | " + std::to_string(m.converged) + " | " +
+         format_fixed(100 * m.mean_translation_m, 2) + " / " + format_fixed(100 * m.max_translation_m, 2) + " | " +
+         format_fixed(m.mean_rotation_deg, 3) + " / " + format_fixed(m.max_rotation_deg, 3) + " | " +
+         format_fixed(1000 * m.median_time_s, 1) + " | " + format_fixed(m.mean_iterations, 1) + " |\n";
+  s += "\nFloor (RANSAC on frame 0, 0.1 m threshold, normal within 20 deg of vertical) against SemanticKITTI's ground "
+       "labels (the last column: the plane fitted to the labelled points themselves, what one plane can reach):\n\n"
+       "| sequence | found | normal | d (m) | inliers | ground points | median distance (cm) | within 20 m (cm) | "
+       "labelled fit (cm) |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const KittiFloorResult& f : r.floors)
+    s += "| " + f.sequence + " | " + (f.found ? "yes" : "no") + " | (" + format_fixed(f.normal_x, 4) + ", " +
+         format_fixed(f.normal_y, 4) + ", " + format_fixed(f.normal_z, 4) + ") | " + format_fixed(f.d, 3) + " | " +
+         std::to_string(f.inliers) + " | " + std::to_string(f.ground_points) + " | " +
+         format_fixed(100 * f.median_ground_distance_m, 2) + " | " + format_fixed(100 * f.median_ground_distance_20m, 2) + " | " +
+         format_fixed(100 * f.median_ground_distance_labelled_fit_m, 2) + " |\n";
+  return s;
+}
+
+std::string kitti_registration_json(const KittiRegistrationResult& r) {
+  nlohmann::ordered_json j;
+  j["dataset"] = r.config.dataset;
+  j["sequences"] = r.config.sequences;
+  j["references"] = r.references;
+  j["frames"] = r.config.frames;
+  j["mean_raw_points"] = r.mean_raw_points;
+  j["mean_filtered_points"] = r.mean_filtered_points;
+  j["ndt_mt_threads"] = r.ndt_mt_threads;
+  nlohmann::ordered_json ms = nlohmann::ordered_json::array();
+  for (const KittiMatcherSummary& m : r.summaries)
+    ms.push_back({{"matcher", m.matcher},
+                  {"pairs", m.pairs},
+                  {"converged", m.converged},
+                  {"mean_translation_error_m", m.mean_translation_m},
+                  {"max_translation_error_m", m.max_translation_m},
+                  {"mean_rotation_error_deg", m.mean_rotation_deg},
+                  {"max_rotation_error_deg", m.max_rotation_deg},
+                  {"median_time_s", m.median_time_s},
+                  {"mean_iterations", m.mean_iterations}});
+  j["matchers"] = ms;
+  nlohmann::ordered_json fl = nlohmann::ordered_json::array();
+  for (const KittiFloorResult& f : r.floors)
+    fl.push_back({{"sequence", f.sequence},
+                  {"found", f.found},
+                  {"normal", {f.normal_x, f.normal_y, f.normal_z}},
+                  {"d_m", f.d},
+                  {"inliers", f.inliers},
+                  {"ground_points", f.ground_points},
+                  {"median_ground_distance_m", f.median_ground_distance_m},
+                  {"median_ground_distance_within_20m_m", f.median_ground_distance_20m},
+                  {"median_ground_distance_labelled_fit_m", f.median_ground_distance_labelled_fit_m}});
+  j["floor"] = fl;
+  return j.dump(2) + "\n";
+}
+
+std::string kitti_registration_csv(const KittiRegistrationResult& r) {
+  std::string s =
+      "sequence,frame,matcher,reference_points,scan_points,reference_motion_m,translation_error_m,rotation_error_deg,"
+      "time_s,fitness_m2,iterations,converged\n";
+  for (const KittiPairResult& p : r.pairs)
+    s += p.sequence + ',' + std::to_string(p.frame) + ',' + p.matcher + ',' + std::to_string(p.reference_points) + ',' +
+         std::to_string(p.scan_points) + ',' + format_fixed6(p.reference_motion_m) + ',' + format_fixed6(p.translation_error_m) +
+         ',' + format_fixed6(p.rotation_error_deg) + ',' + format_fixed6(p.time_s) + ',' + format_fixed6(p.fitness) + ',' +
+         std::to_string(p.iterations) + ',' + (p.converged ? "1" : "0") + '\n';
+  return s;
+}
+
+}  // namespace starnav
