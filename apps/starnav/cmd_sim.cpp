@@ -22,6 +22,7 @@
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/harness/parameter_docs.hpp"
 #include "starnav/harness/route_drive.hpp"
+#include "starnav/harness/lidar_frame_recorder.hpp"
 #include "starnav/harness/robot_log_recorder.hpp"
 #include "starnav/harness/simulation_pictures.hpp"
 #include "starnav/logs/carmen_log.hpp"
@@ -108,6 +109,9 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   add_cloud_writer(run.simulation(), spec, o.out);
   std::optional<RobotLogRecorder> recorder;
   if (RobotLogRecorder::can_record(spec)) recorder.emplace(run.simulation());
+  std::optional<LidarFrameRecorder> lidar_frames;
+  if (spec.outputs.lidar_frames_every_n_scans > 0)
+    lidar_frames.emplace(run.simulation(), (fs::path(o.out) / "lidar").string(), spec.outputs.lidar_frames_every_n_scans);
 
   SimProgress bar(o.quiet, spec.duration_s);
   run.run([&bar](double f) { bar.update(f); });
@@ -116,6 +120,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   const fs::path dir(o.out);
   write_navigation_records(run, o.out);
   if (recorder) write_text_file((dir / "log.clf").string(), carmen_log_text(recorder->log()), "--out");
+  if (lidar_frames) lidar_frames->finish();
   write_navigation_scene(run, (dir / "scene.svg").string());
   write_navigation_overlay(run, (dir / "overlay.svg").string());
   if (o.png) {
@@ -196,6 +201,9 @@ void run_sim(const SimOptions& o, Context& ctx) {
   add_cloud_writer(sim, spec, o.out);
   std::optional<RobotLogRecorder> recorder;
   if (RobotLogRecorder::can_record(spec)) recorder.emplace(sim);
+  std::optional<LidarFrameRecorder> lidar_frames;
+  if (spec.outputs.lidar_frames_every_n_scans > 0)
+    lidar_frames.emplace(sim, (fs::path(o.out) / "lidar").string(), spec.outputs.lidar_frames_every_n_scans);
   std::optional<LocalizationChain> chain;
   if (spec.localization) chain.emplace(sim, localization_config(spec));
   std::unique_ptr<RouteDrive> route;
@@ -210,6 +218,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   const fs::path dir(o.out);
   write_simulation_records(sim, o.out);
   if (recorder) write_text_file((dir / "log.clf").string(), carmen_log_text(recorder->log()), "--out");
+  if (lidar_frames) lidar_frames->finish();
   if (chain) write_text_file((dir / "estimate.csv").string(), estimate_csv(chain->records()), "--out");
   const SimulationMetrics m = sim.metrics();
   SimulationTiming timing;

@@ -28,5 +28,6 @@ void register_params_command(CLI::App& app, Context& ctx);    // cmd_params.cpp
 void register_log_commands(CLI::App& app, Context& ctx);      // cmd_log.cpp
 void register_slam_commands(CLI::App& app, Context& ctx);     // cmd_slam.cpp
 void register_localize_command(CLI::App& app, Context& ctx);  // cmd_localize.cpp
+void register_slam3d_command(CLI::App& app, Context& ctx);    // cmd_slam3d.cpp
 
 }  // namespace starnav::cli

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_log_commands(app, ctx);
   starnav::cli::register_slam_commands(app, ctx);
   starnav::cli::register_localize_command(app, ctx);
+  starnav::cli::register_slam3d_command(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -4,6 +4,7 @@
 
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/registry/components.hpp"
+#include "starnav/slam/graph_slam_3d.hpp"
 
 namespace starnav {
 
@@ -76,6 +77,9 @@ std::string parameters_markdown() {
       "relative to the scenario |\n"
       "| `localization.localizer` | choice | `ground_truth` | " +
       join(component_names(Role::Localizer), " \\| ") + " |  | the localizer the run reads its pose from (a scripted run records it in estimate.csv) |\n\n";
+  s += "## 3D graph SLAM\n\n`starnav slam3d --set KEY=VALUE` (docs/mapping3d.md); the matcher is chosen by `--matcher` and its "
+       "parameters (below, under 3D scan matchers) set by `--matcher-set`.\n\n" +
+       params_markdown_table(graph_slam_3d_params().specs(), "") + "\n";
   for (Role role : {Role::GlobalPlanner, Role::LocalController, Role::Localizer, Role::Slam, Role::ScanMatcher, Role::ScanMatcher3d}) {
     s += std::string("## ") + role_title(role) + "\n\n";
     const auto names = component_names(role);

@@ -1106,7 +1106,14 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
       if (s.outputs.point_clouds != ScenarioOutputs::CloudFormat::None && !s.lidar)
         throw Error("point clouds need sensors.lidar", file, pc->line(), pc->field());
     }
-    f.finish("trajectory_every_n_steps, point_clouds");
+    if (auto lf = f.take("lidar_frames")) {
+      Fields g = fields_of(*lf, doc);
+      s.outputs.lidar_frames_every_n_scans = 1;
+      if (auto n = g.take("every_n_scans")) s.outputs.lidar_frames_every_n_scans = static_cast<int>(n->integer(1, 1000000));
+      g.finish("every_n_scans");
+      if (!s.lidar) throw Error("LiDAR frames need sensors.lidar", file, lf->line(), lf->field());
+    }
+    f.finish("trajectory_every_n_steps, point_clouds, lidar_frames");
   }
 
   top.finish("name, description, world, robot, vehicle, sensors, sim, commands, route, events, motion_mode, navigation, localization, metrics, outputs");

@@ -137,6 +137,9 @@ struct ScenarioOutputs {
   enum class CloudFormat : std::uint8_t { None, Ply, Pcd };
   CloudFormat point_clouds = CloudFormat::None;
   int clouds_every_n_scans = 1;
+  // What a real robot records for 3D mapping: per scan a sensor-frame cloud and a frames.csv row
+  // (harness/lidar_frame_recorder.hpp); 0 = not recorded.
+  int lidar_frames_every_n_scans = 0;
 };
 
 // The `navigation` section (docs/scenarios.md): the goal, and every other value as a setting

@@ -1,0 +1,152 @@
+#include "starnav/experiment/slam3d_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "starnav/cloud/cloud_io.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/registry/components.hpp"
+
+namespace starnav {
+
+namespace {
+
+double yaw_of(const Rigid3& t) { return std::atan2(t.linear()(1, 0), t.linear()(0, 0)); }
+
+std::string pose_cells(const Rigid3& t) {
+  const Eigen::Quaterniond q(t.linear());
+  return format_fixed6(t.translation().x()) + "," + format_fixed6(t.translation().y()) + "," +
+         format_fixed6(t.translation().z()) + "," + format_fixed6(q.w()) + "," + format_fixed6(q.x()) + "," +
+         format_fixed6(q.y()) + "," + format_fixed6(q.z());
+}
+
+}  // namespace
+
+Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConfig& config, const Slam3dProgress& progress) {
+  Slam3dRunResult r;
+  r.input = read_lidar_frame_folder(dir);
+  r.matcher = config.matcher;
+  if (r.input.frames.empty()) throw Error("holds no frames", dir + "/frames.csv");
+  if (config.max_frames > 0 && r.input.frames.size() > static_cast<std::size_t>(config.max_frames))
+    r.input.frames.resize(static_cast<std::size_t>(config.max_frames));
+  const ScanMatcher3dDef& def = find_scan_matcher_3d(config.matcher, "--matcher");
+  // Built once here so that a bad setting is reported before any frame is read.
+  (void)def.make({}, config.matcher_settings);
+  GraphSlam3d slam(config.slam, r.input.mount, [&] { return def.make({}, config.matcher_settings); });
+  const auto start = std::chrono::steady_clock::now();
+  double mapping = 0.0;
+  const std::size_t n = r.input.frames.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (progress) progress(i, n);
+    const LidarFrameRecord& f = r.input.frames[i];
+    const PointCloudFile cloud = read_point_cloud(r.input.cloud_path(f));
+    const auto t0 = std::chrono::steady_clock::now();
+    slam.add(f.t_s, cloud.points, f.odometry);
+    mapping += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  slam.finish();
+  mapping += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (progress) progress(n, n);
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.mapping_s = mapping;
+  r.duration_s = r.input.frames.back().t_s - r.input.frames.front().t_s;
+  r.trajectory = slam.trajectory();
+  r.keyframes = slam.keyframes();
+  r.frames = slam.frames();
+  r.loops = slam.loops();
+  r.plane_edges = slam.plane_edges().size();
+  r.has_truth = true;
+  for (const LidarFrameRecord& f : r.input.frames) r.has_truth = r.has_truth && f.truth.has_value();
+  if (r.has_truth) {
+    const Rigid3 mount = to_rigid(r.input.mount);
+    const Rigid3 first_truth = to_rigid(*r.input.frames.front().truth) * mount;
+    Rigid3 align = Rigid3::Identity();
+    align.linear() = Eigen::AngleAxisd(yaw_of(first_truth) - yaw_of(r.trajectory.front()), Vec3::UnitZ()).toRotationMatrix();
+    align.translation() = first_truth.translation() - align.linear() * r.trajectory.front().translation();
+    double sq = 0.0;
+    Vec3 last_truth = first_truth.translation();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 truth = (to_rigid(*r.input.frames[i].truth) * mount).translation();
+      const Vec3 est = align * r.trajectory[i].translation();
+      sq += (truth - est).squaredNorm();
+      r.elevation_drift_m = std::max(r.elevation_drift_m, std::abs(truth.z() - est.z()));
+      r.driven_m += (truth - last_truth).norm();
+      last_truth = truth;
+      if (i + 1 == n) r.final_error_m = (truth - est).norm();
+    }
+    r.ate_rmse_m = std::sqrt(sq / static_cast<double>(n));
+  }
+  return r;
+}
+
+std::string slam3d_trajectory_csv(const Slam3dRunResult& r) {
+  std::string s = "frame,t_s,x_m,y_m,z_m,qw,qx,qy,qz";
+  if (r.has_truth) s += ",true_x_m,true_y_m,true_z_m,true_qw,true_qx,true_qy,true_qz";
+  s += "\n";
+  const Rigid3 mount = to_rigid(r.input.mount);
+  for (std::size_t i = 0; i < r.trajectory.size(); ++i) {
+    s += std::to_string(i);
+    s += ',';
+    s += format_fixed6(r.input.frames[i].t_s);
+    s += ',';
+    s += pose_cells(r.trajectory[i]);
+    if (r.has_truth) {
+      s += ',';
+      s += pose_cells(to_rigid(*r.input.frames[i].truth) * mount);
+    }
+    s += '\n';
+  }
+  return s;
+}
+
+std::string slam3d_keyframes_csv(const Slam3dRunResult& r) {
+  std::string s = "keyframe,frame,t_s,x_m,y_m,z_m,qw,qx,qy,qz,points,floor,floor_nx,floor_ny,floor_nz,floor_d_m\n";
+  for (std::size_t k = 0; k < r.keyframes.size(); ++k) {
+    const Slam3dKeyframe& kf = r.keyframes[k];
+    s += std::to_string(k) + "," + std::to_string(kf.frame) + "," + format_fixed6(kf.t_s) + "," + pose_cells(kf.pose) + "," +
+         std::to_string(kf.cloud.size()) + "," + (kf.floor ? "1" : "0");
+    if (kf.floor)
+      s += "," + format_fixed6(kf.floor->normal.x()) + "," + format_fixed6(kf.floor->normal.y()) + "," +
+           format_fixed6(kf.floor->normal.z()) + "," + format_fixed6(kf.floor->d);
+    else
+      s += ",,,,";
+    s += "\n";
+  }
+  return s;
+}
+
+std::string slam3d_summary_json(const Slam3dRunResult& r) {
+  nlohmann::ordered_json j;
+  j["input"] = r.input.dir;
+  j["matcher"] = r.matcher;
+  j["frames"] = r.frames.size();
+  j["keyframes"] = r.keyframes.size();
+  j["loop_closures"] = r.loops.size();
+  j["floor_edges"] = r.plane_edges;
+  double raw = 0, kept = 0, match = 0;
+  for (const Slam3dFrameResult& f : r.frames) {
+    raw += static_cast<double>(f.raw_points);
+    kept += static_cast<double>(f.filtered_points);
+    match += f.match_s;
+  }
+  const double nf = static_cast<double>(std::max<std::size_t>(1, r.frames.size()));
+  j["mean_raw_points"] = raw / nf;
+  j["mean_filtered_points"] = kept / nf;
+  j["mean_match_s"] = match / nf;
+  j["recording_s"] = r.duration_s;
+  j["mapping_s"] = r.mapping_s;
+  j["wall_s"] = r.wall_s;
+  j["real_time_factor"] = r.mapping_s > 0 ? r.duration_s / r.mapping_s : 0.0;
+  if (r.has_truth) {
+    j["driven_m"] = r.driven_m;
+    j["ate_rmse_m"] = r.ate_rmse_m;
+    j["elevation_drift_m"] = r.elevation_drift_m;
+    j["final_error_m"] = r.final_error_m;
+  }
+  return j.dump(2) + "\n";
+}
+
+}  // namespace starnav

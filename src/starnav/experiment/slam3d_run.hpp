@@ -1,0 +1,50 @@
+#pragma once
+// 3D graph SLAM on a recorded folder of LiDAR frames (cloud/lidar_frames.hpp: what `starnav sim`
+// writes with outputs.lidar_frames, or a robot's own recording in that layout): the matcher by
+// name from the registry, GraphSlam3d frame by frame, and, when the frames carry the truth, the
+// trajectory error. `starnav slam3d` is this call plus its files.
+//
+// The error: the estimated sensor poses against the true ones (base_link truth composed with the
+// mount), after aligning the first pose in position and heading (both map frames have the floor
+// as z = 0, so height and tilt need no alignment); ATE is the RMS of the position errors, the
+// elevation drift the largest |z error|.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "starnav/cloud/lidar_frames.hpp"
+#include "starnav/slam/graph_slam_3d.hpp"
+
+namespace starnav {
+
+struct Slam3dRunConfig {
+  GraphSlam3dConfig slam;
+  std::string matcher = "ndt_mt";
+  std::vector<ParamSetting> matcher_settings;
+  int max_frames = 0;  // 0: all
+};
+
+struct Slam3dRunResult {
+  LidarFrameFolder input;
+  std::string matcher;
+  std::vector<Rigid3> trajectory;  // per frame, the sensor in the map frame
+  std::vector<Slam3dKeyframe> keyframes;
+  std::vector<Slam3dFrameResult> frames;
+  std::vector<Slam3dLoop> loops;
+  std::size_t plane_edges = 0;
+  double wall_s = 0.0;        // the whole run, reading the clouds included
+  double mapping_s = 0.0;     // GraphSlam3d alone (prefilter, registration, graph), the pipeline's cost
+  double duration_s = 0.0;    // the recording's length (last frame time - first)
+  bool has_truth = false;
+  double ate_rmse_m = 0.0, elevation_drift_m = 0.0, final_error_m = 0.0;
+  double driven_m = 0.0;      // along the true trajectory
+};
+
+using Slam3dProgress = std::function<void(std::size_t done, std::size_t total)>;
+Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConfig& config, const Slam3dProgress& progress = {});
+
+std::string slam3d_trajectory_csv(const Slam3dRunResult& r);  // t_s, x..z, qw..qz (and the truth when known)
+std::string slam3d_keyframes_csv(const Slam3dRunResult& r);
+std::string slam3d_summary_json(const Slam3dRunResult& r);
+
+}  // namespace starnav
