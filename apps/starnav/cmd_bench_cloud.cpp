@@ -9,6 +9,7 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/experiment/kitti_registration_experiment.hpp"
+#include "starnav/experiment/mapping3d_experiment.hpp"
 
 namespace starnav::cli {
 
@@ -45,6 +46,37 @@ void run_bench_kitti(KittiOptions& o, Context& ctx) {
   ctx.exit_code = 0;
 }
 
+struct Mapping3dOptions {
+  Mapping3dExperimentConfig config;
+  std::vector<std::string> sets, slam_sets;
+  std::string out;
+  bool json = false, force = false, quiet = false;
+};
+
+void run_bench_mapping3d(Mapping3dOptions& o, Context& ctx) {
+  for (const std::string& s : o.sets) o.config.overrides.push_back(parse_scenario_override(s));
+  o.config.slam = configured(graph_slam_3d_params(), parse_set_options(o.slam_sets), "");
+  o.config.validate();
+  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  ProgressBar bar("bench mapping3d", o.config.seeds, o.quiet);
+  const Mapping3dResult r = run_mapping3d_experiment(o.config, [&](std::size_t done, std::size_t, const std::string& what) {
+    bar.update(done, what);
+  });
+  bar.finish();
+  std::cout << (o.json ? mapping3d_json(r) : mapping3d_markdown(r));
+  if (!o.out.empty()) {
+    fs::create_directories(o.out);
+    const fs::path d(o.out);
+    write_text_file((d / "mapping3d.md").string(), mapping3d_markdown(r), "--out");
+    write_text_file((d / "mapping3d.json").string(), mapping3d_json(r), "--out");
+    write_text_file((d / "runs.csv").string(), mapping3d_csv(r), "--out");
+    write_mapping3d_figures(r, o.out);
+    if (!o.quiet)
+      std::cerr << "bench mapping3d: wrote " << o.out << "/{mapping3d.md, mapping3d.json, runs.csv, x.svg, y.svg, z.svg, error.svg, filters.svg}\n";
+  }
+  ctx.exit_code = 0;
+}
+
 }  // namespace
 
 void register_bench_cloud(CLI::App& app, Context& ctx) {
@@ -67,6 +99,26 @@ void register_bench_cloud(CLI::App& app, Context& ctx) {
   cmd->add_flag("--force", o->force, "overwrite the results in --out");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   cmd->callback([o, &ctx] { run_bench_kitti(*o, ctx); });
+
+  auto m = std::make_shared<Mapping3dOptions>();
+  auto* mc = bench->add_subcommand(
+      "mapping3d",
+      "Ou et al. 2022 section 4.1 simulated: the indoor 16-beam LiDAR run over seeds, mapped in process by 3D graph\n"
+      "SLAM with each matcher (and one without the floor constraint): points per filter stage, time per\n"
+      "registration, ATE and elevation drift against the truth, pictures (docs/mapping3d.md)");
+  mc->add_option("--scenario", m->config.scenario, "the scenario")->default_str(m->config.scenario);
+  mc->add_option("--seeds", m->config.seeds, "how many seeds")->default_str("10");
+  mc->add_option("--seed-base", m->config.seed_base, "the first seed")->default_str("0");
+  mc->add_option("--matchers", m->config.matchers, "3D matchers (comma-separated)")->delimiter(',')->default_str("icp,gicp,ndt,ndt_mt");
+  mc->add_option("--no-floor-matcher", m->config.no_floor_matcher, "the matcher also run without the floor constraint (\"\" for none)")
+      ->default_str("gicp");
+  mc->add_option("--set", m->sets, "a scenario key=value (repeatable)")->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  mc->add_option("--slam-set", m->slam_sets, "a 3D SLAM parameter key=value (repeatable)")->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  mc->add_option("--out", m->out, "folder for mapping3d.md, mapping3d.json, runs.csv and the figures");
+  mc->add_flag("--json", m->json, "print the JSON report instead of the Markdown");
+  mc->add_flag("--force", m->force, "overwrite the results in --out");
+  mc->add_flag("--quiet", m->quiet, "no progress on stderr");
+  mc->callback([m, &ctx] { run_bench_mapping3d(*m, ctx); });
 }
 
 }  // namespace starnav::cli

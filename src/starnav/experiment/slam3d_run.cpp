@@ -24,6 +24,25 @@ std::string pose_cells(const Rigid3& t) {
 
 }  // namespace
 
+Slam3dErrors slam3d_errors(const std::vector<Rigid3>& estimate, const std::vector<Rigid3>& truth) {
+  Slam3dErrors e;
+  if (estimate.empty() || estimate.size() != truth.size()) throw Error("the estimate and the truth differ in length");
+  Rigid3 align = Rigid3::Identity();
+  align.linear() = Eigen::AngleAxisd(yaw_of(truth.front()) - yaw_of(estimate.front()), Vec3::UnitZ()).toRotationMatrix();
+  align.translation() = truth.front().translation() - align.linear() * estimate.front().translation();
+  align.translation().z() = 0.0;  // both map frames have the floor at z = 0
+  double sq = 0.0;
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    const Vec3 t = truth[i].translation(), est = align * estimate[i].translation();
+    sq += (t - est).squaredNorm();
+    e.elevation_drift_m = std::max(e.elevation_drift_m, std::abs(t.z() - est.z()));
+    if (i > 0) e.driven_m += (t - truth[i - 1].translation()).norm();
+  }
+  e.ate_rmse_m = std::sqrt(sq / static_cast<double>(estimate.size()));
+  e.final_error_m = (truth.back().translation() - align * estimate.back().translation()).norm();
+  return e;
+}
+
 Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConfig& config, const Slam3dProgress& progress) {
   Slam3dRunResult r;
   r.input = read_lidar_frame_folder(dir);
@@ -62,22 +81,13 @@ Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConf
   for (const LidarFrameRecord& f : r.input.frames) r.has_truth = r.has_truth && f.truth.has_value();
   if (r.has_truth) {
     const Rigid3 mount = to_rigid(r.input.mount);
-    const Rigid3 first_truth = to_rigid(*r.input.frames.front().truth) * mount;
-    Rigid3 align = Rigid3::Identity();
-    align.linear() = Eigen::AngleAxisd(yaw_of(first_truth) - yaw_of(r.trajectory.front()), Vec3::UnitZ()).toRotationMatrix();
-    align.translation() = first_truth.translation() - align.linear() * r.trajectory.front().translation();
-    double sq = 0.0;
-    Vec3 last_truth = first_truth.translation();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 truth = (to_rigid(*r.input.frames[i].truth) * mount).translation();
-      const Vec3 est = align * r.trajectory[i].translation();
-      sq += (truth - est).squaredNorm();
-      r.elevation_drift_m = std::max(r.elevation_drift_m, std::abs(truth.z() - est.z()));
-      r.driven_m += (truth - last_truth).norm();
-      last_truth = truth;
-      if (i + 1 == n) r.final_error_m = (truth - est).norm();
-    }
-    r.ate_rmse_m = std::sqrt(sq / static_cast<double>(n));
+    std::vector<Rigid3> truth;
+    for (const LidarFrameRecord& f : r.input.frames) truth.push_back(to_rigid(*f.truth) * mount);
+    const Slam3dErrors e = slam3d_errors(r.trajectory, truth);
+    r.ate_rmse_m = e.ate_rmse_m;
+    r.elevation_drift_m = e.elevation_drift_m;
+    r.final_error_m = e.final_error_m;
+    r.driven_m = e.driven_m;
   }
   return r;
 }

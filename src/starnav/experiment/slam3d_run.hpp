@@ -40,6 +40,13 @@ struct Slam3dRunResult {
   double driven_m = 0.0;      // along the true trajectory
 };
 
+// The errors of an estimated sensor trajectory against the true one (same length, same frames),
+// as described at the top.
+struct Slam3dErrors {
+  double ate_rmse_m = 0.0, elevation_drift_m = 0.0, final_error_m = 0.0, driven_m = 0.0;
+};
+Slam3dErrors slam3d_errors(const std::vector<Rigid3>& estimate, const std::vector<Rigid3>& truth);
+
 using Slam3dProgress = std::function<void(std::size_t done, std::size_t total)>;
 Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConfig& config, const Slam3dProgress& progress = {});
 

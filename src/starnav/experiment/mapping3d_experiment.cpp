@@ -1,0 +1,276 @@
+#include "starnav/experiment/mapping3d_experiment.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/core/statistics.hpp"
+#include "starnav/estimate/wheel_odometry.hpp"
+#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/route_drive.hpp"
+#include "starnav/registry/components.hpp"
+#include "starnav/robot/robot_model.hpp"
+#include "starnav/sim/simulation.hpp"
+#include "starnav/viz/plot_svg.hpp"
+
+namespace starnav {
+
+namespace fs = std::filesystem;
+
+void Mapping3dExperimentConfig::validate() const {
+  require(seeds >= 1 && seeds <= 10000, "--seeds", "must be in [1, 10000]");
+  require(!matchers.empty(), "--matchers", "needs at least one matcher");
+  for (const std::string& m : matchers) (void)find_scan_matcher_3d(m, "--matchers");
+  if (!no_floor_matcher.empty()) (void)find_scan_matcher_3d(no_floor_matcher, "--no-floor-matcher");
+  slam.validate();
+}
+
+std::vector<Mapping3dVariant> Mapping3dExperimentConfig::variants() const {
+  std::vector<Mapping3dVariant> v;
+  for (const std::string& m : matchers) v.push_back({m, m, true});
+  if (!no_floor_matcher.empty()) v.push_back({no_floor_matcher + "_no_floor", no_floor_matcher, false});
+  return v;
+}
+
+namespace {
+
+struct Mapping3dSlot {
+  Mapping3dVariant variant;
+  std::unique_ptr<GraphSlam3d> slam;
+  double mapping_s = 0.0;
+};
+
+}  // namespace
+
+Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config, const Mapping3dProgress& progress) {
+  config.validate();
+  Mapping3dResult result;
+  result.config = config;
+  result.variants = config.variants();
+  const std::size_t total = static_cast<std::size_t>(config.seeds);
+  for (std::uint64_t k = 0; k < config.seeds; ++k) {
+    const std::uint64_t seed = config.seed_base + k;
+    if (progress) progress(static_cast<std::size_t>(k), total, "seed " + std::to_string(seed));
+    std::vector<ScenarioOverride> overrides = config.overrides;
+    overrides.push_back(parse_scenario_override("sim.seed=" + std::to_string(seed)));
+    const ScenarioSpec spec = load_scenario(config.scenario, overrides);
+    if (!spec.lidar || spec.lidar->config.lines() < 2)
+      throw Error("needs a 3D LiDAR (more than one line)", config.scenario, 0, "sensors.lidar");
+    const Pose3 mount = spec.lidar->config.mount;
+    Simulation sim(spec);
+    std::unique_ptr<RouteDrive> route;
+    if (spec.route) route = make_route_drive(sim);
+    std::vector<Mapping3dSlot> slots;
+    for (const Mapping3dVariant& v : result.variants) {
+      GraphSlam3dConfig c = config.slam;
+      c.floor = v.floor;
+      const ScanMatcher3dDef& def = find_scan_matcher_3d(v.matcher);
+      slots.push_back({v, std::make_unique<GraphSlam3d>(c, mount, [&def] { return def.make({}, {}); }), 0.0});
+    }
+    std::unique_ptr<RobotModel> model;
+    std::unique_ptr<WheelOdometry> odometry;
+    if (spec.encoders) {
+      model = make_robot_model(spec.vehicle.robot);
+      odometry = std::make_unique<WheelOdometry>(*model, spec.encoders->config.ticks_per_rev, spec.start);
+      sim.on_encoders = [before = sim.on_encoders, &odometry](const EncoderSample& e) {
+        if (before) before(e);
+        odometry->add_ticks(e.ticks);
+      };
+    }
+    std::vector<Rigid3> truth;
+    std::vector<double> times;
+    const Simulation* s = &sim;
+    sim.on_scan = [before = sim.on_scan, &slots, &odometry, &truth, &times, s, mount](const LidarScan& scan) {
+      if (before) before(scan);
+      std::optional<Pose2> odom;
+      if (odometry) odom = odometry->pose();
+      for (Mapping3dSlot& slot : slots) {
+        const auto t0 = std::chrono::steady_clock::now();
+        slot.slam->add(scan.time, scan.points_sensor, odom);
+        slot.mapping_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+      truth.push_back(to_rigid(s->vehicle().state().pose) * to_rigid(mount));
+      times.push_back(scan.time);
+    };
+    sim.run();
+    for (std::size_t vi = 0; vi < slots.size(); ++vi) {
+      Mapping3dSlot& slot = slots[vi];
+      const auto t0 = std::chrono::steady_clock::now();
+      slot.slam->finish();
+      slot.mapping_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const std::vector<Rigid3> est = slot.slam->trajectory();
+      const Slam3dErrors e = slam3d_errors(est, truth);
+      Mapping3dRun run;
+      run.seed = seed;
+      run.variant = slot.variant.label;
+      run.matcher = slot.variant.matcher;
+      run.floor = slot.variant.floor;
+      run.frames = est.size();
+      run.keyframes = slot.slam->keyframes().size();
+      run.loops = slot.slam->loops().size();
+      run.floor_edges = slot.slam->plane_edges().size();
+      run.ate_rmse_m = e.ate_rmse_m;
+      run.elevation_drift_m = e.elevation_drift_m;
+      run.final_error_m = e.final_error_m;
+      run.driven_m = e.driven_m;
+      run.recording_s = times.back() - times.front();
+      run.mapping_s = slot.mapping_s;
+      std::vector<double> match;
+      for (const Slam3dFrameResult& f : slot.slam->frames()) {
+        if (f.frame > 0) match.push_back(f.match_s);
+        run.raw_points += static_cast<double>(f.raw_points);
+        run.windowed_points += static_cast<double>(f.windowed);
+        run.voxelised_points += static_cast<double>(f.voxelised);
+        run.kept_points += static_cast<double>(f.filtered_points);
+      }
+      const double n = static_cast<double>(std::max<std::size_t>(1, run.frames));
+      run.raw_points /= n;
+      run.windowed_points /= n;
+      run.voxelised_points /= n;
+      run.kept_points /= n;
+      const SampleStats ms = sample_stats(match);
+      run.mean_match_s = ms.mean;
+      run.median_match_s = ms.median;
+      result.runs.push_back(run);
+      if (k == 0) {
+        Mapping3dTrace& tr = result.trace;
+        if (vi == 0) {
+          tr.t = times;
+          for (const Rigid3& t : truth) tr.truth.push_back(t.translation());
+          for (const Slam3dFrameResult& f : slot.slam->frames())
+            tr.filter_counts.push_back({static_cast<double>(f.raw_points), static_cast<double>(f.windowed),
+                                        static_cast<double>(f.voxelised), static_cast<double>(f.filtered_points)});
+        }
+        // Aligned as the errors are: x, y and heading of the first pose.
+        Rigid3 align = Rigid3::Identity();
+        const auto yaw = [](const Rigid3& t) { return std::atan2(t.linear()(1, 0), t.linear()(0, 0)); };
+        align.linear() = Eigen::AngleAxisd(yaw(truth.front()) - yaw(est.front()), Vec3::UnitZ()).toRotationMatrix();
+        align.translation() = truth.front().translation() - align.linear() * est.front().translation();
+        align.translation().z() = 0.0;
+        std::vector<Vec3> aligned;
+        for (const Rigid3& t : est) aligned.push_back(align * t.translation());
+        tr.estimates.push_back(std::move(aligned));
+      }
+    }
+  }
+  if (progress) progress(total, total, "done");
+  for (const Mapping3dVariant& v : result.variants) {
+    Mapping3dSummary s;
+    s.variant = v.label;
+    std::vector<double> ate, drift, match, rtf;
+    for (const Mapping3dRun& r : result.runs) {
+      if (r.variant != v.label) continue;
+      ate.push_back(r.ate_rmse_m);
+      drift.push_back(r.elevation_drift_m);
+      match.push_back(1000.0 * r.median_match_s);
+      rtf.push_back(r.mapping_s > 0 ? r.recording_s / r.mapping_s : 0.0);
+    }
+    s.runs = static_cast<int>(ate.size());
+    const SampleStats a = sample_stats(ate), d = sample_stats(drift);
+    s.ate_mean_m = a.mean;
+    s.ate_max_m = a.max;
+    s.drift_mean_m = d.mean;
+    s.drift_max_m = d.max;
+    s.median_match_ms = sample_stats(match).median;
+    s.real_time_factor = sample_stats(rtf).median;
+    result.summaries.push_back(s);
+  }
+  return result;
+}
+
+std::string mapping3d_markdown(const Mapping3dResult& r) {
+  std::string s = "# 3D mapping (Ou et al. 2022, section 4.1), simulated\n\n";
+  s += r.config.scenario + ", seeds " + std::to_string(r.config.seed_base) + "-" +
+       std::to_string(r.config.seed_base + r.config.seeds - 1) + ".";
+  if (!r.runs.empty()) {
+    const Mapping3dRun& f = r.runs.front();
+    s += " Per frame (seed " + std::to_string(f.seed) + "): " + format_fixed(f.raw_points, 0) + " points raw, " +
+         format_fixed(f.windowed_points, 0) + " in the range window, " + format_fixed(f.voxelised_points, 0) +
+         " after the voxel grid, " + format_fixed(f.kept_points, 0) + " after outlier removal (Fig. 9). " +
+         format_fixed(f.driven_m, 1) + " m driven in " + format_fixed(f.recording_s, 1) + " s.";
+  }
+  s += "\n\n| variant | runs | ATE mean / max (cm) | elevation drift mean / max (cm) | median registration (ms) | "
+       "real-time factor |\n|---|---|---|---|---|---|\n";
+  for (const Mapping3dSummary& m : r.summaries)
+    s += "| " + m.variant + " | " + std::to_string(m.runs) + " | " + format_fixed(100 * m.ate_mean_m, 2) + " / " +
+         format_fixed(100 * m.ate_max_m, 2) + " | " + format_fixed(100 * m.drift_mean_m, 2) + " / " +
+         format_fixed(100 * m.drift_max_m, 2) + " | " + format_fixed(m.median_match_ms, 1) + " | " +
+         format_fixed(m.real_time_factor, 1) + " |\n";
+  s += "\nThe real-time factor is the recording's length over the variant's mapping time (prefilter, "
+       "registration, floor, loops, graph), one variant at a time on the simulation's thread.\n";
+  return s;
+}
+
+std::string mapping3d_json(const Mapping3dResult& r) {
+  nlohmann::ordered_json j;
+  j["scenario"] = r.config.scenario;
+  j["seeds"] = r.config.seeds;
+  j["seed_base"] = r.config.seed_base;
+  nlohmann::ordered_json v = nlohmann::ordered_json::array();
+  for (const Mapping3dSummary& m : r.summaries)
+    v.push_back({{"variant", m.variant},
+                 {"runs", m.runs},
+                 {"ate_mean_m", m.ate_mean_m},
+                 {"ate_max_m", m.ate_max_m},
+                 {"elevation_drift_mean_m", m.drift_mean_m},
+                 {"elevation_drift_max_m", m.drift_max_m},
+                 {"median_registration_ms", m.median_match_ms},
+                 {"real_time_factor", m.real_time_factor}});
+  j["variants"] = v;
+  return j.dump(2) + "\n";
+}
+
+std::string mapping3d_csv(const Mapping3dResult& r) {
+  std::string s = "seed,variant,matcher,floor,frames,keyframes,loops,floor_edges,ate_rmse_m,elevation_drift_m,final_error_m,"
+                  "driven_m,recording_s,mapping_s,mean_match_s,median_match_s,raw_points,windowed_points,voxelised_points,"
+                  "kept_points\n";
+  for (const Mapping3dRun& x : r.runs)
+    s += std::to_string(x.seed) + ',' + x.variant + ',' + x.matcher + ',' + (x.floor ? "1" : "0") + ',' +
+         std::to_string(x.frames) + ',' + std::to_string(x.keyframes) + ',' + std::to_string(x.loops) + ',' +
+         std::to_string(x.floor_edges) + ',' + format_fixed6(x.ate_rmse_m) + ',' + format_fixed6(x.elevation_drift_m) + ',' +
+         format_fixed6(x.final_error_m) + ',' + format_fixed6(x.driven_m) + ',' + format_fixed6(x.recording_s) + ',' +
+         format_fixed6(x.mapping_s) + ',' + format_fixed6(x.mean_match_s) + ',' + format_fixed6(x.median_match_s) + ',' +
+         format_fixed6(x.raw_points) + ',' + format_fixed6(x.windowed_points) + ',' + format_fixed6(x.voxelised_points) + ',' +
+         format_fixed6(x.kept_points) + '\n';
+  return s;
+}
+
+void write_mapping3d_figures(const Mapping3dResult& r, const std::string& dir) {
+  const Mapping3dTrace& tr = r.trace;
+  if (tr.t.empty()) return;
+  const fs::path d(dir);
+  const char* axes[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    viz::LinePlot plot({.title = std::string("Sensor ") + axes[a] + " over time (Fig. 12), seed " + std::to_string(r.config.seed_base),
+                        .x_label = "t [s]",
+                        .y_label = std::string(axes[a]) + " [m]"});
+    std::vector<Vec2> truth;
+    for (std::size_t i = 0; i < tr.t.size(); ++i) truth.emplace_back(tr.t[i], tr.truth[i][a]);
+    plot.add_series(truth, {.colour = {0, 0, 0, 255}, .width_px = 2.4}, "truth");
+    for (std::size_t v = 0; v < tr.estimates.size(); ++v) {
+      std::vector<Vec2> pts;
+      for (std::size_t i = 0; i < tr.t.size(); ++i) pts.emplace_back(tr.t[i], tr.estimates[v][i][a]);
+      plot.add_series(pts, {.colour = viz::categorical_colour(v), .width_px = 1.4}, r.variants[v].label);
+    }
+    plot.write_svg((d / (std::string(axes[a]) + ".svg")).string());
+  }
+  viz::LinePlot err({.title = "Position error over time (Fig. 13)", .x_label = "t [s]", .y_label = "error [m]"});
+  for (std::size_t v = 0; v < tr.estimates.size(); ++v) {
+    std::vector<Vec2> pts;
+    for (std::size_t i = 0; i < tr.t.size(); ++i) pts.emplace_back(tr.t[i], (tr.estimates[v][i] - tr.truth[i]).norm());
+    err.add_series(pts, {.colour = viz::categorical_colour(v), .width_px = 1.4}, r.variants[v].label);
+  }
+  err.write_svg((d / "error.svg").string());
+  viz::LinePlot filt({.title = "Points per frame after each filter (Fig. 9)", .x_label = "frame", .y_label = "points"});
+  const char* names[4] = {"raw", "range window", "voxel grid", "radius outliers"};
+  for (int k = 0; k < 4; ++k) {
+    std::vector<Vec2> pts;
+    for (std::size_t i = 0; i < tr.filter_counts.size(); ++i) pts.emplace_back(static_cast<double>(i), tr.filter_counts[i][static_cast<std::size_t>(k)]);
+    filt.add_series(pts, {.colour = viz::categorical_colour(static_cast<std::size_t>(k)), .width_px = 1.4}, names[k]);
+  }
+  filt.write_svg((d / "filters.svg").string());
+}
+
+}  // namespace starnav
