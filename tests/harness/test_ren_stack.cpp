@@ -129,7 +129,7 @@ navigation:
   test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  manual: [{t_s: 1, duration_s: 0}]\n", "navigation.manual[0].duration_s");
   // A heading the path follower cannot turn to; a prior map the scenario does not have.
   test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4, yaw_deg: 90}\n", "navigation.goal.yaw_deg", true);
-  test::expect_scenario_error(head + "  goals: [{x_m: 6.0, y_m: 2.4}, {x_m: 2.0, y_m: 2.4, yaw_deg: 90}]\n", "navigation.goals[0].yaw_deg", true);
+  test::expect_scenario_error(head + "  goals: [{x_m: 6.0, y_m: 2.4}, {x_m: 2.0, y_m: 2.4, yaw_deg: 90}]\n", "navigation.goals[1].yaw_deg", true);
   test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  map: {prior: world}\n", "navigation.map.prior", true);
   test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  map: {prior: nonesuch.yaml}\n", "navigation.map.prior", true);
   test::expect_scenario_error(head + "  goal: {x_m: 6.0, y_m: 2.4}\n  controller: dwa\n  dwa: {sim_step_s: 5}\n", "navigation.dwa.sim_step_s", true);

@@ -337,12 +337,18 @@ namespace {
 // The navigator of a scenario; errors about a goal name the goal's line.
 std::unique_ptr<Navigator> make_navigator(const ScenarioSpec& spec, const NavigatorConfig& config) {
   const ScenarioGoal& first = spec.navigation->goals.front();
+  // Every goal's heading must suit the controller, not only the first's: the registry says which
+  // controllers turn to one (the first goal's is checked by the navigator itself below).
+  for (const ScenarioGoal& g : spec.navigation->goals) {
+    if (&g == &first || !g.yaw_rad) continue;
+    const std::string& name = config.controller.name;
+    if (!find_local_controller(name, config.controller.field).info.has("goal_heading"))
+      throw Error("the " + name + " controller cannot turn to a goal heading (give the goal without yaw_deg)", spec.file,
+                  g.source.line, g.source.field + ".yaw_deg");
+  }
   std::unique_ptr<Navigator> nav;
   try {
     nav = std::make_unique<Navigator>(config, spec.vehicle.robot, first.position, first.yaw_rad);
-    // Every goal's heading must suit the controller, not only the first's.
-    for (const ScenarioGoal& g : spec.navigation->goals)
-      if (g.yaw_rad && !first.yaw_rad) Navigator(config, spec.vehicle.robot, g.position, g.yaw_rad);
   } catch (const Error& e) {
     if (e.file().empty() && e.field().rfind("navigation.goal", 0) == 0)
       throw Error(e.message(), spec.file, first.source.line, first.source.field + e.field().substr(15));

@@ -430,6 +430,7 @@ bool Navigator::start_recovery(const Pose2& pose, double t, const std::string& w
   events_.push_back({t, "recovery", why});
   goal_xy_reached_ = false;  // the recovery moves the robot: the goal must be reached again
   action_ = RecoveryAction::Rotate;
+  recovery_check_t_ = -1e300;  // a new action: look anew
   action_end_t_ = t + config_.recovery.rotate_rad / config_.recovery.rotate_speed_radps;
   // Turn the way that is clear (left first).
   action_sign_ = motion_clear(pose, {0.0, 0.0, config_.recovery.rotate_speed_radps}, action_end_t_ - t) ? 1.0 : -1.0;
@@ -451,6 +452,15 @@ bool Navigator::motion_clear(const Pose2& pose, const BodyTwist& twist, double d
   return true;
 }
 
+bool Navigator::recovery_clear(const Pose2& pose, const BodyTwist& twist, double t) {
+  // The check looks 0.5 s ahead, ten control periods and more: one look per period misses nothing.
+  if (recovery_check_action_ == action_ && t < recovery_check_t_ + controller_->control_period_s()) return recovery_clear_;
+  recovery_clear_ = motion_clear(pose, twist, 0.5);
+  recovery_check_t_ = t;
+  recovery_check_action_ = action_;
+  return recovery_clear_;
+}
+
 std::optional<BodyTwist> Navigator::recovery_twist(const Pose2& pose, double t) {
   const RecoveryConfig& r = config_.recovery;
   for (;;) {
@@ -458,7 +468,7 @@ std::optional<BodyTwist> Navigator::recovery_twist(const Pose2& pose, double t) 
       case RecoveryAction::None: return std::nullopt;
       case RecoveryAction::Rotate: {
         const BodyTwist w{0.0, 0.0, action_sign_ * r.rotate_speed_radps};
-        if (t < action_end_t_ && motion_clear(pose, w, 0.5)) return w;
+        if (t < action_end_t_ && recovery_clear(pose, w, t)) return w;
         events_.push_back({t, "recovery", "back_up"});
         action_ = RecoveryAction::BackUp;
         action_end_t_ = t + r.backup_m / r.backup_speed_mps;
@@ -466,7 +476,7 @@ std::optional<BodyTwist> Navigator::recovery_twist(const Pose2& pose, double t) 
       }
       case RecoveryAction::BackUp: {
         const BodyTwist b{-r.backup_speed_mps, 0.0, 0.0};
-        if (t < action_end_t_ && motion_clear(pose, b, 0.5)) return b;
+        if (t < action_end_t_ && recovery_clear(pose, b, t)) return b;
         events_.push_back({t, "recovery", "replan"});
         action_ = RecoveryAction::None;
         replan_cause_ = "recovery";

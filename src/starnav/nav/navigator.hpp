@@ -177,6 +177,9 @@ class Navigator {
   bool start_recovery(const Pose2& pose, double t, const std::string& why);
   std::optional<BodyTwist> recovery_twist(const Pose2& pose, double t);
   bool motion_clear(const Pose2& pose, const BodyTwist& twist, double duration_s) const;
+  // motion_clear for the running recovery action, looked at once per control period (it builds a
+  // local distance field; the simulation asks every step).
+  bool recovery_clear(const Pose2& pose, const BodyTwist& twist, double t);
   void plan(const Pose2& pose, double t, const std::string& cause);
   void advance_progress(const Vec2& p);
   std::vector<Vec2> follower_points(const std::vector<Cell>& cells, const Vec2& robot) const;
@@ -207,6 +210,9 @@ class Navigator {
   enum class RecoveryAction : std::uint8_t { None, Rotate, BackUp };
   RecoveryAction action_ = RecoveryAction::None;
   double action_end_t_ = 0.0;
+  double recovery_check_t_ = -1e300;
+  RecoveryAction recovery_check_action_ = RecoveryAction::None;
+  bool recovery_clear_ = false;
   double action_sign_ = 1.0;
   double blocked_since_ = -1.0;
   Pose2 progress_pose_;
