@@ -1,7 +1,7 @@
 // starnav slam3d: 3D graph SLAM on a folder of recorded LiDAR frames (docs/mapping3d.md).
 //
 //   starnav slam3d INPUT --out DIR [--matcher icp|gicp|ndt|ndt_mt] [--set key=value ...]
-//                        [--matcher-set key=value ...] [--frames N] [--json] [--force] [--quiet]
+//                        [--matcher-set key=value ...] [--frames N] [--plan-to X,Y] [--no-map] [--json] [--force]
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/io/ros_map.hpp"
 
 namespace starnav::cli {
 
@@ -23,7 +24,9 @@ struct Slam3dOptions {
   std::string input, out, matcher = "ndt_mt";
   std::vector<std::string> sets, matcher_sets;
   int frames = 0;
-  bool json = false, force = false, quiet = false;
+  double map_resolution_m = 0.05, band_min_m = 0.1, band_max_m = 0.6, inflation_m = 0.35;
+  std::string plan_to;
+  bool no_map = false, json = false, force = false, quiet = false;
 };
 
 void run_slam3d(const Slam3dOptions& o, Context& ctx) {
@@ -33,6 +36,20 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
   c.slam = configured(graph_slam_3d_params(), parse_set_options(o.sets), "");
   c.matcher_settings = parse_set_options(o.matcher_sets);
   if (o.frames < 0) throw Error("must be >= 0", "", 0, "--frames");
+  if (!(o.inflation_m >= 0 && o.inflation_m <= 10)) throw Error("must be in [0, 10] m", "", 0, "--inflation-m");
+  {
+    OctreeMapConfig oc;
+    oc.resolution_m = o.map_resolution_m;
+    GridProjectionConfig gc;
+    gc.min_height_m = o.band_min_m;
+    gc.max_height_m = o.band_max_m;
+    try {
+      oc.validate();
+      gc.validate();
+    } catch (const Error& e) {
+      throw Error(e.message(), "", 0, e.field() == "resolution_m" ? "--map-resolution-m" : "--band-m");
+    }
+  }
   // A simulator run folder holds its frames in lidar/.
   std::string input = o.input;
   if (!fs::exists(fs::path(input) / "frames.csv") && fs::exists(fs::path(input) / "lidar" / "frames.csv"))
@@ -49,6 +66,35 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
   write_text_file((d / "trajectory.csv").string(), slam3d_trajectory_csv(r), "--out");
   write_text_file((d / "keyframes.csv").string(), slam3d_keyframes_csv(r), "--out");
   write_text_file((d / "summary.json").string(), slam3d_summary_json(r), "--out");
+  std::string map_files;
+  std::string plan_line;
+  if (!o.no_map) {
+    Slam3dMapConfig mc;
+    mc.octree.resolution_m = o.map_resolution_m;
+    mc.grid.min_height_m = o.band_min_m;
+    mc.grid.max_height_m = o.band_max_m;
+    const OctreeMap octree = slam3d_octree(r.keyframes, mc);
+    octree.write((d / "map.bt").string());
+    const OccupancyGrid grid = octree.project_to_grid(mc.grid);
+    write_ros_map(grid, (d / "map.yaml").string());
+    std::vector<Vec2> path;
+    if (!o.plan_to.empty()) {
+      const std::vector<double> g = parse_number_list(o.plan_to, "--plan-to", 2, "X,Y (metres, map frame)");
+      const PlanOutcome p = slam3d_plan(grid, r.keyframes.front().pose.translation().head<2>(), Vec2(g[0], g[1]), o.inflation_m);
+      if (p.result.found()) {
+        path = p.path();
+        std::string csv = "x_m,y_m\n";
+        for (const Vec2& q : path) csv += std::to_string(q.x()) + "," + std::to_string(q.y()) + "\n";
+        write_text_file((d / "path.csv").string(), csv, "--out");
+        plan_line = "; improved A* path " + std::to_string(p.metrics.length) + " m";
+      } else {
+        plan_line = "; improved A*: no path";
+      }
+    }
+    write_slam3d_picture(r, grid, path, (d / "map.svg").string());
+    write_slam3d_picture(r, grid, path, (d / "map.png").string());
+    map_files = ", map.bt, map.yaml, map.pgm, map.svg, map.png" + std::string(path.empty() ? "" : ", path.csv");
+  }
   if (o.json) {
     std::cout << slam3d_summary_json(r);
   } else {
@@ -57,9 +103,9 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
               << r.duration_s << " s of recording";
     if (r.has_truth)
       std::cout << "; ATE " << r.ate_rmse_m << " m over " << r.driven_m << " m, elevation drift " << r.elevation_drift_m << " m";
-    std::cout << "\n";
+    std::cout << plan_line << "\n";
   }
-  if (!o.quiet) std::cerr << "slam3d: wrote " << o.out << "/{trajectory.csv, keyframes.csv, summary.json}\n";
+  if (!o.quiet) std::cerr << "slam3d: wrote " << o.out << "/{trajectory.csv, keyframes.csv, summary.json" << map_files << "}\n";
   ctx.exit_code = 0;
 }
 
@@ -81,6 +127,12 @@ void register_slam3d_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--matcher-set", o->matcher_sets, "a matcher parameter key=value (repeatable; docs/parameters.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--frames", o->frames, "use the first N frames only (0: all)")->default_str("0");
+  cmd->add_option("--map-resolution-m", o->map_resolution_m, "the octree's voxel size")->default_str("0.05");
+  cmd->add_option("--band-m", o->band_min_m, "the 2D grid's height band above the floor: its bottom")->default_str("0.1");
+  cmd->add_option("--band-top-m", o->band_max_m, "... and its top (the robot's height)")->default_str("0.6");
+  cmd->add_option("--plan-to", o->plan_to, "X,Y (map frame: the floor under the first frame's sensor is the origin, x its heading): plan with the improved A* (ou2022) on the 2D grid from the first key frame");
+  cmd->add_option("--inflation-m", o->inflation_m, "the planner's inflation radius")->default_str("0.35");
+  cmd->add_flag("--no-map", o->no_map, "skip the octree, the 2D grid and the picture");
   cmd->add_flag("--json", o->json, "print the JSON summary");
   cmd->add_flag("--force", o->force, "overwrite the results in --out");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");

@@ -64,7 +64,7 @@ TEST(LidarFrameRecorder, Slam3dMapsTheRecordingAndReportsItsError) {
   const test::CliResult sim = test::run_cli({"sim", kMapping3d, "--out", run, "--quiet", "--set", "sim.duration_s=12",
                                              "--set", "sensors.lidar.horizontal_resolution_deg=0.4"});
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
-  const test::CliResult s = test::run_cli({"slam3d", run, "--out", slam, "--quiet", "--json"});
+  const test::CliResult s = test::run_cli({"slam3d", run, "--out", slam, "--quiet", "--json", "--plan-to", "3.0,0.0"});
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const nlohmann::json j = nlohmann::json::parse(s.out);
   EXPECT_EQ(j["frames"].get<int>(), 121);  // t = 0, 0.1, ..., 12 s
@@ -74,6 +74,12 @@ TEST(LidarFrameRecorder, Slam3dMapsTheRecordingAndReportsItsError) {
   EXPECT_LT(j["elevation_drift_m"].get<double>(), 0.05);
   EXPECT_TRUE(std::ifstream(slam + "/trajectory.csv").good());
   EXPECT_TRUE(std::ifstream(slam + "/keyframes.csv").good());
+  // The octree, its 2D grid (the corridor ahead is free: the improved A* finds the 3 m path) and the picture.
+  for (const char* f : {"/map.bt", "/map.yaml", "/map.pgm", "/map.svg", "/map.png", "/path.csv"})
+    EXPECT_TRUE(std::ifstream(slam + f).good()) << f;
+  const test::CliResult far = test::run_cli({"slam3d", run, "--out", dir.file("far"), "--quiet", "--plan-to", "500,0"});
+  EXPECT_EQ(far.exit_code, 2);
+  EXPECT_NE(far.err.find("--plan-to"), std::string::npos) << far.err;
   // Bad input: a folder without frames, an unknown matcher.
   const test::CliResult bad = test::run_cli({"slam3d", dir.path().string(), "--out", dir.file("x"), "--quiet"});
   EXPECT_EQ(bad.exit_code, 2);

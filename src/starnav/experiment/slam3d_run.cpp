@@ -7,7 +7,9 @@
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
+#include "starnav/io/file_bytes.hpp"
 #include "starnav/registry/components.hpp"
+#include "starnav/viz/map_picture.hpp"
 
 namespace starnav {
 
@@ -40,6 +42,7 @@ Slam3dErrors slam3d_errors(const std::vector<Rigid3>& estimate, const std::vecto
   }
   e.ate_rmse_m = std::sqrt(sq / static_cast<double>(estimate.size()));
   e.final_error_m = (truth.back().translation() - align * estimate.back().translation()).norm();
+  e.alignment = align;
   return e;
 }
 
@@ -88,6 +91,7 @@ Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConf
     r.elevation_drift_m = e.elevation_drift_m;
     r.final_error_m = e.final_error_m;
     r.driven_m = e.driven_m;
+    r.truth_alignment = e.alignment;
   }
   return r;
 }
@@ -157,6 +161,47 @@ std::string slam3d_summary_json(const Slam3dRunResult& r) {
     j["final_error_m"] = r.final_error_m;
   }
   return j.dump(2) + "\n";
+}
+
+OctreeMap slam3d_octree(const std::vector<Slam3dKeyframe>& keyframes, const Slam3dMapConfig& config) {
+  OctreeMap map(config.octree);
+  for (const Slam3dKeyframe& kf : keyframes) map.insert_scan(kf.pose, kf.cloud);
+  return map;
+}
+
+PlanOutcome slam3d_plan(const OccupancyGrid& grid, const Vec2& start, const Vec2& goal, double inflation_m) {
+  const auto s = grid.geometry().world_to_cell(start);
+  const auto g = grid.geometry().world_to_cell(goal);
+  if (!s) throw Error("the first key frame lies outside the map", "", 0, "--plan-to");
+  if (!g) throw Error("the goal lies outside the map", "", 0, "--plan-to");
+  PlanRequest rq;
+  rq.planner = "ou2022";
+  rq.options.ou2022.inflation.radius_m = inflation_m;
+  return plan_on_grid(grid, *s, *g, rq);
+}
+
+void write_slam3d_picture(const Slam3dRunResult& r, const OccupancyGrid& grid, const std::vector<Vec2>& path,
+                          const std::string& path_svg) {
+  viz::MapPicture pic(grid, {.title = "3D graph SLAM: the 2D grid of the octree map, " + r.matcher});
+  if (r.has_truth) {
+    const Rigid3 mount = to_rigid(r.input.mount);
+    const Rigid3 to_map = r.truth_alignment.inverse();
+    std::vector<Vec2> truth;
+    for (const LidarFrameRecord& f : r.input.frames) truth.push_back((to_map * (to_rigid(*f.truth) * mount)).translation().head<2>());
+    pic.add_polyline(truth, {.colour = {0, 0, 0, 255}, .width_px = 1.5, .dashed = true}, "truth");
+  }
+  std::vector<Vec2> est;
+  for (const Rigid3& t : r.trajectory) est.push_back(t.translation().head<2>());
+  pic.add_polyline(est, {.colour = {0, 114, 178, 255}, .width_px = 2.0}, "trajectory");
+  std::vector<Vec2> kfs;
+  for (const Slam3dKeyframe& k : r.keyframes) kfs.push_back(k.pose.translation().head<2>());
+  pic.add_points(kfs, {}, "key frames");
+  if (!path.empty()) pic.add_polyline(path, {.colour = {213, 94, 0, 255}, .width_px = 2.5}, "improved A* path");
+  if (lower_extension(path_svg) == ".png") {
+    pic.write_png(path_svg);
+  } else {
+    pic.write_svg(path_svg);
+  }
 }
 
 }  // namespace starnav

@@ -13,6 +13,9 @@
 #include <vector>
 
 #include "starnav/cloud/lidar_frames.hpp"
+#include "starnav/cloud/octree_map.hpp"
+#include "starnav/map/occupancy_grid.hpp"
+#include "starnav/plan/plan_pipeline.hpp"
 #include "starnav/slam/graph_slam_3d.hpp"
 
 namespace starnav {
@@ -38,14 +41,38 @@ struct Slam3dRunResult {
   bool has_truth = false;
   double ate_rmse_m = 0.0, elevation_drift_m = 0.0, final_error_m = 0.0;
   double driven_m = 0.0;      // along the true trajectory
+  Rigid3 truth_alignment = Rigid3::Identity();  // map frame -> the truth's frame (x, y, heading)
 };
 
 // The errors of an estimated sensor trajectory against the true one (same length, same frames),
 // as described at the top.
 struct Slam3dErrors {
   double ate_rmse_m = 0.0, elevation_drift_m = 0.0, final_error_m = 0.0, driven_m = 0.0;
+  Rigid3 alignment = Rigid3::Identity();  // map frame -> the truth's frame
 };
 Slam3dErrors slam3d_errors(const std::vector<Rigid3>& estimate, const std::vector<Rigid3>& truth);
+
+// The map of a run: every key frame's cloud inserted at its optimised pose into an octree (rays
+// clear free space), and the octree's projection to the planner's 2D grid.
+struct Slam3dMapConfig {
+  OctreeMapConfig octree = [] {
+    OctreeMapConfig c;
+    c.max_range_m = 10.0;  // long rays cost the most and add little indoors
+    return c;
+  }();
+  GridProjectionConfig grid;
+};
+OctreeMap slam3d_octree(const std::vector<Slam3dKeyframe>& keyframes, const Slam3dMapConfig& config);
+
+// The paper's last step: the improved A* (planner ou2022, inflated by `inflation_m`) on the grid
+// from the first key frame's position to `goal`. Error naming "--plan-to" when the goal lies
+// outside the grid.
+PlanOutcome slam3d_plan(const OccupancyGrid& grid, const Vec2& start, const Vec2& goal, double inflation_m);
+
+// The grid from above with the trajectory (and the truth when known), the key frames and a path;
+// SVG, or PNG when the name ends in .png.
+void write_slam3d_picture(const Slam3dRunResult& r, const OccupancyGrid& grid, const std::vector<Vec2>& path,
+                          const std::string& path_svg);
 
 using Slam3dProgress = std::function<void(std::size_t done, std::size_t total)>;
 Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConfig& config, const Slam3dProgress& progress = {});
