@@ -2,8 +2,9 @@
 JOBS ?= $(shell nproc)
 BUILD ?= build
 GDAL ?= ON
+PCL ?= ON
 CMAKE_FLAGS ?=
-CMAKE_COMMON = -DSTARNAV_WITH_GDAL=$(GDAL) $(CMAKE_FLAGS)
+CMAKE_COMMON = -DSTARNAV_WITH_GDAL=$(GDAL) -DSTARNAV_WITH_PCL=$(PCL) $(CMAKE_FLAGS)
 SHARED ?= $(abspath ../shared)
 # One clang build serves the sanitizer tests and the fuzz-corpus replay (docs/ci.md).
 SAN_BUILD ?= build-san
@@ -17,7 +18,7 @@ CTEST = ctest --output-on-failure --progress -j $(JOBS)
 all: build
 
 deps:
-	@STARNAV_WITH_GDAL=$(GDAL) scripts/install-deps.sh core
+	@STARNAV_WITH_GDAL=$(GDAL) STARNAV_WITH_PCL=$(PCL) scripts/install-deps.sh core
 
 build: deps
 	@$(CMAKE_BUILD) $(BUILD) "-DCMAKE_BUILD_TYPE=Release $(CMAKE_COMMON)"
@@ -37,7 +38,7 @@ bench-full: build
 # The sanitizer build: clang-16, AddressSanitizer + UndefinedBehaviorSanitizer on everything, -O1
 # with line tables, assertions on (scripts/san-build.sh); the tests and the fuzz-corpus replay.
 san-build:
-	@scripts/install-deps.sh fuzz
+	@STARNAV_WITH_PCL=OFF scripts/install-deps.sh fuzz
 	@JOBS=$(JOBS) scripts/san-build.sh $(SAN_BUILD) "$(CMAKE_COMMON)"
 
 # The tests under AddressSanitizer + UndefinedBehaviorSanitizer.
@@ -49,7 +50,7 @@ asan: san-build
 # build's configuration plus libFuzzer's coverage instrumentation of the library).
 FUZZ_SECONDS ?= 300
 fuzz:
-	@scripts/install-deps.sh fuzz
+	@STARNAV_WITH_PCL=OFF scripts/install-deps.sh fuzz
 	@scripts/fuzz.sh run $(FUZZ_SECONDS)
 
 # Replays the kept corpora and every saved crasher (CI runs this).
@@ -59,11 +60,12 @@ fuzz-replay: san-build
 # Without GDAL (docs/ci.md, "The no-GDAL stage"): configured with -DSTARNAV_WITH_GDAL=OFF (no
 # plugin, GeoTIFF refused with one error line), the library, the CLI and the two test executables
 # that read map files (test_io: every reader and load_map; test_cli: the CLI on every map format,
-# GeoTIFF included) built at -O1 and run. Nothing else in starnav touches GDAL.
+# GeoTIFF included) built at -O1 and run. Nothing else in starnav touches GDAL. PCL is off too:
+# nothing there uses it.
 nogdal-check:
-	@STARNAV_WITH_GDAL=OFF scripts/install-deps.sh core
+	@STARNAV_WITH_GDAL=OFF STARNAV_WITH_PCL=OFF scripts/install-deps.sh core
 	@$(CMAKE_BUILD) $(NOGDAL_BUILD) "-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 -DSTARNAV_WITH_GDAL=OFF \
-	  -DSTARNAV_BUILD_BENCH=OFF $(CMAKE_FLAGS)" starnav_cli test_io test_cli
+	  -DSTARNAV_WITH_PCL=OFF -DSTARNAV_BUILD_BENCH=OFF $(CMAKE_FLAGS)" starnav_cli test_io test_cli
 	@cd $(NOGDAL_BUILD) && $(CTEST) --timeout 900 -L '^(io|cli)$$'
 
 # Installs into a scratch prefix and builds examples/consumer against the installed package.

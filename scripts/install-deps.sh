@@ -9,6 +9,7 @@ core=(build-essential cmake ninja-build pkg-config libeigen3-dev libyaml-cpp-dev
       libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev libbz2-dev liblz4-dev
       libnanoflann-dev liboctomap-dev)
 if [ "${STARNAV_WITH_GDAL:-ON}" != "OFF" ]; then core+=(libgdal-dev); fi
+if [ "${STARNAV_WITH_PCL:-ON}" != "OFF" ]; then core+=(libpcl-dev); fi
 fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
 case "$what" in
   core) pkgs=("${core[@]}") ;;

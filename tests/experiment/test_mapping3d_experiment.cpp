@@ -17,6 +17,7 @@ TEST(Mapping3dExperiment, ShortRunMapsWithinCentimetresAndTheFloorHelps) {
   c.seeds = 1;
   c.matchers = {"gicp"};
   c.overrides = {parse_scenario_override("sim.duration_s=15"), parse_scenario_override("sensors.lidar.horizontal_resolution_deg=0.5")};
+  c.plan_goal = Vec2(4.5, 1.2);  // along the corridor the short run has seen
   const Mapping3dResult r = run_mapping3d_experiment(c);
   ASSERT_EQ(r.runs.size(), 2u);
   const Mapping3dRun& with = r.runs[0];
@@ -31,6 +32,14 @@ TEST(Mapping3dExperiment, ShortRunMapsWithinCentimetresAndTheFloorHelps) {
   EXPECT_EQ(without.floor_edges, 0u);
   // The floor constraint never makes the height worse (a little slack for rounding).
   EXPECT_LE(with.elevation_drift_m, without.elevation_drift_m + 0.005);
+  // The map of the GICP run against the world's true occupancy, and the improved A* on it.
+  ASSERT_TRUE(with.mapped);
+  EXPECT_FALSE(without.mapped);
+  EXPECT_GT(with.occupied_cells, 200u);
+  EXPECT_GE(with.occupied_iou, 0.9);
+  EXPECT_TRUE(with.path_found);
+  EXPECT_TRUE(with.path_collision_free);
+  EXPECT_GT(with.path_length_m, 2.5);  // about 2.8 m in a straight line
   // The filters shrink every frame, in order (Fig. 9).
   EXPECT_GT(with.raw_points, with.voxelised_points);
   EXPECT_GE(with.voxelised_points, with.kept_points);

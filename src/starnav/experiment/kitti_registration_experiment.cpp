@@ -47,6 +47,15 @@ std::vector<MatcherVariant> standard_matcher_variants() {
       {"gicp", "gicp", {}},
       {"ndt", "ndt", {}},
       {"ndt_mt", "ndt_mt", {}},
+      // PCL's (through its plugin) with the limits of starnav's above: 64 iterations, pairs within 1 m,
+      // steps down to 0.1 mm and 1e-4 rad (PCL's own defaults stop ICP and NDT far from the answer).
+      {"pcl_icp", "pcl_icp",
+       {matcher_setting("max_iterations", "64"), matcher_setting("max_correspondence_distance_m", "1"),
+        matcher_setting("transformation_epsilon", "1e-8")}},
+      {"pcl_gicp", "pcl_gicp",
+       {matcher_setting("max_iterations", "64"), matcher_setting("max_correspondence_distance_m", "1"),
+        matcher_setting("transformation_epsilon", "1e-4"), matcher_setting("rotation_epsilon", "1e-4")}},
+      {"pcl_ndt", "pcl_ndt", {matcher_setting("max_iterations", "64"), matcher_setting("transformation_epsilon", "1e-8")}},
   };
 }
 

@@ -10,6 +10,7 @@
 #include "starnav/estimate/wheel_odometry.hpp"
 #include "starnav/experiment/slam3d_run.hpp"
 #include "starnav/harness/route_drive.hpp"
+#include "starnav/sim/world.hpp"
 #include "starnav/registry/components.hpp"
 #include "starnav/robot/robot_model.hpp"
 #include "starnav/sim/simulation.hpp"
@@ -35,6 +36,82 @@ std::vector<Mapping3dVariant> Mapping3dExperimentConfig::variants() const {
 }
 
 namespace {
+
+// The 2D grid of a run's map against the world's true occupancy in the same height band, and
+// the improved A* on it (docs/mapping3d.md, "The 2D grid against the truth").
+void judge_map(const GraphSlam3d& slam, const Rigid3& to_truth, const World& world, const Mapping3dExperimentConfig& c,
+               Mapping3dRun& run) {
+  const Slam3dMapConfig mc;
+  const OctreeMap octree = slam3d_octree(slam.keyframes(), mc);
+  const OccupancyGrid grid = octree.project_to_grid(mc.grid);
+  const double top = mc.grid.floor_z_m + mc.grid.max_height_m, bottom = mc.grid.floor_z_m + mc.grid.min_height_m;
+  // The truth at a map-frame point: something stands there reaching into the band (the world's
+  // obstacles are solids standing on the floor, so the highest surface above the point says it).
+  (void)top;
+  const auto truly_occupied = [&](const Vec2& p) {
+    const Vec3 w = to_truth * Vec3(p.x(), p.y(), 0.0);
+    const double h = world.surface_height(w.x(), w.y(), 0.0);
+    return std::isfinite(h) && h >= bottom;
+  };
+  const GridGeometry& g = grid.geometry();
+  const OccupancyThresholds th;
+  const std::size_t n = static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height);
+  // est: the map's occupied cells; truth: every truly occupied cell (an estimated cell on a wall's
+  // face matches the wall's unseen inside); observed: the cells the map knows, where a true
+  // obstacle the map lacks counts as missed.
+  std::vector<std::uint8_t> est(n, 0), truth(n, 0), observed(n, 0);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const CellState st = th.classify(grid(x, y));
+      est[g.index(x, y)] = st == CellState::Occupied;
+      observed[g.index(x, y)] = st != CellState::Unknown;
+      truth[g.index(x, y)] = truly_occupied(g.cell_center(x, y));
+    }
+  const auto near = [&](const std::vector<std::uint8_t>& m, int x, int y) {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (g.contains(x + dx, y + dy) && m[g.index(x + dx, y + dy)]) return true;
+    return false;
+  };
+  std::size_t matched = 0, missed = 0;
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      if (est[g.index(x, y)]) {
+        ++run.occupied_cells;
+        matched += near(truth, x, y);
+      }
+      if (truth[g.index(x, y)] && observed[g.index(x, y)]) {
+        ++run.true_occupied_cells;
+        missed += !near(est, x, y);
+      }
+    }
+  run.occupied_iou = run.occupied_cells + missed > 0 ? static_cast<double>(matched) / static_cast<double>(run.occupied_cells + missed) : 0.0;
+  run.mapped = true;
+  run.occupied_matched = matched;
+  run.true_missed = missed;
+  const Vec2 start = slam.keyframes().front().pose.translation().head<2>();
+  const Vec2 goal = (to_truth.inverse() * Vec3(c.plan_goal.x(), c.plan_goal.y(), 0.0)).head<2>();
+  const PlanOutcome p = slam3d_plan(grid, start, goal, c.plan_inflation_m);
+  run.path_found = p.result.found();
+  if (!run.path_found) return;
+  run.path_length_m = p.metrics.length;
+  // Collision-free in the true world: the path's points, every 5 cm, and a 0.25 m circle round
+  // each (half the robot's width) stay clear of every obstacle in the band.
+  run.path_collision_free = true;
+  const std::vector<Vec2>& path = p.path();
+  for (std::size_t i = 0; i + 1 < path.size() && run.path_collision_free; ++i) {
+    const double len = (path[i + 1] - path[i]).norm();
+    const int steps = std::max(1, static_cast<int>(std::ceil(len / 0.05)));
+    for (int k = 0; k <= steps && run.path_collision_free; ++k) {
+      const Vec2 q = path[i] + (path[i + 1] - path[i]) * (static_cast<double>(k) / steps);
+      if (truly_occupied(q)) run.path_collision_free = false;
+      for (int a = 0; a < 8 && run.path_collision_free; ++a) {
+        const double ang = a * kPi / 4.0;
+        if (truly_occupied(q + 0.25 * Vec2(std::cos(ang), std::sin(ang)))) run.path_collision_free = false;
+      }
+    }
+  }
+}
 
 struct Mapping3dSlot {
   Mapping3dVariant variant;
@@ -133,6 +210,7 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
       const SampleStats ms = sample_stats(match);
       run.mean_match_s = ms.mean;
       run.median_match_s = ms.median;
+      if (slot.variant.label == config.map_variant) judge_map(*slot.slam, e.alignment, sim.world(), config, run);
       result.runs.push_back(run);
       if (k == 0) {
         Mapping3dTrace& tr = result.trace;
@@ -198,6 +276,25 @@ std::string mapping3d_markdown(const Mapping3dResult& r) {
          format_fixed(100 * m.ate_max_m, 2) + " | " + format_fixed(100 * m.drift_mean_m, 2) + " / " +
          format_fixed(100 * m.drift_max_m, 2) + " | " + format_fixed(m.median_match_ms, 1) + " | " +
          format_fixed(m.real_time_factor, 1) + " |\n";
+  for (const Mapping3dRun& x : r.runs)
+    if (x.mapped && x.seed == r.config.seed_base) {
+      s += "\nThe " + x.variant + " map's 2D grid against the true occupancy (0.1-0.6 m above the floor, observed cells, one "
+           "cell of tolerance): IoU of occupied cells ";
+      std::vector<double> iou;
+      int found = 0, clear = 0, mapped = 0;
+      for (const Mapping3dRun& y : r.runs)
+        if (y.mapped) {
+          iou.push_back(y.occupied_iou);
+          ++mapped;
+          found += y.path_found;
+          clear += y.path_found && y.path_collision_free;
+        }
+      const SampleStats st = sample_stats(iou);
+      s += format_fixed(st.mean, 3) + " mean, " + format_fixed(st.min, 3) + " worst over " + std::to_string(mapped) +
+           " seeds; the improved A* found a path on " + std::to_string(found) + " and it was collision-free in the true "
+           "world on " + std::to_string(clear) + ".\n";
+      break;
+    }
   s += "\nThe real-time factor is the recording's length over the variant's mapping time (prefilter, "
        "registration, floor, loops, graph), one variant at a time on the simulation's thread.\n";
   return s;
@@ -219,13 +316,27 @@ std::string mapping3d_json(const Mapping3dResult& r) {
                  {"median_registration_ms", m.median_match_ms},
                  {"real_time_factor", m.real_time_factor}});
   j["variants"] = v;
+  nlohmann::ordered_json maps = nlohmann::ordered_json::array();
+  for (const Mapping3dRun& x : r.runs)
+    if (x.mapped)
+      maps.push_back({{"seed", x.seed},
+                      {"variant", x.variant},
+                      {"occupied_iou", x.occupied_iou},
+                      {"occupied_cells", x.occupied_cells},
+                      {"true_occupied_cells", x.true_occupied_cells},
+                      {"occupied_matched", x.occupied_matched},
+                      {"true_missed", x.true_missed},
+                      {"path_found", x.path_found},
+                      {"path_collision_free", x.path_collision_free},
+                      {"path_length_m", x.path_length_m}});
+  j["maps"] = maps;
   return j.dump(2) + "\n";
 }
 
 std::string mapping3d_csv(const Mapping3dResult& r) {
   std::string s = "seed,variant,matcher,floor,frames,keyframes,loops,floor_edges,ate_rmse_m,elevation_drift_m,final_error_m,"
                   "driven_m,recording_s,mapping_s,mean_match_s,median_match_s,raw_points,windowed_points,voxelised_points,"
-                  "kept_points\n";
+                  "kept_points,occupied_iou,path_found,path_collision_free,path_length_m\n";
   for (const Mapping3dRun& x : r.runs)
     s += std::to_string(x.seed) + ',' + x.variant + ',' + x.matcher + ',' + (x.floor ? "1" : "0") + ',' +
          std::to_string(x.frames) + ',' + std::to_string(x.keyframes) + ',' + std::to_string(x.loops) + ',' +
@@ -233,7 +344,9 @@ std::string mapping3d_csv(const Mapping3dResult& r) {
          format_fixed6(x.final_error_m) + ',' + format_fixed6(x.driven_m) + ',' + format_fixed6(x.recording_s) + ',' +
          format_fixed6(x.mapping_s) + ',' + format_fixed6(x.mean_match_s) + ',' + format_fixed6(x.median_match_s) + ',' +
          format_fixed6(x.raw_points) + ',' + format_fixed6(x.windowed_points) + ',' + format_fixed6(x.voxelised_points) + ',' +
-         format_fixed6(x.kept_points) + '\n';
+         format_fixed6(x.kept_points) + ',' + (x.mapped ? format_fixed6(x.occupied_iou) : "") + ',' +
+         (x.mapped ? (x.path_found ? "1" : "0") : "") + ',' + (x.mapped ? (x.path_collision_free ? "1" : "0") : "") + ',' +
+         (x.mapped ? format_fixed6(x.path_length_m) : "") + '\n';
   return s;
 }
 

@@ -29,6 +29,11 @@ struct Mapping3dExperimentConfig {
   std::uint64_t seeds = 10, seed_base = 0;
   std::vector<std::string> matchers = {"icp", "gicp", "ndt", "ndt_mt"};
   std::string no_floor_matcher = "gicp";  // also run without the floor constraint ("" for none)
+  // The variant whose map is built and judged on every seed: the octree, its 2D grid against the
+  // world's true occupancy, and the improved A* on the grid from the start to `plan_goal` ("" none).
+  std::string map_variant = "gicp";
+  Vec2 plan_goal = Vec2(11.0, 8.5);  // in the simulator's frame (the route's last waypoint)
+  double plan_inflation_m = 0.35;
   GraphSlam3dConfig slam;
   void validate() const;  // Error naming the flag
   std::vector<Mapping3dVariant> variants() const;
@@ -43,6 +48,14 @@ struct Mapping3dRun {
   double recording_s = 0.0, mapping_s = 0.0;  // the recording's length; this variant's CPU-bound mapping time (wall)
   double mean_match_s = 0.0, median_match_s = 0.0;
   double raw_points = 0.0, windowed_points = 0.0, voxelised_points = 0.0, kept_points = 0.0;  // per frame, mean
+  // The map variant only: the grid against the true occupancy (docs/mapping3d.md has the formula)
+  // and the improved A* on it.
+  bool mapped = false;
+  double occupied_iou = 0.0;
+  std::size_t occupied_cells = 0, true_occupied_cells = 0;
+  std::size_t occupied_matched = 0, true_missed = 0;  // within one cell of a true / estimated occupied cell
+  bool path_found = false, path_collision_free = false;
+  double path_length_m = 0.0;
 };
 
 struct Mapping3dSummary {

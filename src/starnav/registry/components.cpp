@@ -28,7 +28,10 @@ namespace starnav {
   X(icp_scan_matcher)    /* cloud/icp.cpp */ \
   X(gicp_scan_matcher)   /* cloud/gicp.cpp */ \
   X(ndt_scan_matcher)    /* cloud/ndt.cpp */ \
-  X(ndt_mt_scan_matcher) /* cloud/ndt.cpp */
+  X(ndt_mt_scan_matcher) /* cloud/ndt.cpp */ \
+  X(pcl_icp_scan_matcher)  /* cloud/pcl_matchers.cpp (PCL plugin) */ \
+  X(pcl_gicp_scan_matcher) /* cloud/pcl_matchers.cpp (PCL plugin) */ \
+  X(pcl_ndt_scan_matcher)  /* cloud/pcl_matchers.cpp (PCL plugin) */
 
 #define STARNAV_SLAM(X) \
   X(graph_slam) /* slam/graph_slam.cpp */
