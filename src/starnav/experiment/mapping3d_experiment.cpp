@@ -44,10 +44,9 @@ void judge_map(const GraphSlam3d& slam, const Rigid3& to_truth, const World& wor
   const Slam3dMapConfig mc;
   const OctreeMap octree = slam3d_octree(slam.keyframes(), mc);
   const OccupancyGrid grid = octree.project_to_grid(mc.grid);
-  const double top = mc.grid.floor_z_m + mc.grid.max_height_m, bottom = mc.grid.floor_z_m + mc.grid.min_height_m;
+  const double bottom = mc.grid.floor_z_m + mc.grid.min_height_m;
   // The truth at a map-frame point: something stands there reaching into the band (the world's
   // obstacles are solids standing on the floor, so the highest surface above the point says it).
-  (void)top;
   const auto truly_occupied = [&](const Vec2& p) {
     const Vec3 w = to_truth * Vec3(p.x(), p.y(), 0.0);
     const double h = world.surface_height(w.x(), w.y(), 0.0);
@@ -221,12 +220,8 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
             tr.filter_counts.push_back({static_cast<double>(f.raw_points), static_cast<double>(f.windowed),
                                         static_cast<double>(f.voxelised), static_cast<double>(f.filtered_points)});
         }
-        // Aligned as the errors are: x, y and heading of the first pose.
-        Rigid3 align = Rigid3::Identity();
-        const auto yaw = [](const Rigid3& t) { return std::atan2(t.linear()(1, 0), t.linear()(0, 0)); };
-        align.linear() = Eigen::AngleAxisd(yaw(truth.front()) - yaw(est.front()), Vec3::UnitZ()).toRotationMatrix();
-        align.translation() = truth.front().translation() - align.linear() * est.front().translation();
-        align.translation().z() = 0.0;
+        // Aligned as the errors are (slam3d_errors: x, y and heading of the first pose).
+        const Rigid3& align = e.alignment;
         std::vector<Vec3> aligned;
         for (const Rigid3& t : est) aligned.push_back(align * t.translation());
         tr.estimates.push_back(std::move(aligned));

@@ -88,6 +88,13 @@ GraphSlam3d::GraphSlam3d(const GraphSlam3dConfig& config, const Pose3& mount, co
   if (!matcher_ || !loop_matcher_) throw Error("no 3D scan matcher", "", 0, "matcher");
 }
 
+Eigen::Matrix<double, 6, 6> GraphSlam3d::registration_information() const {
+  Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Zero();
+  info.diagonal().head<3>().setConstant(1.0 / (c_.odometry_sigma_m * c_.odometry_sigma_m));
+  info.diagonal().tail<3>().setConstant(1.0 / (c_.odometry_sigma_rad * c_.odometry_sigma_rad));
+  return info;
+}
+
 std::optional<Plane3> GraphSlam3d::detect_floor(const PointCloud& cloud) {
   // The expected floor: z = 0 in the map frame, seen from the current estimate of the sensor's
   // height and tilt (the last key frame's, or the mount's before the first).
@@ -131,10 +138,7 @@ void GraphSlam3d::add_keyframe(std::size_t frame, double t_s, PointCloud cloud, 
     kf.pose = to_rigid(mount_);
   } else {
     kf.pose = keyframes_.back().pose * relative;
-    Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Zero();
-    info.diagonal().head<3>().setConstant(1.0 / (c_.odometry_sigma_m * c_.odometry_sigma_m));
-    info.diagonal().tail<3>().setConstant(1.0 / (c_.odometry_sigma_rad * c_.odometry_sigma_rad));
-    edges_.push_back({keyframes_.size() - 1, keyframes_.size(), relative, info, RobustLoss::None, 1.0});
+    edges_.push_back({keyframes_.size() - 1, keyframes_.size(), relative, registration_information(), RobustLoss::None, 1.0});
   }
   kf.cloud = std::move(cloud);
   keyframes_.push_back(std::move(kf));
@@ -177,11 +181,8 @@ void GraphSlam3d::detect_loops() {
     }
   }
   if (!best) return;
-  Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Zero();
-  info.diagonal().head<3>().setConstant(1.0 / (c_.odometry_sigma_m * c_.odometry_sigma_m));
-  info.diagonal().tail<3>().setConstant(1.0 / (c_.odometry_sigma_rad * c_.odometry_sigma_rad));
   // Huber beyond 3 sigma: a wrong closure that slipped through bends the map less.
-  edges_.push_back({best->from, best->to, best_transform, info, RobustLoss::Huber, 3.0});
+  edges_.push_back({best->from, best->to, best_transform, registration_information(), RobustLoss::Huber, 3.0});
   loops_.push_back(*best);
   last_loop_accum_m_ = now.accum_distance_m;
   optimise();

@@ -112,6 +112,8 @@ class GraphSlam3d {
  private:
   void add_keyframe(std::size_t frame, double t_s, PointCloud cloud, const Rigid3& relative, double moved_m);
   std::optional<Plane3> detect_floor(const PointCloud& cloud);
+  // The information of a registration edge (odometry and loop closures alike).
+  Eigen::Matrix<double, 6, 6> registration_information() const;
   void detect_loops();
   void optimise();
 
