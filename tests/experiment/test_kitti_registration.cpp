@@ -26,15 +26,17 @@ TEST(KittiRegistration, MatchersAgreeWithTheReferenceMotionOnRealScans) {
     EXPECT_LT(p.translation_error_m, 0.03);
     EXPECT_LT(p.rotation_error_deg, 0.15);
   }
-  ASSERT_EQ(r.floors.size(), 3u);
+  ASSERT_EQ(r.floors.size(), 6u);  // every frame read
   for (const KittiFloorResult& f : r.floors) {
-    SCOPED_TRACE(f.sequence);
+    SCOPED_TRACE(f.sequence + " frame " + std::to_string(f.frame));
     ASSERT_TRUE(f.found);
     EXPECT_GT(f.normal_z, 0.99);
     EXPECT_NEAR(f.d, 1.75, 0.1);  // the sensor about 1.73 m above the road
     EXPECT_LT(f.median_ground_distance_m, 0.06);
-    // No plane does much better on the labelled ground than the one found from the scan alone.
-    EXPECT_LT(f.median_ground_distance_m, f.median_ground_distance_labelled_fit_m + 0.01);
+    // The floor found from the scan alone is within 1.5 cm of the best any plane reaches on the
+    // labelled ground, and that search does not lose to it by more than rounding.
+    EXPECT_LT(f.median_ground_distance_m, f.least_median_ground_distance_m + 0.015);
+    EXPECT_LE(f.least_median_ground_distance_m, f.median_ground_distance_m + 0.002);
   }
   EXPECT_EQ(r.references, (std::vector<std::string>{"semantickitti", "kitti_gt", "kitti_gt"}));
   EXPECT_NE(kitti_registration_markdown(r).find("| ndt_mt | 3 |"), std::string::npos);

@@ -1,5 +1,6 @@
 #include "starnav/cloud/ransac_plane.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -12,6 +13,13 @@ void RansacPlaneConfig::validate() const {
   require_positive(distance_threshold_m, "distance_threshold_m");
   require(iterations >= 1 && iterations <= 1000000, "iterations", "must be in [1, 1000000]");
   require(min_inliers >= 3, "min_inliers", "must be >= 3");
+  require(std::isfinite(axis.norm()) && axis.norm() > 0, "axis", "must be a non-zero vector");
+  require(!std::isnan(max_axis_angle_rad) && max_axis_angle_rad >= 0, "max_axis_angle", "must be >= 0");
+}
+
+void LeastMedianPlaneConfig::validate() const {
+  require(iterations >= 1 && iterations <= 1000000, "iterations", "must be in [1, 1000000]");
+  require(stride >= 1, "stride", "must be >= 1");
   require(std::isfinite(axis.norm()) && axis.norm() > 0, "axis", "must be a non-zero vector");
   require(!std::isnan(max_axis_angle_rad) && max_axis_angle_rad >= 0, "max_axis_angle", "must be >= 0");
 }
@@ -114,6 +122,61 @@ RansacPlane ransac_plane(std::span<const Vec3> points, const RansacPlaneConfig& 
   }
   best.plane = oriented(best_plane, axis);
   best.found = best.inliers.size() >= config.min_inliers;
+  return best;
+}
+
+namespace {
+
+double median_distance(std::span<const Vec3> points, const Plane3& plane, std::size_t stride, std::vector<double>& scratch) {
+  scratch.clear();
+  for (std::size_t i = 0; i < points.size(); i += stride) scratch.push_back(std::abs(plane.signed_distance(points[i])));
+  const auto mid = scratch.begin() + static_cast<std::ptrdiff_t>(scratch.size() / 2);
+  std::nth_element(scratch.begin(), mid, scratch.end());
+  return *mid;
+}
+
+}  // namespace
+
+LeastMedianPlane least_median_plane(std::span<const Vec3> points, const LeastMedianPlaneConfig& config, Rng& rng) {
+  config.validate();
+  LeastMedianPlane best;
+  if (points.size() < 3) return best;
+  const Vec3 axis = config.axis.normalized();
+  const auto n = static_cast<std::int64_t>(points.size());
+  std::vector<double> scratch;
+  double best_median = kInfinity;
+  for (int it = 0; it < config.iterations; ++it) {
+    const Vec3& a = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
+    const Vec3& b = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
+    const Vec3& c = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
+    const Vec3 normal = (b - a).cross(c - a);
+    const double len = normal.norm();
+    if (!(len > 1e-12)) continue;
+    Plane3 candidate{normal / len, 0.0};
+    candidate.d = -candidate.normal.dot(a);
+    if (!plane_accepted(candidate, axis, config.max_axis_angle_rad)) continue;
+    const double m = median_distance(points, candidate, config.stride, scratch);
+    if (m < best_median) {
+      best_median = m;
+      best.plane = candidate;
+      best.found = true;
+    }
+  }
+  if (!best.found) return best;
+  best.median_distance_m = median_distance(points, best.plane, 1, scratch);
+  // Refit to the better half while that lowers the median.
+  for (int round = 0; round < 10; ++round) {
+    std::vector<Vec3> half;
+    for (const Vec3& p : points)
+      if (std::abs(best.plane.signed_distance(p)) <= best.median_distance_m) half.push_back(p);
+    const RansacPlane refit = fit_plane_tls(half);
+    if (!refit.found || !plane_accepted(refit.plane, axis, config.max_axis_angle_rad)) break;
+    const double m = median_distance(points, refit.plane, 1, scratch);
+    if (!(m < best.median_distance_m)) break;
+    best.plane = refit.plane;
+    best.median_distance_m = m;
+  }
+  best.plane = oriented(best.plane, axis);
   return best;
 }
 

@@ -39,6 +39,26 @@ struct RansacPlane {
 
 RansacPlane ransac_plane(std::span<const Vec3> points, const RansacPlaneConfig& config, Rng& rng);
 
+// The least-median-of-squares plane (Rousseeuw 1984): of `iterations` planes through three random
+// points (each within `max_axis_angle_rad` of `axis`), the one whose median distance to the points
+// is smallest, then refitted by total least squares to the points within that median while that
+// lowers it. The median is taken over every `stride`-th point while searching, over all at the
+// end. A measure of how planar a point set is (half its points lie within the median), not a
+// detector: it has no threshold.
+struct LeastMedianPlaneConfig {
+  int iterations = 2000;
+  std::size_t stride = 1;
+  Vec3 axis = Vec3::UnitZ();
+  double max_axis_angle_rad = kInfinity;
+  void validate() const;
+};
+struct LeastMedianPlane {
+  bool found = false;
+  Plane3 plane;
+  double median_distance_m = 0.0;
+};
+LeastMedianPlane least_median_plane(std::span<const Vec3> points, const LeastMedianPlaneConfig& config, Rng& rng);
+
 // The total-least-squares plane through `points` (at least 3, not collinear); found false otherwise.
 RansacPlane fit_plane_tls(std::span<const Vec3> points);
 

@@ -5,8 +5,9 @@
 // (no odometry guess) after the same prefilter; the error is the rigid difference to the
 // reference motion L_k^-1 L_{k+1}, L = P Tr (SemanticKITTI's poses on sequence 00, where KITTI's
 // ground truth is known to be off over these frames; KITTI's GNSS/INS ground truth on 05 and 07).
-// The floor: RANSAC on frame 0 of each sequence (a height band below the sensor, normal within
-// 20 degrees of vertical), scored by the distance of SemanticKITTI's ground-labelled points to it.
+// The floor: RANSAC on every frame (a height band below the sensor, normal within 20 degrees of
+// vertical), scored by the distance of SemanticKITTI's ground-labelled points to it, beside the
+// least median any plane reaches on those points.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -67,14 +68,16 @@ struct KittiMatcherSummary {
 
 struct KittiFloorResult {
   std::string sequence;
+  int frame = 0;
   bool found = false;
   double normal_x = 0, normal_y = 0, normal_z = 1, d = 0;
   std::size_t band_points = 0, inliers = 0, ground_points = 0;
   double median_ground_distance_m = 0.0;       // every ground-labelled point
   double median_ground_distance_20m = 0.0;     // those within 20 m of the sensor
-  // The same for the plane fitted to the ground-labelled points themselves (RANSAC, 5 cm): what
-  // any one plane can reach on this ground (roads, sidewalks and terrain are not one plane).
-  double median_ground_distance_labelled_fit_m = 0.0;
+  // The least median any one plane reaches on the same ground points (least_median_plane, normal
+  // within 20 degrees of vertical): roads, sidewalks and terrain are not one plane, and where
+  // this is above a target, no floor fit can meet it.
+  double least_median_ground_distance_m = 0.0;
 };
 
 struct KittiRegistrationResult {
@@ -84,7 +87,7 @@ struct KittiRegistrationResult {
   unsigned ndt_mt_threads = 1;
   std::vector<KittiPairResult> pairs;
   std::vector<KittiMatcherSummary> summaries;
-  std::vector<KittiFloorResult> floors;
+  std::vector<KittiFloorResult> floors;  // per sequence and frame
 };
 
 using KittiProgress = std::function<void(std::size_t done, std::size_t total, const std::string& what)>;
