@@ -468,6 +468,17 @@ inline void fuzz_ros_bag(std::string_view data) {
     check_log(read_ros1_bag(data, "fuzz.bag"));
   } catch (const Error&) {
   }
+  // The same bytes as a 3D LiDAR recording: PointCloud2 clouds, odometry, truth and mount.
+  try {
+    const PointCloudBagIndex ix = index_point_cloud_bag(data, "fuzz.bag");
+    std::size_t clouds = 0;
+    for_each_bag_point_cloud(data, "fuzz.bag", ix, [&](BagPointCloud&& c) {
+      ++clouds;
+      for (const Vec3& p : c.points) require(p.allFinite(), "a non-finite cloud point was kept");
+    });
+    require(clouds == ix.cloud_stamps_us.size(), "a cloud indexed but not streamed");
+  } catch (const Error&) {
+  }
 }
 
 inline void check_cloud(const PointCloudFile& f) {

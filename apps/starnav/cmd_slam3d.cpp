@@ -1,7 +1,9 @@
-// starnav slam3d: 3D graph SLAM on a folder of recorded LiDAR frames (docs/mapping3d.md).
+// starnav slam3d: 3D graph SLAM on a LiDAR recording (docs/mapping3d.md).
 //
 //   starnav slam3d INPUT --out DIR [--matcher icp|gicp|ndt|ndt_mt] [--set key=value ...]
-//                        [--matcher-set key=value ...] [--frames N] [--plan-to X,Y] [--no-map] [--json] [--force]
+//                        [--matcher-set key=value ...] [--frames N] [--poses FILE] [--mount X,Y,Z,R,P,Y]
+//                        [--cloud-topic T] [--odom-topic T] [--truth-topic T] [--plan-to X,Y] [--no-map] [--json] [--force]
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -26,6 +28,8 @@ struct Slam3dOptions {
   int frames = 0;
   double map_resolution_m = 0.05, band_min_m = 0.1, band_max_m = 0.6, inflation_m = 0.35;
   std::string plan_to;
+  std::string poses, mount, cloud_topic, odom_topic, truth_topic;
+  double rate_hz = 10.0;
   bool no_map = false, json = false, force = false, quiet = false;
 };
 
@@ -50,13 +54,17 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
       throw Error(e.message(), "", 0, e.field() == "resolution_m" ? "--map-resolution-m" : "--band-m");
     }
   }
-  // A simulator run folder holds its frames in lidar/.
-  std::string input = o.input;
-  if (!fs::exists(fs::path(input) / "frames.csv") && fs::exists(fs::path(input) / "lidar" / "frames.csv"))
-    input = (fs::path(input) / "lidar").string();
+  c.recording.poses = o.poses;
+  c.recording.rate_hz = o.rate_hz;
+  c.recording.bag = {o.cloud_topic, o.odom_topic, o.truth_topic};
+  if (!o.mount.empty()) {
+    const std::vector<double> m = parse_number_list(o.mount, "--mount", 6, "X,Y,Z,ROLL,PITCH,YAW (m, degrees)");
+    c.recording.mount = Pose3::from_rpy(Vec3(m[0], m[1], m[2]), m[3] * kPi / 180, m[4] * kPi / 180, m[5] * kPi / 180);
+  }
+  if (!(std::isfinite(o.rate_hz) && o.rate_hz > 0 && o.rate_hz <= 10000)) throw Error("must be in (0, 10000] Hz", "", 0, "--rate-hz");
   check_out_dir(o.out, o.force);
   ProgressBar bar("slam3d", 1, o.quiet);
-  const Slam3dRunResult r = run_slam3d_on_folder(input, c, [&](std::size_t done, std::size_t total) {
+  const Slam3dRunResult r = run_slam3d(o.input, c, [&](std::size_t done, std::size_t total) {
     bar.set_total(total);
     bar.update(done, "frame " + std::to_string(done));
   });
@@ -115,11 +123,13 @@ void register_slam3d_command(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<Slam3dOptions>();
   auto* cmd = app.add_subcommand(
       "slam3d",
-      "3D graph SLAM (hdl_graph_slam's pipeline, Ou et al. 2022 section 2) on a folder of LiDAR frames: sensor-frame\n"
-      "clouds, frames.csv and sensor.yaml as `starnav sim` writes them with outputs.lidar_frames (a simulator run\n"
-      "folder works too); the trajectory, the key frames with their floors, and the error against the truth when\n"
-      "the frames carry it (docs/mapping3d.md)");
-  cmd->add_option("INPUT", o->input, "the frames folder (or a simulator run folder holding lidar/)")->required();
+      "3D graph SLAM (hdl_graph_slam's pipeline, Ou et al. 2022 section 2) on a LiDAR recording: a frames folder\n"
+      "(sensor-frame clouds, frames.csv and sensor.yaml, as `starnav sim` writes them with outputs.lidar_frames; a\n"
+      "simulator run folder works too), a folder of PCD / PLY / KITTI .bin clouds with a poses file (a KITTI\n"
+      "sequence folder works as it is), or a ROS 1 bag of sensor_msgs/PointCloud2 with its odometry and /tf_static;\n"
+      "the trajectory, the key frames with their floors, the octree and the 2D grid, and the error against the\n"
+      "reference when the recording has one (docs/mapping3d.md)");
+  cmd->add_option("INPUT", o->input, "a frames folder, a simulator run folder, a folder of cloud files or a ROS 1 bag")->required();
   cmd->add_option("--out", o->out, "folder for trajectory.csv, keyframes.csv and summary.json")->required();
   cmd->add_option("--matcher", o->matcher, "icp, gicp, ndt or ndt_mt")->default_str("ndt_mt");
   cmd->add_option("--set", o->sets, "a SLAM parameter key=value (repeatable; docs/parameters.md, \"3D graph SLAM\")")
@@ -127,6 +137,12 @@ void register_slam3d_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--matcher-set", o->matcher_sets, "a matcher parameter key=value (repeatable; docs/parameters.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--frames", o->frames, "use the first N frames only (0: all)")->default_str("0");
+  cmd->add_option("--poses", o->poses, "cloud files: the sensor's reference poses (KITTI 12 or 13 columns, or TUM t x y z qx qy qz qw; default: poses.txt beside them)");
+  cmd->add_option("--mount", o->mount, "X,Y,Z,ROLL,PITCH,YAW: the sensor on the base (m, degrees; Z its height above the floor), overriding sensor.yaml and /tf_static");
+  cmd->add_option("--rate-hz", o->rate_hz, "cloud files without times.txt or timed poses: the frame rate")->default_str("10");
+  cmd->add_option("--cloud-topic", o->cloud_topic, "bag: the sensor_msgs/PointCloud2 topic (needed when there are several)");
+  cmd->add_option("--odom-topic", o->odom_topic, "bag: the nav_msgs/Odometry topic of the wheel odometry (the registration's guess)");
+  cmd->add_option("--truth-topic", o->truth_topic, "bag: a nav_msgs/Odometry topic with the base's true pose (for the errors)");
   cmd->add_option("--map-resolution-m", o->map_resolution_m, "the octree's voxel size")->default_str("0.05");
   cmd->add_option("--band-m", o->band_min_m, "the 2D grid's height band above the floor: its bottom")->default_str("0.1");
   cmd->add_option("--band-top-m", o->band_max_m, "... and its top (the robot's height)")->default_str("0.6");

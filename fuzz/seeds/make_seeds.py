@@ -436,13 +436,32 @@ def ros_bags():
              + connection(1, b"/scan", b"sensor_msgs/LaserScan") + connection(2, b"/odom", b"nav_msgs/Odometry")
              + message(2, 10, odom) + message(1, 10, scan))
 
+    def bag_of(content):
+        h = field(b"op", b"\x05") + field(b"compression", b"none") + field(b"size", struct.pack("<I", len(content)))
+        bh = field(b"op", b"\x03") + field(b"index_pos", struct.pack("<Q", 0)) + field(b"conn_count", struct.pack("<I", 0))
+        bh += field(b"chunk_count", struct.pack("<I", 0))
+        return b"#ROSBAG V2.0\n" + record(bh, b" " * 64) + record(h, content)
+
     def bag(compression, stored):
         h = field(b"op", b"\x05") + field(b"compression", compression) + field(b"size", struct.pack("<I", len(inner)))
         bh = field(b"op", b"\x03") + field(b"index_pos", struct.pack("<Q", 0)) + field(b"conn_count", struct.pack("<I", 0))
         bh += field(b"chunk_count", struct.pack("<I", 0))
         return b"#ROSBAG V2.0\n" + record(bh, b" " * 64) + record(h, stored)
 
+    # A 3D recording: two PointCloud2 rows of float32 x, y, z after an intensity, one NaN point.
+    fields = b"".join(struct.pack("<I", len(n)) + n + struct.pack("<IBI", off, 7, 1)
+                      for n, off in ((b"intensity", 0), (b"x", 4), (b"y", 8), (b"z", 12)))
+    pts = [(1.0, 2.0, 3.0), (4.0, 5.0, -1.0), (float("nan"), 0.0, 0.0), (7.0, 8.0, 9.0)]
+    data = b"".join(struct.pack("<4f", 1.0, *p) for p in pts)
+    cloud = header(10, 0, b"velodyne") + struct.pack("<II", 2, 2) + struct.pack("<I", 4) + fields
+    cloud += struct.pack("<BII", 0, 16, 32) + struct.pack("<I", len(data)) + data + b"\x00"
+    tf3 = struct.pack("<I", 1) + header(0, 0, b"base_link") + struct.pack("<I", 8) + b"velodyne"
+    tf3 += struct.pack("<7d", 0.1, 0, 0.55, 0, 0, 0, 1)
+    points = (connection(0, b"/tf_static", b"tf2_msgs/TFMessage") + message(0, 1, tf3)
+              + connection(1, b"/points", b"sensor_msgs/PointCloud2") + connection(2, b"/odom", b"nav_msgs/Odometry")
+              + message(2, 10, odom) + message(1, 10, cloud))
     return {
+        "points.bag": bag_of(points),
         "plain.bag": bag(b"none", inner),
         "bz2.bag": bag(b"bz2", bz2.compress(inner, 9)),
         "unknown_compression.bag": bag(b"zip", inner),

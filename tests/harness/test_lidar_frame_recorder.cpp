@@ -83,7 +83,7 @@ TEST(LidarFrameRecorder, Slam3dMapsTheRecordingAndReportsItsError) {
   // Bad input: a folder without frames, an unknown matcher.
   const test::CliResult bad = test::run_cli({"slam3d", dir.path().string(), "--out", dir.file("x"), "--quiet"});
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("sensor.yaml"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("frames.csv"), std::string::npos) << bad.err;
   const test::CliResult m = test::run_cli({"slam3d", run, "--out", dir.file("y"), "--quiet", "--matcher", "loam"});
   EXPECT_EQ(m.exit_code, 2);
   EXPECT_NE(m.err.find("--matcher"), std::string::npos) << m.err;

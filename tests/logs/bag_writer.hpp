@@ -1,11 +1,12 @@
 #pragma once
 // A small ROS 1 bag 2.0 writer for test fixtures (the record layout of wiki.ros.org/Bags/Format/2.0;
 // no index records, which the reader does not need): connections and messages in chunks stored
-// plain, bzip2- or LZ4-compressed, and the serialised LaserScan, Odometry and TFMessage of
-// ROS 1. Written from the format description, independently of the reader under test.
+// plain, bzip2- or LZ4-compressed, and the serialised LaserScan, PointCloud2, Odometry and
+// TFMessage of ROS 1. Written from the format description, independently of the reader under test.
 #include <bzlib.h>
 #include <lz4frame.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -157,6 +158,86 @@ inline std::string tf_message(const std::vector<TransformSpec>& transforms) {
     b.put(t.x).put(t.y).put(0.0);
     b.put(0.0).put(0.0).put(std::sin(t.yaw / 2)).put(std::cos(t.yaw / 2));
   }
+  return b.s;
+}
+
+// A 3D transform (tf2_msgs/TFMessage with one geometry_msgs/TransformStamped per entry).
+struct Transform3Spec {
+  std::string parent, child;
+  double x, y, z, qx, qy, qz, qw;
+};
+inline std::string tf_message3(const std::vector<Transform3Spec>& transforms) {
+  Bytes b;
+  b.u32(static_cast<std::uint32_t>(transforms.size()));
+  for (const Transform3Spec& t : transforms) {
+    ros_header(b, 0, 0, t.parent);
+    b.str(t.child);
+    b.put(t.x).put(t.y).put(t.z);
+    b.put(t.qx).put(t.qy).put(t.qz).put(t.qw);
+  }
+  return b.s;
+}
+// nav_msgs/Odometry with a full 3D pose.
+inline std::string odometry3(std::uint32_t sec, std::uint32_t nsec, const std::string& child, double x, double y, double z,
+                             double qx, double qy, double qz, double qw) {
+  Bytes b;
+  ros_header(b, sec, nsec, "map");
+  b.str(child);
+  b.put(x).put(y).put(z);
+  b.put(qx).put(qy).put(qz).put(qw);
+  for (int i = 0; i < 36; ++i) b.put(0.0);
+  for (int i = 0; i < 6; ++i) b.put(0.0);
+  for (int i = 0; i < 36; ++i) b.put(0.0);
+  return b.s;
+}
+
+// sensor_msgs/PointCloud2 of xyz points with a leading intensity field (so x is not at offset 0),
+// as `height` rows of `points.size() / height`, each row padded by `row_padding` bytes; coordinates
+// as FLOAT32 or FLOAT64 (`double_precision`), in either byte order.
+struct PointXyz {
+  double x, y, z;
+};
+inline std::string point_cloud2(std::uint32_t sec, std::uint32_t nsec, const std::string& frame, const std::vector<PointXyz>& points,
+                                bool double_precision = false, bool big_endian = false, std::uint32_t height = 1,
+                                std::uint32_t row_padding = 0, bool with_z = true) {
+  const std::uint32_t size = double_precision ? 8 : 4;
+  const std::uint8_t datatype = double_precision ? 8 : 7;
+  const std::uint32_t width = static_cast<std::uint32_t>(points.size()) / height;
+  const std::uint32_t point_step = 4 + 3 * size;
+  const std::uint32_t row_step = width * point_step + row_padding;
+  Bytes b;
+  ros_header(b, sec, nsec, frame);
+  b.u32(height).u32(width);
+  b.u32(with_z ? 4 : 3);
+  b.str("intensity").u32(0).put<std::uint8_t>(7).u32(1);
+  b.str("x").u32(4).put<std::uint8_t>(datatype).u32(1);
+  b.str("y").u32(4 + size).put<std::uint8_t>(datatype).u32(1);
+  if (with_z) b.str("z").u32(4 + 2 * size).put<std::uint8_t>(datatype).u32(1);
+  b.put<std::uint8_t>(big_endian ? 1 : 0).u32(point_step).u32(row_step);
+  std::string data;
+  auto append = [&](const void* v, std::size_t n) {
+    std::string bytes(static_cast<const char*>(v), n);
+    if (big_endian) std::reverse(bytes.begin(), bytes.end());
+    data += bytes;
+  };
+  for (std::uint32_t row = 0; row < height; ++row) {
+    for (std::uint32_t col = 0; col < width; ++col) {
+      const PointXyz& p = points[row * width + col];
+      const float intensity = 1.0f;
+      append(&intensity, 4);
+      for (double c : {p.x, p.y, p.z}) {
+        if (double_precision) {
+          append(&c, 8);
+        } else {
+          const float f = static_cast<float>(c);
+          append(&f, 4);
+        }
+      }
+    }
+    data += std::string(row_padding, '\0');
+  }
+  b.str(data);
+  b.put<std::uint8_t>(0);  // is_dense
   return b.s;
 }
 

@@ -46,11 +46,13 @@ Slam3dErrors slam3d_errors(const std::vector<Rigid3>& estimate, const std::vecto
   return e;
 }
 
-Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConfig& config, const Slam3dProgress& progress) {
+Slam3dRunResult run_slam3d(const std::string& input, const Slam3dRunConfig& config, const Slam3dProgress& progress) {
   Slam3dRunResult r;
-  r.input = read_lidar_frame_folder(dir);
+  const LidarRecording recording = open_lidar_recording(input, config.recording);
+  r.input = recording.frames;
+  r.input_kind = recording.kind;
   r.matcher = config.matcher;
-  if (r.input.frames.empty()) throw Error("holds no frames", dir + "/frames.csv");
+  if (r.input.frames.empty()) throw Error("holds no frames", input);
   if (config.max_frames > 0 && r.input.frames.size() > static_cast<std::size_t>(config.max_frames))
     r.input.frames.resize(static_cast<std::size_t>(config.max_frames));
   const ScanMatcher3dDef& def = find_scan_matcher_3d(config.matcher, "--matcher");
@@ -60,14 +62,13 @@ Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConf
   const auto start = std::chrono::steady_clock::now();
   double mapping = 0.0;
   const std::size_t n = r.input.frames.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  recording.for_each_cloud(n, [&](std::size_t i, PointCloud&& cloud) {
     if (progress) progress(i, n);
     const LidarFrameRecord& f = r.input.frames[i];
-    const PointCloudFile cloud = read_point_cloud(r.input.cloud_path(f));
     const auto t0 = std::chrono::steady_clock::now();
-    slam.add(f.t_s, cloud.points, f.odometry);
+    slam.add(f.t_s, cloud, f.odometry);
     mapping += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
+  });
   const auto t0 = std::chrono::steady_clock::now();
   slam.finish();
   mapping += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -135,6 +136,7 @@ std::string slam3d_keyframes_csv(const Slam3dRunResult& r) {
 std::string slam3d_summary_json(const Slam3dRunResult& r) {
   nlohmann::ordered_json j;
   j["input"] = r.input.dir;
+  j["input_kind"] = r.input_kind;
   j["matcher"] = r.matcher;
   j["frames"] = r.frames.size();
   j["keyframes"] = r.keyframes.size();

@@ -1,8 +1,8 @@
 #pragma once
-// 3D graph SLAM on a recorded folder of LiDAR frames (cloud/lidar_frames.hpp: what `starnav sim`
-// writes with outputs.lidar_frames, or a robot's own recording in that layout): the matcher by
-// name from the registry, GraphSlam3d frame by frame, and, when the frames carry the truth, the
-// trajectory error. `starnav slam3d` is this call plus its files.
+// 3D graph SLAM on a LiDAR recording (cloud/lidar_recording.hpp: a frames folder as `starnav sim`
+// writes it, a folder of cloud files with a poses file, or a ROS 1 bag of PointCloud2): the
+// matcher by name from the registry, GraphSlam3d frame by frame, and, when the frames carry the
+// truth, the trajectory error. `starnav slam3d` is this call plus its files.
 //
 // The error: the estimated sensor poses against the true ones (base_link truth composed with the
 // mount), after aligning the first pose in position and heading (both map frames have the floor
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "starnav/cloud/lidar_frames.hpp"
+#include "starnav/cloud/lidar_recording.hpp"
 #include "starnav/cloud/octree_map.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/plan/plan_pipeline.hpp"
@@ -25,10 +25,12 @@ struct Slam3dRunConfig {
   std::string matcher = "ndt_mt";
   std::vector<ParamSetting> matcher_settings;
   int max_frames = 0;  // 0: all
+  LidarRecordingOptions recording;
 };
 
 struct Slam3dRunResult {
   LidarFrameFolder input;
+  std::string input_kind;  // LidarRecording::kind
   std::string matcher;
   std::vector<Rigid3> trajectory;  // per frame, the sensor in the map frame
   std::vector<Slam3dKeyframe> keyframes;
@@ -75,7 +77,7 @@ void write_slam3d_picture(const Slam3dRunResult& r, const OccupancyGrid& grid, c
                           const std::string& path_svg);
 
 using Slam3dProgress = std::function<void(std::size_t done, std::size_t total)>;
-Slam3dRunResult run_slam3d_on_folder(const std::string& dir, const Slam3dRunConfig& config, const Slam3dProgress& progress = {});
+Slam3dRunResult run_slam3d(const std::string& input, const Slam3dRunConfig& config, const Slam3dProgress& progress = {});
 
 std::string slam3d_trajectory_csv(const Slam3dRunResult& r);  // t_s, x..z, qw..qz (and the truth when known)
 std::string slam3d_keyframes_csv(const Slam3dRunResult& r);

@@ -1,11 +1,13 @@
 #include "starnav/logs/ros_bag.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <deque>
 #include <memory>
 #include <optional>
 #include <set>
+#include <type_traits>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
@@ -262,8 +264,19 @@ DecodedScan decode_laser_scan(ByteReader& r) {
   return d;
 }
 
+// The full pose (a zero quaternion counts as the identity: some drivers leave it unset).
+Pose3 pose3_of(double x, double y, double z, double qx, double qy, double qz, double qw) {
+  Pose3 p;
+  p.position = Vec3(x, y, z);
+  const Eigen::Quaterniond q(qw, qx, qy, qz);
+  const double n = q.norm();
+  p.orientation = n > 1e-9 && std::isfinite(n) ? q.normalized() : Eigen::Quaterniond::Identity();
+  return p;
+}
+
 struct DecodedOdometry {
   LogOdometry odometry;
+  Pose3 pose3;
   std::string child_frame_id;
 };
 
@@ -273,7 +286,7 @@ DecodedOdometry decode_odometry(ByteReader& r) {
   d.odometry.stamp_us = h.stamp_us;
   d.child_frame_id = printable(r.string("child_frame_id"), 200);
   const double x = r.get<double>("pose.position.x"), y = r.get<double>("pose.position.y");
-  r.get<double>("pose.position.z");
+  const double z = r.get<double>("pose.position.z");
   const double qx = r.get<double>("pose.orientation.x"), qy = r.get<double>("pose.orientation.y");
   const double qz = r.get<double>("pose.orientation.z"), qw = r.get<double>("pose.orientation.w");
   r.take(36 * 8, "pose.covariance");
@@ -287,12 +300,14 @@ DecodedOdometry decode_odometry(ByteReader& r) {
   d.odometry.pose = Pose2(x, y, yaw_of_quaternion(qx, qy, qz, qw));
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(d.odometry.pose.yaw))
     r.fail("pose", "not finite");
+  d.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
   return d;
 }
 
 struct StaticTransform {
   std::string parent, child;
-  Pose2 pose;  // child in parent (planar part)
+  Pose2 pose;    // child in parent (planar part)
+  Pose3 pose3;   // the whole transform
 };
 
 void decode_tf(ByteReader& r, std::vector<StaticTransform>& out) {
@@ -303,10 +318,13 @@ void decode_tf(ByteReader& r, std::vector<StaticTransform>& out) {
     t.parent = read_header(r).frame_id;
     t.child = printable(r.string("child_frame_id"), 200);
     const double x = r.get<double>("translation.x"), y = r.get<double>("translation.y");
-    r.get<double>("translation.z");
+    const double z = r.get<double>("translation.z");
     const double qx = r.get<double>("rotation.x"), qy = r.get<double>("rotation.y");
     const double qz = r.get<double>("rotation.z"), qw = r.get<double>("rotation.w");
     t.pose = Pose2(x, y, yaw_of_quaternion(qx, qy, qz, qw));
+    t.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(t.pose.yaw))
+      r.fail("transforms", "not finite");
     out.push_back(std::move(t));
   }
 }
@@ -316,9 +334,15 @@ std::string strip_slash(std::string s) {
   return s;
 }
 
-// The planar pose of `to` in `from` through the static transforms (either direction), if linked.
-std::optional<Pose2> chain(const std::vector<StaticTransform>& tfs, const std::string& from, const std::string& to) {
-  std::map<std::string, Pose2> reached{{from, Pose2()}};
+// The pose of `to` in `from` through the static transforms (either direction), if linked: planar
+// (Pose2, each transform's planar part) or whole (Pose3).
+template <class Pose>
+std::optional<Pose> chain(const std::vector<StaticTransform>& tfs, const std::string& from, const std::string& to) {
+  const auto of = [](const StaticTransform& t) -> const Pose& {
+    if constexpr (std::is_same_v<Pose, Pose2>) return t.pose;
+    else return t.pose3;
+  };
+  std::map<std::string, Pose> reached{{from, Pose()}};
   std::deque<std::string> queue{from};
   while (!queue.empty()) {
     const std::string f = queue.front();
@@ -327,15 +351,83 @@ std::optional<Pose2> chain(const std::vector<StaticTransform>& tfs, const std::s
     for (const StaticTransform& t : tfs) {
       const std::string p = strip_slash(t.parent), c = strip_slash(t.child);
       if (p == f && !reached.count(c)) {
-        reached[c] = reached[f].compose(t.pose);
+        reached[c] = reached[f].compose(of(t));
         queue.push_back(c);
       } else if (c == f && !reached.count(p)) {
-        reached[p] = reached[f].compose(t.pose.inverse());
+        reached[p] = reached[f].compose(of(t).inverse());
         queue.push_back(p);
       }
     }
   }
   return std::nullopt;
+}
+
+// sensor_msgs/PointCloud2: the x, y, z fields of every point, the points with a non-finite
+// coordinate dropped (is_dense false marks their presence, but is not trusted either way).
+BagPointCloud decode_point_cloud2(ByteReader& r) {
+  BagPointCloud c;
+  const StampedHeader h = read_header(r);
+  c.stamp_us = h.stamp_us;
+  c.frame_id = h.frame_id;
+  const std::uint64_t height = r.u32("height"), width = r.u32("width");
+  const std::uint32_t nfields = r.u32("fields");
+  if (nfields > r.remaining() / 13) r.fail("fields", std::to_string(nfields) + " fields do not fit the message");
+  struct Field {
+    std::uint32_t offset = 0;
+    std::uint8_t datatype = 0;
+    bool found = false;
+  } xyz[3];
+  constexpr std::uint8_t kFloat32 = 7, kFloat64 = 8;
+  for (std::uint32_t i = 0; i < nfields; ++i) {
+    const std::string_view name = r.string("fields.name");
+    const std::uint32_t offset = r.u32("fields.offset");
+    const auto datatype = r.get<std::uint8_t>("fields.datatype");
+    r.u32("fields.count");
+    const int axis = name == "x" ? 0 : name == "y" ? 1 : name == "z" ? 2 : -1;
+    if (axis < 0 || xyz[axis].found) continue;
+    if (datatype != kFloat32 && datatype != kFloat64)
+      r.fail("fields." + std::string(name), "datatype " + std::to_string(datatype) + ", expected FLOAT32 (7) or FLOAT64 (8)");
+    xyz[axis] = {offset, datatype, true};
+  }
+  for (int a = 0; a < 3; ++a)
+    if (!xyz[a].found) r.fail("fields", std::string("no '") + "xyz"[a] + "' field");
+  const bool big_endian = r.get<std::uint8_t>("is_bigendian") != 0;
+  const std::uint64_t point_step = r.u32("point_step"), row_step = r.u32("row_step");
+  const std::uint32_t size = r.u32("data");
+  const std::string_view data = r.take(size, "data");
+  r.get<std::uint8_t>("is_dense");
+  for (const Field& f : xyz)
+    if (f.offset + (f.datatype == kFloat32 ? 4u : 8u) > point_step)
+      r.fail("point_step", "a coordinate field lies beyond point_step " + std::to_string(point_step));
+  if (height > 0 && width > 0) {
+    if (width > size / point_step) r.fail("data", std::to_string(size) + " bytes hold fewer than width points");
+    if (row_step < width * point_step) r.fail("row_step", "smaller than width x point_step");
+    if (height > size / row_step || (height - 1) * row_step + width * point_step > size)
+      r.fail("data", std::to_string(size) + " bytes hold fewer than height x width points");
+  }
+  const auto coordinate = [&](const char* p, const Field& f) {
+    char b[8];
+    const std::size_t n = f.datatype == kFloat32 ? 4 : 8;
+    std::memcpy(b, p + f.offset, n);
+    if (big_endian) std::reverse(b, b + n);
+    if (n == 4) {
+      float v;
+      std::memcpy(&v, b, 4);
+      return static_cast<double>(v);
+    }
+    double v;
+    std::memcpy(&v, b, 8);
+    return v;
+  };
+  c.points.reserve(static_cast<std::size_t>(height * width));
+  for (std::uint64_t row = 0; row < height; ++row)
+    for (std::uint64_t col = 0; col < width; ++col) {
+      const char* p = data.data() + row * row_step + col * point_step;
+      const Vec3 v(coordinate(p, xyz[0]), coordinate(p, xyz[1]), coordinate(p, xyz[2]));
+      if (v.allFinite()) c.points.push_back(v);
+      else ++c.dropped;
+    }
+  return c;
 }
 
 // The one topic of `type`, or the named one.
@@ -415,10 +507,74 @@ RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const Lo
   });
   if (base_frame.empty()) base_frame = "base_link";
   if (!laser_frame.empty() && !statics.empty()) {
-    log.laser_in_base = chain(statics, base_frame, laser_frame);
+    log.laser_in_base = chain<Pose2>(statics, base_frame, laser_frame);
     if (log.laser_in_base) log.params["laser_frame"] = base_frame + " -> " + laser_frame;
   }
   return log;
+}
+
+PointCloudBagIndex index_point_cloud_bag(std::string_view bytes, const std::string& path, const PointCloudBagOptions& o) {
+  const std::vector<BagConnection> conns = bag_connections(bytes, path);
+  PointCloudBagIndex ix;
+  ix.cloud_topic = choose_topic(conns, "sensor_msgs/PointCloud2", o.cloud_topic, path, "--cloud-topic");
+  if (ix.cloud_topic.empty()) throw Error("has no sensor_msgs/PointCloud2 topic", path, 0, "--cloud-topic");
+  if (!o.truth_topic.empty()) ix.truth_topic = choose_topic(conns, "nav_msgs/Odometry", o.truth_topic, path, "--truth-topic");
+  if (o.odom_topic.empty() && !ix.truth_topic.empty()) {
+    // The truth's topic is not the odometry's: the other Odometry topic, if exactly one.
+    std::set<std::string> others;
+    for (const BagConnection& c : conns)
+      if (c.type == "nav_msgs/Odometry" && c.topic != ix.truth_topic) others.insert(c.topic);
+    if (others.size() > 1) throw Error("several nav_msgs/Odometry topics besides the truth: name one", path, 0, "--odom-topic");
+    if (!others.empty()) ix.odom_topic = *others.begin();
+  } else {
+    ix.odom_topic = choose_topic(conns, "nav_msgs/Odometry", o.odom_topic, path, "--odom-topic");
+  }
+  if (!ix.truth_topic.empty() && ix.truth_topic == ix.odom_topic)
+    throw Error("the truth topic is also the odometry topic", path, 0, "--truth-topic");
+  std::vector<StaticTransform> statics;
+  std::size_t index = 0;
+  for_each_bag_message(bytes, path, [&](const BagMessageView& m) {
+    ++index;
+    const BagConnection& c = *m.connection;
+    if (c.topic != ix.cloud_topic && c.topic != ix.odom_topic && c.topic != ix.truth_topic &&
+        !(c.type == "tf2_msgs/TFMessage" && strip_slash(c.topic) == "tf_static"))
+      return;
+    ByteReader r(m.data, path, 0, c.topic + " message " + std::to_string(index) + " (record at file byte " +
+                                      std::to_string(m.file_offset) + "),");
+    if (c.topic == ix.cloud_topic) {
+      // Only the header: the points are decoded when streamed.
+      const StampedHeader h = read_header(r);
+      if (ix.cloud_frame.empty()) ix.cloud_frame = strip_slash(h.frame_id);
+      ix.cloud_stamps_us.push_back(h.stamp_us);
+    } else if (c.topic == ix.odom_topic) {
+      DecodedOdometry d = decode_odometry(r);
+      if (ix.base_frame.empty()) ix.base_frame = strip_slash(d.child_frame_id);
+      d.odometry.source_index = index;
+      ix.odometry.push_back(d.odometry);
+    } else if (c.topic == ix.truth_topic) {
+      const DecodedOdometry d = decode_odometry(r);
+      ix.truth.push_back({d.odometry.stamp_us, d.pose3});
+    } else {
+      decode_tf(r, statics);
+    }
+  });
+  if (ix.base_frame.empty()) ix.base_frame = "base_link";
+  if (!ix.cloud_frame.empty() && !statics.empty()) ix.sensor_in_base = chain<Pose3>(statics, ix.base_frame, ix.cloud_frame);
+  return ix;
+}
+
+void for_each_bag_point_cloud(std::string_view bytes, const std::string& path, const PointCloudBagIndex& ix,
+                              const std::function<void(BagPointCloud&&)>& visit) {
+  std::size_t index = 0;
+  for_each_bag_message(bytes, path, [&](const BagMessageView& m) {
+    ++index;
+    if (m.connection->topic != ix.cloud_topic) return;
+    ByteReader r(m.data, path, 0, m.connection->topic + " message " + std::to_string(index) + " (record at file byte " +
+                                      std::to_string(m.file_offset) + "),");
+    BagPointCloud c = decode_point_cloud2(r);
+    c.source_index = index;
+    visit(std::move(c));
+  });
 }
 
 }  // namespace starnav
