@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <Eigen/Eigenvalues>
 
@@ -36,6 +37,22 @@ Plane3 oriented(Plane3 p, const Vec3& axis) {
     p.normal = -p.normal;
     p.d = -p.d;
   }
+  return p;
+}
+
+// The plane through three random points of `points`, unless they are repeated or collinear or
+// the plane's normal is further than `max_angle` from +-axis.
+std::optional<Plane3> sample_plane(std::span<const Vec3> points, Rng& rng, const Vec3& axis, double max_angle) {
+  const auto n = static_cast<std::int64_t>(points.size());
+  const Vec3& a = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
+  const Vec3& b = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
+  const Vec3& c = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
+  const Vec3 normal = (b - a).cross(c - a);
+  const double len = normal.norm();
+  if (!(len > 1e-12)) return std::nullopt;
+  Plane3 p{normal / len, 0.0};
+  p.d = -p.normal.dot(a);
+  if (!plane_accepted(p, axis, max_angle)) return std::nullopt;
   return p;
 }
 
@@ -83,19 +100,12 @@ RansacPlane ransac_plane(std::span<const Vec3> points, const RansacPlaneConfig& 
   const Vec3 axis = config.axis.normalized();
   RansacPlane best;
   if (points.size() < std::max<std::size_t>(3, config.min_inliers)) return best;
-  const auto n = static_cast<std::int64_t>(points.size());
   std::size_t best_count = 0;
   Plane3 best_plane;
   for (int it = 0; it < config.iterations; ++it) {
-    const Vec3& a = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
-    const Vec3& b = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
-    const Vec3& c = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
-    const Vec3 normal = (b - a).cross(c - a);
-    const double len = normal.norm();
-    if (!(len > 1e-12)) continue;  // a repeated or collinear sample
-    Plane3 candidate{normal / len, 0.0};
-    candidate.d = -candidate.normal.dot(a);
-    if (!plane_accepted(candidate, axis, config.max_axis_angle_rad)) continue;
+    const std::optional<Plane3> sampled = sample_plane(points, rng, axis, config.max_axis_angle_rad);
+    if (!sampled) continue;
+    const Plane3& candidate = *sampled;
     std::size_t count = 0;
     for (const Vec3& p : points) count += std::abs(candidate.signed_distance(p)) <= config.distance_threshold_m;
     if (count > best_count) {
@@ -142,19 +152,12 @@ LeastMedianPlane least_median_plane(std::span<const Vec3> points, const LeastMed
   LeastMedianPlane best;
   if (points.size() < 3) return best;
   const Vec3 axis = config.axis.normalized();
-  const auto n = static_cast<std::int64_t>(points.size());
   std::vector<double> scratch;
   double best_median = kInfinity;
   for (int it = 0; it < config.iterations; ++it) {
-    const Vec3& a = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
-    const Vec3& b = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
-    const Vec3& c = points[static_cast<std::size_t>(rng.uniform_int(0, n - 1))];
-    const Vec3 normal = (b - a).cross(c - a);
-    const double len = normal.norm();
-    if (!(len > 1e-12)) continue;
-    Plane3 candidate{normal / len, 0.0};
-    candidate.d = -candidate.normal.dot(a);
-    if (!plane_accepted(candidate, axis, config.max_axis_angle_rad)) continue;
+    const std::optional<Plane3> sampled = sample_plane(points, rng, axis, config.max_axis_angle_rad);
+    if (!sampled) continue;
+    const Plane3& candidate = *sampled;
     const double m = median_distance(points, candidate, config.stride, scratch);
     if (m < best_median) {
       best_median = m;
