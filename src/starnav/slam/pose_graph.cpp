@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/slam/sparse_levenberg_marquardt.hpp"
 
 namespace starnav {
 
@@ -83,9 +83,7 @@ PoseGraphReport optimise_pose_graph(std::vector<Pose2>& poses, const std::vector
   if (poses.size() < 2 || edges.empty()) return report;
   const Eigen::Index n = static_cast<Eigen::Index>(3 * (poses.size() - 1));  // node 0 is fixed
   auto column = [](std::size_t node) { return static_cast<Eigen::Index>(3 * (node - 1)); };
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> solver;
-  bool analysed = false;
-  double lambda = 1e-4;
+  SparseLevenbergMarquardt lm;
   double cost = report.initial_cost;
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(edges.size() * 36);
@@ -127,38 +125,20 @@ PoseGraphReport optimise_pose_graph(std::vector<Pose2>& poses, const std::vector
         }
       }
     }
-    bool accepted = false;
-    for (int attempt = 0; attempt < 10 && !accepted; ++attempt) {
-      std::vector<Eigen::Triplet<double>> damped = triplets;
-      for (Eigen::Index i = 0; i < n; ++i) damped.emplace_back(i, i, lambda * (diagonal(i) + 1e-9));
-      Eigen::SparseMatrix<double> h(n, n);
-      h.setFromTriplets(damped.begin(), damped.end());
-      if (!analysed) solver.analyzePattern(h), analysed = true;
-      solver.factorize(h);
-      if (solver.info() != Eigen::Success) {
-        lambda *= 10.0;
-        continue;
-      }
-      const Eigen::VectorXd delta = solver.solve(-b);
-      std::vector<Pose2> candidate = poses;
-      for (std::size_t k = 1; k < poses.size(); ++k) {
-        const Eigen::Index c0 = column(k);
-        candidate[k] = Pose2(poses[k].x + delta(c0), poses[k].y + delta(c0 + 1), wrap_angle(poses[k].yaw + delta(c0 + 2)));
-      }
-      const double new_cost = pose_graph_cost(candidate, edges);
-      if (new_cost < cost) {
-        accepted = true;
-        const double drop = cost - new_cost;
-        poses.swap(candidate);
-        cost = new_cost;
-        lambda = std::max(1e-9, lambda / 3.0);
-        ++report.iterations;
-        if (drop <= options.relative_tolerance * std::max(cost + drop, 1e-300)) it = options.max_iterations;
-      } else {
-        lambda *= 4.0;
-      }
-    }
-    if (!accepted) break;
+    const auto step = lm.step(
+        triplets, diagonal, b, poses, cost, options.relative_tolerance,
+        [&](const Eigen::VectorXd& delta) {
+          std::vector<Pose2> moved = poses;
+          for (std::size_t k = 1; k < poses.size(); ++k) {
+            const Eigen::Index c0 = column(k);
+            moved[k] = Pose2(poses[k].x + delta(c0), poses[k].y + delta(c0 + 1), wrap_angle(poses[k].yaw + delta(c0 + 2)));
+          }
+          return moved;
+        },
+        [&](const std::vector<Pose2>& candidate) { return pose_graph_cost(candidate, edges); });
+    if (step == SparseLevenbergMarquardt::Step::Failed) break;
+    ++report.iterations;
+    if (step == SparseLevenbergMarquardt::Step::Converged) break;
   }
   report.final_cost = cost;
   return report;

@@ -7,9 +7,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 
 #include "starnav/core/error.hpp"
+#include "starnav/slam/sparse_levenberg_marquardt.hpp"
 
 namespace starnav {
 
@@ -190,11 +190,9 @@ PoseGraph3Report optimise_pose_graph_3d(std::vector<Rigid3>& poses, const std::v
     if (!fixed[k]) column[k] = n, n += 6;
   if (n == 0 || (edges.empty() && plane_edges.empty())) return report;
 
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> solver;
-  bool analysed = false;
-  double lambda = 1e-4;
+  SparseLevenbergMarquardt lm;
   double cost = report.initial_cost;
-  std::vector<Eigen::Triplet<double>> triplets, damped;
+  std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(edges.size() * 78 + plane_edges.size() * 21);
   Eigen::VectorXd b(n), diagonal(n);
   // Adds a 6 x 6 block at (row0, col0), only its part in H's lower triangle, and its diagonal.
@@ -238,36 +236,18 @@ PoseGraph3Report optimise_pose_graph_3d(std::vector<Rigid3>& poses, const std::v
       b.segment<6>(c) += jt_omega * r;
       add_block(c, c, jt_omega * j);
     }
-    bool accepted = false;
-    for (int attempt = 0; attempt < 10 && !accepted; ++attempt) {
-      damped = triplets;
-      for (Eigen::Index i = 0; i < n; ++i) damped.emplace_back(i, i, lambda * (diagonal(i) + 1e-9));
-      Eigen::SparseMatrix<double> h(n, n);
-      h.setFromTriplets(damped.begin(), damped.end());
-      if (!analysed) solver.analyzePattern(h), analysed = true;
-      solver.factorize(h);
-      if (solver.info() != Eigen::Success) {
-        lambda *= 10.0;
-        continue;
-      }
-      const Eigen::VectorXd delta = solver.solve(-b);
-      std::vector<Rigid3> candidate = poses;
-      for (std::size_t k = 0; k < poses.size(); ++k)
-        if (column[k] >= 0) candidate[k] = pg3_orthonormalised(se3_exp(delta.segment<6>(column[k])) * poses[k]);
-      const double new_cost = pose_graph_3d_cost(candidate, edges, plane_edges, options.floor);
-      if (new_cost < cost) {
-        accepted = true;
-        const double drop = cost - new_cost;
-        poses.swap(candidate);
-        cost = new_cost;
-        lambda = std::max(1e-9, lambda / 3.0);
-        ++report.iterations;
-        if (drop <= options.relative_tolerance * std::max(cost + drop, 1e-300)) it = options.max_iterations;
-      } else {
-        lambda *= 4.0;
-      }
-    }
-    if (!accepted) break;
+    const auto step = lm.step(
+        triplets, diagonal, b, poses, cost, options.relative_tolerance,
+        [&](const Eigen::VectorXd& delta) {
+          std::vector<Rigid3> moved = poses;
+          for (std::size_t k = 0; k < poses.size(); ++k)
+            if (column[k] >= 0) moved[k] = pg3_orthonormalised(se3_exp(delta.segment<6>(column[k])) * poses[k]);
+          return moved;
+        },
+        [&](const std::vector<Rigid3>& candidate) { return pose_graph_3d_cost(candidate, edges, plane_edges, options.floor); });
+    if (step == SparseLevenbergMarquardt::Step::Failed) break;
+    ++report.iterations;
+    if (step == SparseLevenbergMarquardt::Step::Converged) break;
   }
   report.final_cost = cost;
   return report;
