@@ -40,7 +40,8 @@ std::pair<std::uint32_t, std::uint32_t> stamp(double t_s) {
 }
 
 // The frames folder as a bag: clouds on /velodyne_points (two rows, NaN holes), wheel odometry on
-// /odom, the truth on /ground_truth, the mount on /tf_static; chunks of a few messages, LZ4.
+// /odom, the truth on /ground_truth (moved into a frame of its own), the mount on /tf_static;
+// chunks of a few messages, LZ4.
 std::string write_bag(const LidarFrameFolder& f, const std::string& path) {
   test::BagWriter w("lz4");
   w.connection({0, "/tf_static", "tf2_msgs/TFMessage"});
@@ -55,9 +56,11 @@ std::string write_bag(const LidarFrameFolder& f, const std::string& path) {
     if (r.odometry)
       w.message(2, sec, nsec, test::odometry(sec, nsec, "base_link", r.odometry->x, r.odometry->y, r.odometry->yaw, 0, 0));
     if (r.truth) {
-      const Eigen::Quaterniond& q = r.truth->orientation;
-      w.message(3, sec, nsec, test::odometry3(sec, nsec, "base_link", r.truth->position.x(), r.truth->position.y(),
-                                               r.truth->position.z(), q.x(), q.y(), q.z(), q.w()));
+      // In a frame of its own (as a motion-capture or GNSS truth would be): only its motion counts.
+      const Pose3 t = Pose3::from_rpy(Vec3(100.0, -50.0, 500.0), 0.0, 0.0, 0.3).compose(*r.truth);
+      const Eigen::Quaterniond& q = t.orientation;
+      w.message(3, sec, nsec, test::odometry3(sec, nsec, "base_link", t.position.x(), t.position.y(), t.position.z(), q.x(),
+                                               q.y(), q.z(), q.w()));
     }
     std::vector<test::PointXyz> pts;
     for (const Vec3& p : read_point_cloud(f.cloud_path(r)).points) pts.push_back({p.x(), p.y(), p.z()});

@@ -293,6 +293,14 @@ LidarRecording open_bag(const std::string& path, const LidarRecordingOptions& o)
   }
   if (f.frames.size() > 1)
     f.rate_hz = static_cast<double>(f.frames.size() - 1) / (f.frames.back().t_s - f.frames.front().t_s);
+  // A truth topic's frame is its own (a motion-capture room, UTM with the altitude): only its motion
+  // is compared, as a poses file's.
+  if (std::all_of(f.frames.begin(), f.frames.end(), [](const LidarFrameRecord& r) { return r.truth.has_value(); })) {
+    const Rigid3 mount = to_rigid(f.mount);
+    std::vector<Rigid3> sensor;
+    for (const LidarFrameRecord& r : f.frames) sensor.push_back(to_rigid(*r.truth) * mount);
+    set_truth_from_sensor_poses(f, sensor);
+  }
   rec.for_each_cloud = [bytes, index, path](std::size_t count, const std::function<void(std::size_t, PointCloud&&)>& visit) {
     std::size_t i = 0;
     const std::size_t n = count == 0 ? index->cloud_stamps_us.size() : std::min(count, index->cloud_stamps_us.size());

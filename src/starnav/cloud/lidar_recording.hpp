@@ -8,7 +8,7 @@
 //    trajectory (below) and times from times.txt, else the poses file's, else the rate;
 //  - a ROS 1 bag with sensor_msgs/PointCloud2 (logs/ros_bag.hpp): its odometry interpolated to
 //    each cloud's stamp as the registration's guess, the sensor's mount from /tf_static, and the
-//    base's true pose from a named Odometry topic when there is one.
+//    base's true pose from a named Odometry topic when there is one (its motion, as a poses file's).
 //
 // Poses files (`--poses`, or poses.txt beside the clouds): one pose per line, either KITTI's 12
 // numbers (the row-major 3 x 4 [R|t], optionally after a time column) or TUM's
