@@ -7,12 +7,11 @@
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/statistics.hpp"
-#include "starnav/estimate/wheel_odometry.hpp"
+#include "starnav/harness/encoder_odometry.hpp"
 #include "starnav/experiment/slam3d_run.hpp"
 #include "starnav/harness/route_drive.hpp"
 #include "starnav/sim/world.hpp"
 #include "starnav/registry/components.hpp"
-#include "starnav/robot/robot_model.hpp"
 #include "starnav/sim/simulation.hpp"
 #include "starnav/viz/plot_svg.hpp"
 
@@ -145,16 +144,7 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
       const ScanMatcher3dDef& def = find_scan_matcher_3d(v.matcher);
       slots.push_back({v, std::make_unique<GraphSlam3d>(c, mount, [&def] { return def.make({}, {}); }), 0.0});
     }
-    std::unique_ptr<RobotModel> model;
-    std::unique_ptr<WheelOdometry> odometry;
-    if (spec.encoders) {
-      model = make_robot_model(spec.vehicle.robot);
-      odometry = std::make_unique<WheelOdometry>(*model, spec.encoders->config.ticks_per_rev, spec.start);
-      sim.on_encoders = [before = sim.on_encoders, &odometry](const EncoderSample& e) {
-        if (before) before(e);
-        odometry->add_ticks(e.ticks);
-      };
-    }
+    const std::shared_ptr<const WheelOdometry> odometry = attach_encoder_odometry(sim);
     std::vector<Rigid3> truth;
     std::vector<double> times;
     const Simulation* s = &sim;

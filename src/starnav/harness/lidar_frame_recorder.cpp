@@ -5,9 +5,8 @@
 
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/estimate/wheel_odometry.hpp"
+#include "starnav/harness/encoder_odometry.hpp"
 #include "starnav/io/file_bytes.hpp"
-#include "starnav/robot/robot_model.hpp"
 
 namespace starnav {
 
@@ -18,8 +17,7 @@ struct LidarFrameRecorder::State {
   int every = 1;
   std::int64_t scans = 0;
   std::vector<LidarFrameRecord> rows;
-  std::unique_ptr<RobotModel> model;
-  std::unique_ptr<WheelOdometry> odometry;
+  std::shared_ptr<const WheelOdometry> odometry;  // null without encoders
   std::optional<double> imu_yaw_rate;
 };
 
@@ -37,14 +35,7 @@ LidarFrameRecorder::LidarFrameRecorder(Simulation& sim, const std::string& dir, 
   write_file_bytes((fs::path(dir) / "sensor.yaml").string(),
                    lidar_sensor_yaml(lidar.model, lidar.lines(), lidar.beams, lidar.rate_hz, lidar.range_min, lidar.range_max,
                                      lidar.mount));
-  if (spec.encoders) {
-    state_->model = make_robot_model(spec.vehicle.robot);
-    state_->odometry = std::make_unique<WheelOdometry>(*state_->model, spec.encoders->config.ticks_per_rev, spec.start);
-    sim.on_encoders = [before = sim.on_encoders, st = state_](const EncoderSample& e) {
-      if (before) before(e);
-      st->odometry->add_ticks(e.ticks);
-    };
-  }
+  state_->odometry = attach_encoder_odometry(sim);
   sim.on_imu = [before = sim.on_imu, st = state_](const ImuModel::ImuReading& r) {
     if (before) before(r);
     st->imu_yaw_rate = r.yaw_rate_radps;

@@ -5,7 +5,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/estimate/wheel_odometry.hpp"
+#include "starnav/harness/encoder_odometry.hpp"
 
 namespace starnav {
 
@@ -30,16 +30,12 @@ RobotLogRecorder::RobotLogRecorder(Simulation& sim) : log_(std::make_shared<Robo
   log_->format = "carmen";
   log_->laser_in_base = lidar.mount.to_pose2();
   log_->params["simulated_from"] = spec.file;
-  model_ = std::shared_ptr<RobotModel>(make_robot_model(spec.vehicle.robot));
-  auto odometry = std::make_shared<WheelOdometry>(*model_, spec.encoders->config.ticks_per_rev, spec.start);
   auto last = std::make_shared<LogOdometry>();
   last->pose = spec.start;
-  sim.on_encoders = [before = sim.on_encoders, log = log_, odometry, last](const EncoderSample& e) {
-    if (before) before(e);
-    odometry->add_ticks(e.ticks);
+  attach_encoder_odometry(sim, [log = log_, last](const EncoderSample& e, const Pose2& pose) {
     LogOdometry o;
     o.stamp_us = stamp_us(e.t_s);
-    o.pose = odometry->pose();
+    o.pose = pose;
     const double dt = static_cast<double>(o.stamp_us - last->stamp_us) * 1e-6;
     if (dt > 0 && !log->odometry.empty()) {
       const Pose2 d = last->pose.inverse().compose(o.pose);
@@ -49,7 +45,7 @@ RobotLogRecorder::RobotLogRecorder(Simulation& sim) : log_(std::make_shared<Robo
     o.source_index = next_source_index(*log);
     *last = o;
     log->odometry.push_back(o);
-  };
+  });
   const Simulation* s = &sim;
   sim.on_scan = [before = sim.on_scan, log = log_, s, lidar, last](const LidarScan& scan) {
     if (before) before(scan);

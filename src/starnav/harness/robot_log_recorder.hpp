@@ -8,7 +8,6 @@
 #include <memory>
 
 #include "starnav/logs/robot_log.hpp"
-#include "starnav/robot/robot_model.hpp"
 #include "starnav/sim/simulation.hpp"
 
 namespace starnav {
@@ -24,7 +23,6 @@ class RobotLogRecorder {
 
  private:
   std::shared_ptr<RobotLog> log_;
-  std::shared_ptr<RobotModel> model_;
 };
 
 }  // namespace starnav
