@@ -17,6 +17,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/io/file_bytes.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav::cli {
 
@@ -103,11 +104,11 @@ void check_output_path(const std::string& path, bool force, const std::string& f
 }
 
 void write_text_file(const std::string& path, const std::string& text, const std::string& flag) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error("cannot write", path, 0, flag);
-  out << text;
-  out.flush();
-  if (!out) throw Error("write failed", path, 0, flag);
+  try {
+    write_file_atomically(path, text);
+  } catch (const Error& e) {
+    throw Error(e.message(), path, 0, flag);
+  }
 }
 
 MapFormat output_map_format(const std::string& path, bool elevation) {
@@ -157,14 +158,19 @@ void ProgressBar::finish() {
   if (tty_) std::fprintf(stderr, "\r%-79s\r", "");
 }
 
-void check_out_dir(const std::string& dir, bool force) {
+OutputFolder check_out_dir(const std::string& dir, bool force) {
   namespace fs = std::filesystem;
   if (dir.empty()) throw Error("empty output folder", {}, 0, "--out");
   std::error_code ec;
   if (fs::exists(dir, ec)) {
     if (!fs::is_directory(dir, ec)) throw Error("exists and is not a folder", dir, 0, "--out");
-    if (!fs::is_empty(dir, ec) && !force) throw Error("folder exists and is not empty (use --force to overwrite)", dir, 0, "--out");
+    // A lock file left by a run that was killed does not count.
+    bool empty = true;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+      if (e.path().filename() != ".starnav-lock") empty = false;
+    if (!empty && !force) throw Error("folder exists and is not empty (use --force to overwrite)", dir, 0, "--out");
   }
+  return OutputFolder(dir, "--out");
 }
 
 }  // namespace starnav::cli

@@ -11,6 +11,7 @@
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/output_file.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/core/params.hpp"
 #include "starnav/io/map_file.hpp"
@@ -59,8 +60,9 @@ bool picture_is_png(const std::string& path, const std::string& flag);
 
 
 // conventions.md: an existing non-empty folder is not written into without --force. Checked
-// before any work; the caller creates the folder once its inputs have loaded.
-void check_out_dir(const std::string& dir, bool force);
+// before any work; the returned claim creates and locks the folder (core/output_file.hpp) and
+// must be held while the command writes into it.
+OutputFolder check_out_dir(const std::string& dir, bool force);
 
 // Progress of a long run on stderr: a live bar when stderr is a terminal, otherwise a line at
 // every tenth of the work (readable in CI logs); nothing when quiet.

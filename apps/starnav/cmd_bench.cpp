@@ -122,11 +122,7 @@ int run_bench_movingai(const MovingAiBenchOptions& o) {
   }
   progress.finish();
   if (!o.csv.empty()) {
-    std::ofstream csv(o.csv, std::ios::binary | std::ios::trunc);
-    if (!csv) throw Error("cannot open for writing", o.csv, 0, "--csv");
-    csv << result.csv;
-    csv.flush();
-    if (!csv) throw Error("write failed", o.csv, 0, "--csv");
+    write_text_file(o.csv, result.csv, "--csv");
   }
   std::cout << (o.json ? movingai_json(result) : movingai_report(result, o.per_map));
   return movingai_exit_code(result);

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <optional>
 #include <string>
 
 #include "cli_util.hpp"
@@ -46,10 +47,12 @@ void run_bench_ablation(AblationOptions& o) {
   if (c.queries.empty() && o.random <= 0) throw Error("expected a number of queries >= 1", {}, 0, "--random");
   c.random = c.queries.empty() ? static_cast<std::size_t>(o.random) : 0;
   c.exact_variant = !o.no_exact;
+  std::optional<OutputFolder> out_folder;
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "ablation.json") && !o.force)
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
+    out_folder.emplace(o.out, "--out");
   }
   if (!o.quiet)
     c.on_table = [](const std::string& table, std::size_t queries) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,8 @@ struct KittiOptions {
 void run_bench_kitti(KittiOptions& o, Context& ctx) {
   o.config.prefilter.voxel_leaf_m = o.voxel_m;
   o.config.validate();
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   ProgressBar bar("bench kitti", 1, o.quiet);
   const KittiRegistrationResult r = run_kitti_registration(o.config, [&](std::size_t done, std::size_t total, const std::string& what) {
     bar.set_total(total);
@@ -57,7 +59,8 @@ void run_bench_mapping3d(Mapping3dOptions& o, Context& ctx) {
   for (const std::string& s : o.sets) o.config.overrides.push_back(parse_scenario_override(s));
   o.config.slam = configured(graph_slam_3d_params(), parse_set_options(o.slam_sets), "");
   o.config.validate();
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   ProgressBar bar("bench mapping3d", o.config.seeds, o.quiet);
   const Mapping3dResult r = run_mapping3d_experiment(o.config, [&](std::size_t done, std::size_t, const std::string& what) {
     bar.update(done, what);

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,8 @@ void run_bench_ekf_square(const EkfSquareOptions& o, Context& ctx) {
   c.seeds = o.seeds;
   c.seed_base = o.seed_base;
   c.plain_imu_yaw_sigma_deg = o.plain_sigma_deg;
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   ProgressBar bar("bench ekf-square", o.seeds, o.quiet);
   const EkfSquareResult r = run_ekf_square(c, [&](std::size_t done, std::size_t, const TrialKey&) { bar.update(done, "seed"); });
   bar.finish();
@@ -65,7 +67,8 @@ void run_bench_amcl(const AmclBenchOptions& o, Context& ctx) {
   for (const std::string& s : o.sets) c.overrides.push_back(parse_scenario_override(s));
   c.seeds = o.seeds;
   c.seed_base = o.seed_base;
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   ProgressBar bar("bench amcl", o.seeds * o.scenarios.size() * o.cases.size(), o.quiet);
   const AmclBenchResult r = run_amcl_bench(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
     bar.update(done, fs::path(o.scenarios[next.instance]).stem().string() + " seed " + std::to_string(next.seed));
@@ -98,7 +101,8 @@ struct AmclCostOptions {
 
 void run_bench_amcl_cost(const AmclCostOptions& o, Context& ctx) {
   o.config.validate();
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   ProgressBar bar("bench amcl-cost", o.config.particles.size() * o.config.beams.size(), o.quiet);
   const AmclCostResult r = run_amcl_cost(o.config, [&](std::size_t done, std::size_t) { bar.update(done, "pair"); });
   bar.finish();

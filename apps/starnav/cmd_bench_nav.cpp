@@ -85,6 +85,8 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
     if (!o.force && (fs::exists(fs::path(o.out) / "summary.json", ec) || fs::exists(fs::path(o.out) / "runs.csv", ec)))
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
   }
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(o.out, "--out");
 
   NavExperimentConfig config;
   config.scenario_file = o.scenario;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,8 @@ void run_bench_table4(const Table4Options& o, Context& ctx) {
   for (const std::string& s : o.sets) c.overrides.push_back(parse_scenario_override(s));
   c.seeds = o.seeds;
   c.seed_base = o.seed_base;
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   ProgressBar bar("bench ren-table4", o.seeds, o.quiet);
   const RenTable4Result r = run_ren_table4(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
     bar.update(done, "seed " + std::to_string(next.seed));
@@ -66,7 +68,8 @@ struct Table1Options {
 
 void run_bench_table1(const Table1Options& o, Context& ctx) {
   o.config.validate();
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   if (!o.quiet) std::cerr << "bench ren-table1: " << o.config.queries << " random queries and " << o.config.repeats
                           << " repeats of the room query per planner\n";
   const RenTable1Result r = run_ren_table1(o.config);
@@ -97,7 +100,8 @@ void run_bench_dwa(const DwaOptions& o, Context& ctx) {
   c.seeds = o.seeds;
   c.seed_base = o.seed_base;
   c.validate();
-  if (!o.out.empty()) check_out_dir(o.out, o.force);
+  std::optional<OutputFolder> out_folder;
+  if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
   ProgressBar bar("bench dwa", o.seeds, o.quiet);
   const DwaExperimentResult r = run_dwa_experiment(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
     bar.update(done, "seed " + std::to_string(next.seed));

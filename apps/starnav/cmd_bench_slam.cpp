@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,9 +46,11 @@ void run_bench_slam(const SlamBenchOptions& o, Context& ctx) {
     const std::string& d = std::string(dir) == "data" ? o.data : o.relations;
     if (!fs::is_directory(d)) throw Error("is not a directory", d, 0, std::string("--") + dir);
   }
+  std::optional<OutputFolder> out_folder;
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "slam.json") && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
+    out_folder.emplace(o.out, "--out");
     c.out_dir = o.out;
   }
   ProgressBar bar("bench slam", c.logs.size() * 1000, o.quiet);

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli_util.hpp"
@@ -67,10 +68,12 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
   const RoughTerrainPlannerKind* planners = terrain_experiment_planners();
   c.options = terrain_planner_options(o.flags, {planners[0], planners[1], planners[2]});
   c.figures = static_cast<std::size_t>(o.svg_limit);
+  std::optional<OutputFolder> out_folder;
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "terrain.json") && !o.force)
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
+    out_folder.emplace(o.out, "--out");
   }
   const std::size_t total = from_map ? 1 : static_cast<std::size_t>(c.generate);
   ProgressBar progress("bench terrain", total, o.quiet);

@@ -71,6 +71,7 @@ void run_localize_command(const LocalizeOptions& o, Context& ctx) {
   if (fs::exists(dir))
     for (const std::string& f : localize_output_files())
       if (fs::exists(dir / f) && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
+  const OutputFolder out_folder(o.out, "--out");
   ProgressBar bar("localize", 1, o.quiet);
   const LocalizeRunResult r = run_localize_on_file(q, [&](std::size_t done, std::size_t total) {
     bar.set_total(total);

@@ -74,8 +74,8 @@ struct MapConvertOptions {
 
 void run_map_convert(const MapConvertOptions& o) {
   const LoadedMap m = load_map(o.in);
-  check_output_path(o.out, o.force, "OUT");
   const MapFormat target = output_map_format(o.out, m.is_elevation());
+  for (const std::string& f : map_output_files(o.out, target, m.ros)) check_output_path(f, o.force, "OUT");
   save_map(m, o.out, target);
   std::cout << "wrote " << o.out << " (" << map_format_name(target) << ")\n";
 }

@@ -15,6 +15,7 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/io/map_file.hpp"
 #include "starnav/io/ros_map.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/slam/log_mapping.hpp"
@@ -49,8 +50,7 @@ void run_map_build(const MapBuildOptions& o, Context& ctx) {
     rethrow_at_setting(e, settings);
   }
   if (!o.out.empty()) {
-    check_output_path(o.out, o.force, "--out");
-    check_output_path(ros_map_image_path(o.out, std::filesystem::path(o.out).stem().string() + ".pgm"), o.force, "--out");
+    for (const std::string& f : map_output_files(o.out, MapFormat::RosMap)) check_output_path(f, o.force, "--out");
   }
   if (!o.trajectory_out.empty()) check_output_path(o.trajectory_out, o.force, "--trajectory-out");
   LogReadOptions read;

@@ -191,7 +191,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
                                       std::pair{"--dwa-pictures", !o.dwa_pictures.empty()}})
       if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
   }
-  check_out_dir(o.out, o.force);
+  const OutputFolder out_folder = check_out_dir(o.out, o.force);
   if (spec.navigation) return run_navigation_scenario(spec, o, ctx);
 
   const auto t_setup = Clock::now();

@@ -88,6 +88,7 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
   if (fs::exists(dir))
     for (const std::string& f : slam_output_files())
       if (fs::exists(dir / f) && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
+  const OutputFolder out_folder(o.out, "--out");
   ProgressBar bar("slam", 1, o.quiet);
   const SlamRunResult r = run_slam_on_file(q, [&](std::size_t done, std::size_t total) {
     bar.set_total(total);

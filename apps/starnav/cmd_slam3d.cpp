@@ -62,7 +62,7 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
     c.recording.mount = Pose3::from_rpy(Vec3(m[0], m[1], m[2]), m[3] * kPi / 180, m[4] * kPi / 180, m[5] * kPi / 180);
   }
   if (!(std::isfinite(o.rate_hz) && o.rate_hz > 0 && o.rate_hz <= 10000)) throw Error("must be in (0, 10000] Hz", "", 0, "--rate-hz");
-  check_out_dir(o.out, o.force);
+  const OutputFolder out_folder = check_out_dir(o.out, o.force);
   ProgressBar bar("slam3d", 1, o.quiet);
   const Slam3dRunResult r = run_slam3d(o.input, c, [&](std::size_t done, std::size_t total) {
     bar.set_total(total);

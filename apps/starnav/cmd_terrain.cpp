@@ -100,7 +100,7 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
   const MapFormat format = output_map_format(o.out, true);
   if (format == MapFormat::MovingAi || format == MapFormat::RosMap || format == MapFormat::GeoTiff)
     throw Error("not a writable elevation format (use .yaml, .asc, .csv, .raw)", o.out, 0, "--out");
-  check_output_path(o.out, o.force, "--out");
+  for (const std::string& f : map_output_files(o.out, format)) check_output_path(f, o.force, "--out");
   const std::string meta_path = o.out + ".terrain.json";
   check_output_path(meta_path, o.force, "--out");
 

@@ -1,8 +1,11 @@
 // starnav: the command-line front end. See `starnav --help`.
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <new>
+#include <string>
 
 #include "commands.hpp"
 #include "starnav/config.hpp"
@@ -48,6 +51,11 @@ int main(int argc, char** argv) {
     std::cerr << "starnav: error: " << e.what() << "\n";
     return 2;
   }
-  std::fflush(stdout);
+  // A report that did not reach standard output (a full disk, a closed pipe) is a failure.
+  std::cout.flush();
+  if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::cerr << "starnav: error: standard output: write failed" << (errno ? std::string(": ") + std::strerror(errno) : "") << "\n";
+    return 2;
+  }
   return ctx.exit_code;
 }

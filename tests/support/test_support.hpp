@@ -108,8 +108,9 @@ inline std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
-// Runs build/bin/starnav with the arguments; captures stdout, stderr and the exit code.
-inline CliResult run_cli(const std::vector<std::string>& args) {
+// Runs build/bin/starnav with the arguments; captures stdout, stderr and the exit code (stdout
+// goes to `stdout_to` instead when given, e.g. /dev/full).
+inline CliResult run_cli(const std::vector<std::string>& args, const std::string& stdout_to = "") {
   static int counter = 0;
   const fs::path tmp = fs::temp_directory_path();
   const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
@@ -118,11 +119,11 @@ inline CliResult run_cli(const std::vector<std::string>& args) {
   std::string cmd = shell_quote(STARNAV_CLI_PATH);
   // append() rather than `" " + ...`: GCC 12 warns falsely (-Wrestrict) on operator+ with a literal.
   for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
-  cmd.append(" >").append(shell_quote(out_path)).append(" 2>").append(shell_quote(err_path)).append(" </dev/null");
+  cmd.append(" >").append(shell_quote(stdout_to.empty() ? out_path : stdout_to)).append(" 2>").append(shell_quote(err_path)).append(" </dev/null");
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-  r.out = read_text(out_path);
+  r.out = stdout_to.empty() ? read_text(out_path) : std::string();
   r.err = read_text(err_path);
   fs::remove(out_path);
   fs::remove(err_path);

@@ -23,6 +23,7 @@
 #include "starnav/core/error.hpp"
 #include "starnav/io/image.hpp"
 #include "starnav/map/occupancy_grid.hpp"  // validate_geometry
+#include "starnav/core/output_file.hpp"
 
 namespace starnav {
 
@@ -65,13 +66,7 @@ std::string read_whole_file(const std::string& path) {
   return ss.str();
 }
 
-void write_whole_file(const std::string& path, std::string_view bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error("cannot open for writing", path);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw Error("write failed", path);
-}
+void write_whole_file(const std::string& path, std::string_view bytes) { write_file_atomically(path, bytes); }
 
 // Rethrows an Error that names no file as one naming `path`.
 template <class F>
@@ -856,12 +851,17 @@ ElevationMap read_elevation_yaml(const std::string& yaml_path) {
   return map;
 }
 
-void write_elevation_yaml(const ElevationMap& map, const std::string& yaml_path) {
-  if (map.width() <= 0 || map.height() <= 0) throw Error("cannot write an empty elevation map", yaml_path);
-  const Quantisation q = attributed(yaml_path, [&] { return quantise(map); });
+std::string elevation_yaml_image_path(const std::string& yaml_path) {
   fs::path image_path(yaml_path);
   image_path.replace_extension(".png");
   if (image_path == fs::path(yaml_path)) image_path += ".png";
+  return image_path.string();
+}
+
+void write_elevation_yaml(const ElevationMap& map, const std::string& yaml_path) {
+  if (map.width() <= 0 || map.height() <= 0) throw Error("cannot write an empty elevation map", yaml_path);
+  const Quantisation q = attributed(yaml_path, [&] { return quantise(map); });
+  const fs::path image_path(elevation_yaml_image_path(yaml_path));
   GrayImage image;
   image.width = map.width();
   image.height = map.height();
@@ -891,9 +891,11 @@ void write_elevation_yaml(const ElevationMap& map, const std::string& yaml_path)
 
 // ---- Unity RAW ---------------------------------------------------------------------------------
 
+std::string unity_raw_sidecar_path(const std::string& raw_path) { return raw_path + ".yaml"; }
+
 namespace {
 
-std::string raw_sidecar(const std::string& path) { return path + ".yaml"; }
+std::string raw_sidecar(const std::string& path) { return unity_raw_sidecar_path(path); }
 
 // Largest RAW side whose square stays within kMaxGridCells.
 constexpr long long kMaxRawSize = 32769;

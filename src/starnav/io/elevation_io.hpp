@@ -16,6 +16,8 @@ ElevationMap read_elevation_yaml(const std::string& yaml_path);
 // Quantises heights to 16 bit over the observed range; unobserved cells get the nodata value
 // 0 (and observed heights use 1..65535) when any cell is unobserved.
 void write_elevation_yaml(const ElevationMap& map, const std::string& yaml_path);
+// The PNG write_elevation_yaml writes beside `yaml_path` (its extension replaced by .png).
+std::string elevation_yaml_image_path(const std::string& yaml_path);
 
 // ESRI ASCII grid. Honours NODATA_value, xllcorner/yllcorner and xllcenter/yllcenter.
 ElevationMap parse_asc(std::string_view text, const std::string& source);
@@ -34,6 +36,8 @@ void write_elevation_csv(const ElevationMap& map, const std::string& path);
 // range; the range is written to a sidecar `<path>.yaml` (resolution, origin, z_min, z_max,
 // size, and the unpadded width/height) so the export reads back.
 void write_unity_raw(const ElevationMap& map, const std::string& path);
+// The YAML sidecar beside a Unity RAW: "<raw file>.yaml".
+std::string unity_raw_sidecar_path(const std::string& raw_path);
 ElevationMap read_unity_raw(const std::string& path);
 
 // GeoTIFF through GDAL (first band, nodata honoured, geotransform -> resolution and origin).

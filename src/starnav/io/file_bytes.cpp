@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav {
 
@@ -22,13 +23,7 @@ std::string read_file_bytes(const std::string& path) {
   return ss.str();
 }
 
-void write_file_bytes(const std::string& path, std::string_view bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(std::string("cannot create file: ") + std::strerror(errno), path);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw Error("write error", path);
-}
+void write_file_bytes(const std::string& path, std::string_view bytes) { write_file_atomically(path, bytes); }
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();

@@ -129,4 +129,19 @@ void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
   }
 }
 
+std::vector<std::string> map_output_files(const std::string& path, MapFormat format, const std::optional<RosMapMetadata>& ros) {
+  std::vector<std::string> files{path};
+  switch (format) {
+    case MapFormat::RosMap: {
+      const bool scale = ros && ros->mode == RosMapMode::Scale;
+      files.push_back(ros_map_image_path(path, std::filesystem::path(path).stem().string() + (scale ? ".png" : ".pgm")));
+      break;
+    }
+    case MapFormat::ElevationYaml: files.push_back(elevation_yaml_image_path(path)); break;
+    case MapFormat::UnityRaw: files.push_back(unity_raw_sidecar_path(path)); break;
+    default: break;
+  }
+  return files;
+}
+
 }  // namespace starnav

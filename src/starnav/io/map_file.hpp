@@ -3,6 +3,7 @@
 // load into an occupancy grid or an elevation map, save in another format.
 #include <optional>
 #include <string>
+#include <vector>
 #include <variant>
 
 #include "starnav/io/movingai.hpp"
@@ -39,5 +40,11 @@ LoadedMap load_map(const std::string& path);
 // Saves `map` as `format` (must suit the map: occupancy formats for occupancy grids, elevation
 // formats for elevation maps). Throws Error otherwise.
 void save_map(const LoadedMap& map, const std::string& path, MapFormat format);
+// Every file save_map writes for `path`, the named one first, then its companions: the image
+// beside a map_server YAML, the PNG beside an elevation YAML, the sidecar of a Unity RAW. A
+// command checks them all before writing any. `ros`: the metadata a map_server map keeps (its
+// mode chooses the image's format).
+std::vector<std::string> map_output_files(const std::string& path, MapFormat format,
+                                          const std::optional<RosMapMetadata>& ros = std::nullopt);
 
 }  // namespace starnav

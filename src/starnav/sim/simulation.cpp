@@ -10,6 +10,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav {
 
@@ -22,12 +23,7 @@ bool due(std::int64_t n, double rate_hz, double t) { return static_cast<double>(
 
 std::string fixed(double v) { return format_fixed6(v); }
 
-void write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw Error("cannot write the file", path);
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  if (!out) throw Error("cannot write the file", path);
-}
+void write_file(const std::string& path, const std::string& text) { write_file_atomically(path, text); }
 
 std::string twist_text(const BodyTwist& t) {
   char buf[128];

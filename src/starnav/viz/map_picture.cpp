@@ -10,6 +10,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav::viz {
 
@@ -857,14 +858,7 @@ std::string MapPicture::svg_string() const {
   return o;
 }
 
-void MapPicture::write_svg(const std::string& path) const {
-  const std::string svg = svg_string();
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error("cannot open for writing", path);
-  out.write(svg.data(), static_cast<std::streamsize>(svg.size()));
-  out.close();
-  if (!out) throw Error("cannot write", path);
-}
+void MapPicture::write_svg(const std::string& path) const { write_file_atomically(path, svg_string()); }
 
 // ---------------------------------------------------------------------------------------------
 // PNG

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav::viz {
 
@@ -219,12 +220,6 @@ std::string LinePlot::svg_string() const {
   return o;
 }
 
-void LinePlot::write_svg(const std::string& path) const {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw Error("cannot write the picture", path);
-  const std::string s = svg_string();
-  out.write(s.data(), static_cast<std::streamsize>(s.size()));
-  if (!out) throw Error("cannot write the picture", path);
-}
+void LinePlot::write_svg(const std::string& path) const { write_file_atomically(path, svg_string()); }
 
 }  // namespace starnav::viz

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav::viz {
 
@@ -132,14 +133,7 @@ std::string encode_png(const RgbaImage& image) {
   return out;
 }
 
-void write_png_file(const RgbaImage& image, const std::string& path) {
-  const std::string bytes = encode_png(image);
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f) throw Error("cannot open for writing", path);
-  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  f.close();
-  if (!f) throw Error("cannot write", path);
-}
+void write_png_file(const RgbaImage& image, const std::string& path) { write_file_atomically(path, encode_png(image)); }
 
 std::string base64_encode(std::string_view bytes) {
   static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
