@@ -3,7 +3,10 @@
 // the message of each fault).
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <set>
 
@@ -31,3 +34,36 @@ TEST(BadFilesCli, EveryBadMapIsRejectedWithOneErrorLine) {
   }
   EXPECT_GE(checked, 30u);
 }
+
+// Inputs that are not regular files: a link to /dev/zero (endless bytes), a FIFO (no writer: a
+// read would wait forever), a folder. Every command that reads a file refuses them at once with
+// one line naming the file, before reading a byte.
+TEST(BadFilesCli, NonRegularInputsAreRefusedAtOnce) {
+  starnav::test::ScratchDir dir;
+  const std::string zero = dir.file("zero.map"), fifo = dir.file("fifo.map"), folder = dir.file("folder.map");
+  if (fs::exists("/dev/zero")) fs::create_symlink("/dev/zero", zero);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_directories(folder);
+  for (const std::string& input : {zero, fifo, folder}) {
+    if (!fs::exists(fs::symlink_status(input))) continue;
+    const bool is_folder = input == folder;
+    const std::vector<std::vector<std::string>> commands = {
+        {"map", "info", input},
+        {"plan", "--map", input, "--start", "0,0", "--goal", "1,1"},
+        {"sim", input, "--out", dir.file("out"), "--quiet"},
+        {"slam", "run", input, "--out", dir.file("out"), "--quiet"},
+        {"log", "info", input},
+    };
+    for (const auto& args : commands) {
+      SCOPED_TRACE(args[0] + " " + input);
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto r = starnav::test::run_cli(args);
+      EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));  // no hang, no endless read
+      EXPECT_EQ(r.exit_code, 2) << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+      EXPECT_NE(r.err.find(input), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find(is_folder ? "director" : "not a regular file"), std::string::npos) << r.err;
+    }
+  }
+}
+

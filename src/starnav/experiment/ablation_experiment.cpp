@@ -21,6 +21,7 @@
 #include "starnav/plan/ou2022.hpp"
 #include "starnav/plan/path_smoothing.hpp"
 #include "starnav/viz/map_picture.hpp"
+#include "starnav/core/input_file.hpp"
 
 namespace starnav {
 
@@ -70,8 +71,13 @@ std::vector<AblationQuery> read_ablation_queries(const std::string& path) {
       out.push_back({{e.start_x, e.start_y}, {e.goal_x, e.goal_y}});
     return out;
   }
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read", path, 0, "--queries");
+  std::istringstream in([&] {
+    try {
+      return read_input_file(path);
+    } catch (const Error& e) {
+      throw Error(e.message(), path, 0, "--queries");
+    }
+  }());
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {

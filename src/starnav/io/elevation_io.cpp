@@ -24,6 +24,7 @@
 #include "starnav/io/image.hpp"
 #include "starnav/map/occupancy_grid.hpp"  // validate_geometry
 #include "starnav/core/output_file.hpp"
+#include "starnav/core/input_file.hpp"
 
 namespace starnav {
 
@@ -55,15 +56,7 @@ std::string lower(std::string_view s) {
 }
 
 std::string read_whole_file(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error("file not found", path);
-  if (fs::is_directory(path, ec)) throw Error("is a directory, not a file", path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open for reading", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error("read error", path);
-  return ss.str();
+  return read_input_file(path);
 }
 
 void write_whole_file(const std::string& path, std::string_view bytes) { write_file_atomically(path, bytes); }

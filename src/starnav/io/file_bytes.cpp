@@ -9,19 +9,11 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/output_file.hpp"
+#include "starnav/core/input_file.hpp"
 
 namespace starnav {
 
-std::string read_file_bytes(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error("is a directory, not a file", path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(std::string("cannot open file: ") + std::strerror(errno), path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw Error("read error", path);
-  return ss.str();
-}
+std::string read_file_bytes(const std::string& path) { return read_input_file(path); }
 
 void write_file_bytes(const std::string& path, std::string_view bytes) { write_file_atomically(path, bytes); }
 

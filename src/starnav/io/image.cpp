@@ -6,10 +6,12 @@
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "starnav/core/error.hpp"
 #include "starnav/io/file_bytes.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav {
 
@@ -464,8 +466,15 @@ void write_png_raster(const RasterImage& image, const std::string& path) {
   static constexpr int kColorTypes[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                         PNG_COLOR_TYPE_RGB_ALPHA};
 
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (!file) throw Error(std::string("cannot create file: ") + std::strerror(errno), path);
+  // Encoded in memory, then written by the one output layer (whole or not at all).
+  char* buffer_bytes = nullptr;
+  std::size_t buffer_size = 0;
+  std::FILE* file = ::open_memstream(&buffer_bytes, &buffer_size);
+  if (!file) throw Error(std::string("cannot encode: ") + std::strerror(errno), path);
+  struct FreeBuffer {
+    char*& p;
+    ~FreeBuffer() { std::free(p); }
+  } free_buffer{buffer_bytes};
   PngWriteState state;
   state.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &state.errors, starnav_png_error, starnav_png_warning);
   if (state.png) state.info = png_create_info_struct(state.png);
@@ -478,7 +487,8 @@ void write_png_raster(const RasterImage& image, const std::string& path) {
   if (!ok)
     throw Error(std::string("cannot write PNG: ") + (state.errors.message[0] ? state.errors.message : "libpng error"),
                 path);
-  if (!closed) throw Error("write error", path);
+  if (!closed) throw Error("cannot encode PNG", path);
+  write_file_atomically(path, std::string_view(buffer_bytes, buffer_size));
 }
 
 }  // namespace starnav

@@ -15,6 +15,7 @@
 #include "starnav/io/ros_map.hpp"
 #include "starnav/sim/occupancy_world.hpp"
 #include "starnav/sim/terrain_surface.hpp"
+#include "starnav/core/input_file.hpp"
 
 namespace starnav {
 
@@ -1220,11 +1221,7 @@ ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file,
 }
 
 ScenarioSpec load_scenario(const std::string& path, std::span<const ScenarioOverride> overrides) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(fs::exists(path) ? "cannot read the file" : "no such file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_scenario(ss.str(), path, overrides);
+  return parse_scenario(read_input_file(path), path, overrides);
 }
 
 WorldDescription build_world(const ScenarioSpec& spec) {

@@ -1,0 +1,50 @@
+#include "starnav/core/input_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "starnav/core/error.hpp"
+
+namespace starnav {
+
+std::string read_input_file(const std::string& path, std::uint64_t max_bytes) {
+  if (path.empty()) throw Error("empty file name", path);
+  // O_NONBLOCK: opening a FIFO for reading must not wait for a writer before it is refused.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == ENOENT) throw Error("no such file", path);
+    if (err == EISDIR) throw Error("is a directory, not a file", path);
+    throw Error(std::string("cannot open the file: ") + std::strerror(err), path);
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw Error(std::string("cannot read the file: ") + std::strerror(errno), path);
+  if (S_ISDIR(st.st_mode)) throw Error("is a directory, not a file", path);
+  if (!S_ISREG(st.st_mode)) throw Error("is not a regular file (a device, FIFO or socket): give a file", path);
+  const auto size = static_cast<std::uint64_t>(st.st_size);
+  if (size > max_bytes)
+    throw Error("is " + std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) + " read at most", path);
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw Error(std::string("read error: ") + std::strerror(errno), path);
+    }
+    if (n == 0) break;  // the file shrank meanwhile
+    done += static_cast<std::size_t>(n);
+  }
+  bytes.resize(done);
+  return bytes;
+}
+
+}  // namespace starnav
