@@ -38,8 +38,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Usage errors: one line, exit 2 (CLI11's own codes are not the project's).
-    std::cerr << "starnav: error: " << e.what() << "\n";
-    std::cerr << "run with --help for usage\n";
+    std::cerr << "starnav: error: " << starnav::escape_control_characters(e.what()) << " (run with --help for usage)\n";
     return 2;
   } catch (const starnav::Error& e) {
     std::cerr << "starnav: error: " << e.what() << "\n";
@@ -48,7 +47,7 @@ int main(int argc, char** argv) {
     std::cerr << "starnav: error: out of memory\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "starnav: error: " << e.what() << "\n";
+    std::cerr << "starnav: error: " << starnav::escape_control_characters(e.what()) << "\n";
     return 2;
   }
   // A report that did not reach standard output (a full disk, a closed pipe) is a failure.

@@ -48,6 +48,19 @@ Eigen::Matrix3d rz_ry_rx(double roll, double pitch, double yaw) {
 // ---------------------------------------------------------------------------------------------
 // Angles
 
+TEST(Error, ControlCharactersNeverBreakTheLine) {
+  // A newline in a file name, a carriage return in a field, an escape in a value: what() stays one
+  // line whose parts are all visible; other bytes (UTF-8 names) are kept.
+  const starnav::Error e("value 'a\x1b[2Jb' is bad", "maps/evil\nstarnav: error: forged.yaml", 3, "key\rhidden");
+  const std::string what = e.what();
+  EXPECT_EQ(what.find('\n'), std::string::npos);
+  EXPECT_EQ(what.find('\r'), std::string::npos);
+  EXPECT_EQ(what.find('\x1b'), std::string::npos);
+  EXPECT_EQ(what, "maps/evil\\x0astarnav: error: forged.yaml:3: key\\x0dhidden: value 'a\\x1b[2Jb' is bad");
+  EXPECT_EQ(starnav::escape_control_characters("M\xc3\xbcnchen\x7f"), "M\xc3\xbcnchen\\x7f");
+  EXPECT_EQ(e.file(), "maps/evil\nstarnav: error: forged.yaml");  // the parts themselves are kept as given
+}
+
 TEST(Angle, WrapKeepsTheHalfOpenIntervalAtPi) {
   EXPECT_EQ(starnav::wrap_angle(kPi), kPi);
   EXPECT_EQ(starnav::wrap_angle(-kPi), kPi);  // (-pi, pi]: -pi maps to +pi

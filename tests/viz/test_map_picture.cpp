@@ -242,6 +242,22 @@ TEST(MapPictureSvg, IsWellFormedWithTheExpectedElements) {
   EXPECT_EQ(svg.find("inf"), std::string::npos);
 }
 
+TEST(MapPictureSvg, HugeCoordinatesAreOneClearErrorAndLargeOnesValidXml) {
+  // A resolution of 1e70 m: one error, not labels made of overflowed integers.
+  OccupancyGrid huge(geometry(4, 3, 1e70, Pose2(1.0, 2.0, 0.0)), 0);
+  const std::string e = starnav::test::error_of([&] { viz::MapPicture pic(huge, {}); });
+  EXPECT_NE(e.find("picture: the map reaches 4e+70 m from the origin"), std::string::npos) << e;
+  EXPECT_NE(e.find("within 1e9 m"), std::string::npos) << e;
+  // Near the limit (UTM-sized coordinates with a coarse grid) the SVG is valid and its labels
+  // are numbers.
+  OccupancyGrid large(geometry(4, 3, 1e8, Pose2(5e8, -5e8, 0.0)), 0);
+  large.set(1, 1, 100);
+  const std::string svg = viz::MapPicture(large, {.title = "large"}).svg_string();
+  EXPECT_EQ(check_xml(svg), "");
+  for (char c : svg) ASSERT_TRUE(c == '\n' || c == '\t' || static_cast<unsigned char>(c) >= 0x20) << static_cast<int>(c);
+  EXPECT_EQ(svg.find("9223372036854775808"), std::string::npos);
+}
+
 TEST(MapPictureSvg, WorldPointsLandWhereTheLayoutSays) {
   // 20 x 10 cells of 0.5 m from (1, 2): the world window is [1, 11] x [2, 7]. At 10 px per cell
   // (20 px per metre) the plot is 200 x 100 px.

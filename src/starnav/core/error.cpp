@@ -4,8 +4,30 @@
 
 namespace starnav {
 
-std::string format_error_location(const std::string& file, int line, const std::string& field,
-                                  const std::string& message) {
+std::string escape_control_characters(std::string_view text) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      out += "\\x";
+      out += kHex[u >> 4];
+      out += kHex[u & 0xf];
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string format_error_location(const std::string& file_text, int line, const std::string& field_text,
+                                  const std::string& message_text) {
+  // Names and values from files and command lines reach the message: a newline in one must not
+  // forge a second error line, nor a carriage return hide the text before it.
+  const std::string file = escape_control_characters(file_text);
+  const std::string field = escape_control_characters(field_text);
+  const std::string message = escape_control_characters(message_text);
   std::string out;
   if (!file.empty()) {
     out.append(file);

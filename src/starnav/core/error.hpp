@@ -37,7 +37,11 @@ std::string one_line(std::string text, std::size_t max_chars = 0);
 // text is cut to max_chars and "..." added.
 std::string printable(std::string_view text, std::size_t max_chars = 0);
 
-// FILE[:LINE][: FIELD]: message  (parts that are empty are left out).
+// Control characters (below 0x20, and 0x7f) as \xNN; every other byte (UTF-8 names too) kept.
+std::string escape_control_characters(std::string_view text);
+
+// FILE[:LINE][: FIELD]: message  (parts that are empty are left out; control characters in any
+// part escaped, so an Error's what() is always one line).
 std::string format_error_location(const std::string& file, int line, const std::string& field,
                                   const std::string& message);
 

@@ -24,12 +24,17 @@ constexpr double kMaxPixels = 400.0 * 1000 * 1000;  // pixels in a PNG
 std::string fmt(double v, int decimals) {
   if (!std::isfinite(v)) v = 0.0;
   char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+  // A number too long for fixed notation (1e70) is written in the shortest general form, which
+  // always fits: never the buffer's unwritten bytes.
+  if (r.ec != std::errc()) r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general);
   std::string s(buf, r.ptr);
   if (!s.empty() && s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
   return s;
 }
 std::string px(double v) { return fmt(v, 2); }
+
+constexpr double kMaxPictureCoordinateM = 1e9;
 
 // XML text: escapes markup, replaces control characters and invalid UTF-8 by '?'.
 std::string xml_escape(std::string_view s) {
@@ -431,6 +436,15 @@ PictureLayout MapPicture::png_layout(const RasterSize& size) const { return png_
 MapPicture::MapPicture(const GridGeometry& geometry, PictureOptions options, Kind kind)
     : geometry_(geometry), options_(std::move(options)), kind_(kind) {
   validate_geometry(geometry_, "picture");
+  // Axis ticks, labels and pixel positions are computed in integers: beyond a planet's scale
+  // they would overflow. Every map corner lies within kMaxPictureCoordinateM of the origin.
+  const double w_m = geometry_.width * geometry_.resolution, h_m = geometry_.height * geometry_.resolution;
+  for (const Vec2& corner : {geometry_.grid_to_world({0.0, 0.0}), geometry_.grid_to_world({w_m, 0.0}),
+                             geometry_.grid_to_world({0.0, h_m}), geometry_.grid_to_world({w_m, h_m})})
+    if (!(std::abs(corner.x()) <= kMaxPictureCoordinateM && std::abs(corner.y()) <= kMaxPictureCoordinateM))
+      throw Error("the map reaches " + fmt(std::max(std::abs(corner.x()), std::abs(corner.y())), 0) +
+                      " m from the origin; pictures draw maps within 1e9 m of it",
+                  {}, 0, "picture");
   if (!(options_.font_px > 0.0) || !std::isfinite(options_.font_px) || options_.font_px > 200.0)
     throw Error("font size must be in (0, 200] pixels", {}, 0, "font_px");
   if (options_.target_plot_px <= 0 || options_.target_plot_px >= kMaxSide)
