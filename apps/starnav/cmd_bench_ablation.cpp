@@ -44,7 +44,9 @@ void run_bench_ablation(AblationOptions& o) {
   AblationConfig& c = o.config;
   if (c.queries.empty() == (o.random_opt->count() == 0))
     throw Error("give exactly one of --queries FILE and --random N", {}, 0, "--queries");
-  if (c.queries.empty() && o.random <= 0) throw Error("expected a number of queries >= 1", {}, 0, "--random");
+  // Each query is planned by every variant and kept in memory with its paths.
+  if (c.queries.empty() && (o.random <= 0 || o.random > 100000))
+    throw Error("expected a number of queries in 1..100000", {}, 0, "--random");
   c.random = c.queries.empty() ? static_cast<std::size_t>(o.random) : 0;
   c.exact_variant = !o.no_exact;
   std::optional<OutputFolder> out_folder;

@@ -19,7 +19,8 @@
 // deterministic.
 //
 // Output: a table on stdout (--json: one JSON document; --csv: one row per seed and planner). With
-// --out DIR also DIR/runs.csv and DIR/summary.json (the --json document). Exit 0 when every run
+// --out DIR also DIR/runs.csv and DIR/summary.json (the --json document, byte-identical between
+// identical runs) and DIR/timing.json (the wall-clock figures). Exit 0 when every run
 // completed (a run that does not reach the goal is a result); 1 when a run failed with an
 // exception (reported in the results as outcome "error" and in one line on stderr); 2 for bad
 // flags or a bad scenario.
@@ -126,7 +127,8 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
     if (ec) throw Error("cannot create the folder: " + ec.message(), o.out, 0, "--out");
     write_text_file((fs::path(o.out) / "runs.csv").string(), csv, "--out");
     write_text_file((fs::path(o.out) / "summary.json").string(), doc, "--out");
-    if (!o.quiet) std::cerr << "bench nav: wrote " << o.out << "/runs.csv, summary.json\n";
+    write_text_file((fs::path(o.out) / "timing.json").string(), nav_timing_json(result), "--out");
+    if (!o.quiet) std::cerr << "bench nav: wrote " << o.out << "/runs.csv, summary.json, timing.json\n";
   }
 
   std::size_t failed = 0;

@@ -178,7 +178,10 @@ void run_sim(const SimOptions& o, Context& ctx) {
   for (const std::string& text : o.sets) overrides.push_back(parse_scenario_override(text));
   ScenarioSpec spec = load_scenario(o.scenario, overrides);
   if (!o.seed.empty()) spec.seed = parse_unsigned(o.seed, "--seed", "a non-negative integer");
-  if (!o.duration.empty()) spec.duration_s = parse_duration(o.duration);
+  if (!o.duration.empty()) {
+    spec.duration_s = parse_duration(o.duration);
+    check_simulation_steps(spec, "--duration");
+  }
   if (!o.point_clouds.empty()) {
     spec.outputs.point_clouds = parse_cloud_format(o.point_clouds, "--point-clouds");
     if (spec.outputs.point_clouds != ScenarioOutputs::CloudFormat::None && !spec.lidar)

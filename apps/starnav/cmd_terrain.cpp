@@ -146,8 +146,8 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
       r.n1 = b[0];
       r.n2 = b[1];
     }
-    if (!o.intervals.empty()) r.intervals = parse_count(o.intervals, "--intervals", 1, 100000);
-    if (!o.directions.empty()) r.directions = parse_count(o.directions, "--directions", 1, 10000);
+    if (!o.intervals.empty()) r.intervals = parse_count(o.intervals, "--intervals", 1, kMaxRoadIntervals);
+    if (!o.directions.empty()) r.directions = parse_count(o.directions, "--directions", 1, kMaxRoadDirections);
     if (!o.blur_cells.empty()) {
       r.blur_sigma_cells = parse_number(o.blur_cells, "--blur-cells");
       if (r.blur_sigma_cells < 0.0) throw Error("must be >= 0", {}, 0, "--blur-cells");
@@ -158,6 +158,7 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
       t = generate_road(r);
     } catch (const Error& e) {
       if (e.field() == "size_m") throw Error(e.message(), {}, 0, "--size-m");
+      if (e.field() == "blur_sigma_cells") throw Error(e.message(), {}, 0, "--blur-cells");
       throw;
     }
     meta = road_metadata(r, t, o.out, map_format_name(format));

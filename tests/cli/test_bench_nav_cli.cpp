@@ -82,3 +82,27 @@ TEST(BenchNavCli, OtherBadFlagsAreNamed) {
 }
 
 }  // namespace
+
+namespace {
+
+// The records of identical runs are identical bytes: wall-clock figures live in timing.json only.
+TEST(BenchNavCli, RecordsAreByteIdenticalAndWallClockGoesToTiming) {
+  starnav::test::ScratchDir dir;
+  const std::string scenario = starnav::test::scenario_path("e3_three_obstacles.yaml");
+  for (const char* out : {"a", "b"}) {
+    const CliResult r = run_cli({"bench", "nav", "--scenario", scenario, "--seeds", "1", "--quiet", "--out", dir.file(out)});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  for (const char* f : {"/summary.json", "/runs.csv"}) {
+    const std::string a = starnav::test::read_text(dir.file("a") + f);
+    ASSERT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, starnav::test::read_text(dir.file("b") + f)) << f;
+    EXPECT_EQ(a.find("wall"), std::string::npos) << f;
+    EXPECT_EQ(a.find("real_time_factor"), std::string::npos) << f;
+  }
+  const std::string timing = starnav::test::read_text(dir.file("a") + "/timing.json");
+  EXPECT_NE(timing.find("\"real_time_factor\""), std::string::npos) << timing;
+  EXPECT_NE(timing.find("\"wall_s\""), std::string::npos) << timing;
+}
+
+}  // namespace

@@ -148,12 +148,16 @@ json summary_json(const NavSummary& s, bool compared) {
     c["costs_differ_seeds"] = s.costs_differ_seeds;
     j["astar_comparison"] = c;
   }
+  return j;
+}
+
+// The wall-clock figures of a planner's runs: timing.json only (they differ between runs).
+json wall_clock_json(const NavSummary& s) {
   json w;
   w["wall_s_total"] = s.wall_s_total;
   w["wall_s"] = nav_stat_json(s.wall_s);
   w["real_time_factor"] = nav_stat_json(s.real_time_factor);
-  j["wall_clock"] = w;
-  return j;
+  return w;
 }
 
 json run_json(const NavTrial& t) {
@@ -191,8 +195,6 @@ json run_json(const NavTrial& t) {
   j["deviation_mean_m"] = m.deviation_mean_m;
   j["deviation_max_m"] = m.deviation_max_m;
   j["goal_distance_m"] = m.goal_distance_m;
-  j["wall_s"] = r.wall_s;
-  j["real_time_factor"] = r.real_time_factor;
   return j;
 }
 
@@ -207,12 +209,12 @@ std::string runs_csv(const std::vector<NavTrial>& trials) {
   std::ostringstream o;
   o << "seed,planner,success,outcome,reason,motion_mode,time_to_goal_s,duration_s,distance_m,plans,replans,"
        "expanded_total,replan_expanded,astar_replan_expanded,astar_backward_replan_expanded,expansion_ratio,costs_match,collisions,"
-       "deviation_mean_m,deviation_max_m,goal_distance_m,wall_s,real_time_factor\n";
+       "deviation_mean_m,deviation_max_m,goal_distance_m\n";
   for (const NavTrial& t : trials) {
     const NavRunRecord& r = t.record;
     o << t.key.seed << ',' << r.planner << ',';
     if (!t.completed) {
-      o << "0,error," << csv_field(t.error) << std::string(18, ',') << '\n';
+      o << "0,error," << csv_field(t.error) << std::string(16, ',') << '\n';
       continue;
     }
     const NavigationMetrics& m = r.m;
@@ -230,8 +232,7 @@ std::string runs_csv(const std::vector<NavTrial>& trials) {
       o << ",,,,";
     }
     o << m.collisions << ',' << csv_number(m.deviation_mean_m) << ',' << csv_number(m.deviation_max_m) << ','
-      << csv_number(m.goal_distance_m) << ',' << csv_number(r.wall_s) << ',' << csv_number(r.real_time_factor)
-      << '\n';
+      << csv_number(m.goal_distance_m) << '\n';
   }
   return o.str();
 }
@@ -386,7 +387,6 @@ std::string nav_experiment_json(const NavExperimentResult& result) {
   doc["seed_base"] = c.seed_base;
   doc["seed_last"] = c.seed_base + c.seeds - 1;
   doc["motion_mode"] = c.motion_mode ? json(*c.motion_mode) : json(nullptr);
-  doc["wall_clock_fields"] = "wall_s, real_time_factor and every \"wall_clock\" object; everything else is deterministic";
   json planners = json::array();
   for (std::size_t p = 0; p < result.summaries.size(); ++p) planners.push_back(summary_json(result.summaries[p], p == 0));
   doc["planners"] = planners;
@@ -397,6 +397,25 @@ std::string nav_experiment_json(const NavExperimentResult& result) {
 }
 
 std::string nav_runs_csv(const NavExperimentResult& result) { return runs_csv(result.trials); }
+
+std::string nav_timing_json(const NavExperimentResult& result) {
+  json doc;
+  doc["benchmark"] = "nav";
+  doc["scenario"] = result.config.scenario_file;
+  json planners = json::array();
+  for (const NavSummary& s : result.summaries) {
+    json p = wall_clock_json(s);
+    p["planner"] = s.planner;
+    planners.push_back(p);
+  }
+  doc["planners"] = planners;
+  json runs = json::array();
+  for (const NavTrial& t : result.trials)
+    runs.push_back({{"seed", t.key.seed}, {"planner", t.record.planner}, {"wall_s", t.record.wall_s},
+                    {"real_time_factor", t.record.real_time_factor}});
+  doc["runs"] = runs;
+  return doc.dump(2) + "\n";
+}
 
 std::string nav_experiment_table(const NavExperimentResult& result) {
   std::ostringstream out;

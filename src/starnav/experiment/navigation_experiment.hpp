@@ -77,6 +77,9 @@ const std::vector<std::string>& nav_summary_metrics();
 // The reports: the JSON document (summary.json), one CSV row per run (runs.csv), the text table.
 std::string nav_experiment_json(const NavExperimentResult& result);
 std::string nav_runs_csv(const NavExperimentResult& result);
+// The wall-clock figures (per run: wall_s, real_time_factor; per planner their statistics): the
+// one record that differs between identical runs, kept out of the JSON and CSV above.
+std::string nav_timing_json(const NavExperimentResult& result);
 std::string nav_experiment_table(const NavExperimentResult& result);
 
 }  // namespace starnav

@@ -16,6 +16,7 @@
 #include "starnav/sim/occupancy_world.hpp"
 #include "starnav/sim/terrain_surface.hpp"
 #include "starnav/core/input_file.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -379,8 +380,8 @@ void parse_generate(Fields& g, ScenarioTerrain& t, const Doc& doc) {
       r.n2 = b[1];
     }
     r.waviness = g.positive("waviness", r.waviness);
-    if (auto v = g.take("intervals")) r.intervals = static_cast<int>(v->integer(1, 4096));
-    if (auto v = g.take("directions")) r.directions = static_cast<int>(v->integer(1, 1024));
+    if (auto v = g.take("intervals")) r.intervals = static_cast<int>(v->integer(1, kMaxRoadIntervals));
+    if (auto v = g.take("directions")) r.directions = static_cast<int>(v->integer(1, kMaxRoadDirections));
     r.blur_sigma_cells = g.positive("blur_sigma_cells", r.blur_sigma_cells);
     g.finish("kind, size_m, resolution_m, origin_m, origin_yaw_deg, seed, features, class, gd_n0_m3, method, "
              "n0_per_m, band_per_m, waviness, intervals, directions, blur_sigma_cells");
@@ -1118,6 +1119,19 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
   }
 
   top.finish("name, description, world, robot, vehicle, sensors, sim, commands, route, events, motion_mode, navigation, localization, metrics, outputs");
+  // A sensor samples at most once per simulation step: a faster rate would only repeat the
+  // same state, and an absurd one (1e300 Hz) would never finish a step.
+  const double max_rate_hz = 1.0 / s.dt_s * (1.0 + 1e-9);
+  const auto check_rate = [&](double rate_hz, const ScenarioSource& src, const std::string& field) {
+    if (rate_hz > max_rate_hz)
+      throw Error("is " + format_number(rate_hz) + " Hz, more than one sample per simulation step (1 / sim.dt_s = " +
+                      format_number(1.0 / s.dt_s) + " Hz)",
+                  file, src.line, field);
+  };
+  if (s.lidar) check_rate(s.lidar->config.rate_hz, s.lidar->source, "sensors.lidar.rate_hz");
+  if (s.imu) check_rate(s.imu->config.rate_hz, s.imu->source, "sensors.imu.rate_hz");
+  if (s.encoders) check_rate(s.encoders->rate_hz, s.encoders->source, "sensors.encoders.rate_hz");
+  check_simulation_steps(s, "sim.duration_s");
   return s;
 }
 
@@ -1218,6 +1232,14 @@ ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file,
           throw Error(e.message(), e.file(), 0, e.field() + " (--set)");
     throw;
   }
+}
+
+void check_simulation_steps(const ScenarioSpec& spec, const std::string& field) {
+  const double steps = spec.duration_s / spec.dt_s;
+  if (!(steps <= kMaxSimulationSteps))
+    throw Error(format_number(spec.duration_s) + " s at sim.dt_s " + format_number(spec.dt_s) + " s is " + format_number(steps) +
+                    " steps, more than the " + format_number(kMaxSimulationSteps) + " a run may take",
+                spec.file, 0, field);
 }
 
 ScenarioSpec load_scenario(const std::string& path, std::span<const ScenarioOverride> overrides) {

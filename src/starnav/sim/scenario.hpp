@@ -233,6 +233,11 @@ struct ScenarioOverride {
 // "KEY=VALUE"; Error (field "--set") otherwise.
 ScenarioOverride parse_scenario_override(const std::string& text);
 
+// A run is at most kMaxSimulationSteps fixed steps (duration_s / dt_s): 10 million steps are
+// 28 simulated hours at the default 0.01 s. Error naming `field` above it.
+inline constexpr double kMaxSimulationSteps = 1e7;
+void check_simulation_steps(const ScenarioSpec& spec, const std::string& field);
+
 // Parses a scenario. `file` names the document in errors and anchors relative paths.
 ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file,
                             std::span<const ScenarioOverride> overrides = {});

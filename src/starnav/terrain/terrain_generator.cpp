@@ -22,7 +22,9 @@ void blur_axis(std::vector<double>& z, int w, int h, double sigma, bool along_x,
   const int n = along_x ? w : h;
   sq.assign(static_cast<std::size_t>(n), 1.0);
   if (!(sigma > 0.0)) return;
-  const int radius = static_cast<int>(std::ceil(4.0 * sigma));
+  // Clipped to the field: weights beyond its far side never meet a cell, and a huge sigma (1e9)
+  // must not ask for a kernel of billions of weights.
+  const int radius = static_cast<int>(std::min(std::ceil(4.0 * sigma), static_cast<double>(std::max(n - 1, 0))));
   std::vector<double> kernel(static_cast<std::size_t>(2 * radius + 1));
   for (int i = -radius; i <= radius; ++i) kernel[static_cast<std::size_t>(i + radius)] = std::exp(-0.5 * i * i / (sigma * sigma));
   // Normalisation per output position.
@@ -308,9 +310,18 @@ void RoadOptions::validate() const {
   require_positive(n2, "n2");
   if (!(n2 > n1)) throw Error("must be greater than n1", {}, 0, "n2");
   require_positive(waviness, "waviness");
-  if (intervals < 1 || intervals > 100000) throw Error("must be 1..100000", {}, 0, "intervals");
-  if (directions < 1 || directions > 10000) throw Error("must be 1..10000", {}, 0, "directions");
+  if (intervals < 1 || intervals > kMaxRoadIntervals)
+    throw Error("must be 1.." + std::to_string(kMaxRoadIntervals), {}, 0, "intervals");
+  if (directions < 1 || directions > kMaxRoadDirections)
+    throw Error("must be 1.." + std::to_string(kMaxRoadDirections), {}, 0, "directions");
   require_non_negative(blur_sigma_cells, "blur_sigma_cells");
+  {
+    // A blur wider than the map is its mean: a sigma beyond the larger side is a mistake.
+    const GridGeometry g = terrain_geometry(width_m, height_m, resolution, origin);
+    const int side = std::max(g.width, g.height);
+    if (blur_sigma_cells > side)
+      throw Error("must be at most the map's larger side, " + std::to_string(side) + " cells", {}, 0, "blur_sigma_cells");
+  }
   for (const auto& f : features) validate_feature(f);
 }
 

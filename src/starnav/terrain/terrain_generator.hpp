@@ -66,6 +66,11 @@ RoadMethod parse_road_method(const std::string& name, const std::string& field =
 // Throws Error naming `field` for anything else.
 double road_class_gd_n0(char road_class, const std::string& field = "class");
 
+// The road generator's counts, the same in the CLI and in scenario YAML (docs/terrain.md): its
+// work grows with cells x intervals (x directions).
+inline constexpr int kMaxRoadIntervals = 4096;
+inline constexpr int kMaxRoadDirections = 1024;
+
 struct RoadOptions {
   double width_m = 10.0;
   double height_m = 10.0;
@@ -79,8 +84,8 @@ struct RoadOptions {
   double n1 = 0.011;       // band, 1/m (clipped to [max(n1, 1/L), min(n2, 1/(2 res))])
   double n2 = 2.83;
   double waviness = 2.0;   // W
-  int intervals = 64;      // m
-  int directions = 16;     // K (directional)
+  int intervals = 64;      // m, 1..kMaxRoadIntervals
+  int directions = 16;     // K (directional), 1..kMaxRoadDirections
   double blur_sigma_cells = 2.0;  // paper method
   std::vector<TerrainFeature> features;
   void validate() const;  // Error naming the field
