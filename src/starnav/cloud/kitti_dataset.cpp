@@ -1,5 +1,6 @@
 #include "starnav/cloud/kitti_dataset.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "starnav/core/error.hpp"
@@ -8,6 +9,17 @@
 #include "starnav/logs/decompress.hpp"
 
 namespace starnav {
+
+Rigid3 rigid_from_kitti_3x4(const double (&m)[12], const std::string& path, int line, const std::string& field) {
+  Eigen::Matrix3d r;
+  r << m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10];
+  if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3) || !(r.determinant() > 0))
+    throw Error("the rotation part is not a rotation", path, line, field);
+  Rigid3 t = Rigid3::Identity();
+  t.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
+  t.translation() = Vec3(m[3], m[7], m[11]);
+  return t;
+}
 
 std::vector<Rigid3> read_kitti_poses(const std::string& path, bool time_column) {
   const std::string text = read_file_bytes(path);
@@ -22,15 +34,7 @@ std::vector<Rigid3> read_kitti_poses(const std::string& path, bool time_column) 
     for (std::size_t k = 0; k < 12; ++k)
       if (!parse_finite_number(f[k + expected - 12], v[k]))
         throw Error("'" + printable(f[k + expected - 12], 30) + "' is not a finite number", path, line_no, "pose");
-    Rigid3 t = Rigid3::Identity();
-    Eigen::Matrix3d r;
-    r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-    if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3) || !(r.determinant() > 0))
-      throw Error("the rotation part is not a rotation", path, line_no, "pose");
-    // Re-orthonormalise the 9-digit rotation so that products of many stay rigid.
-    t.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
-    t.translation() = Vec3(v[3], v[7], v[11]);
-    poses.push_back(t);
+    poses.push_back(rigid_from_kitti_3x4(v, path, line_no, "pose"));
   });
   if (poses.empty()) throw Error("no poses", path, 0, "pose");
   return poses;
@@ -49,12 +53,9 @@ Rigid3 kitti_velodyne_to_camera(const std::string& sequence) {
   for (const char* s : {"04", "05", "06", "07", "08", "09", "10"})
     if (sequence == s) v = kDay0930;
   if (!v) throw Error("no Velodyne-to-camera calibration known for KITTI sequence '" + printable(sequence, 10) + "'", "", 0, "sequence");
-  Eigen::Matrix3d r;
-  r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-  Rigid3 t = Rigid3::Identity();
-  t.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
-  t.translation() = Vec3(v[3], v[7], v[11]);
-  return t;
+  double m[12];
+  std::copy(v, v + 12, m);
+  return rigid_from_kitti_3x4(m, "", 0, "sequence");
 }
 
 Rigid3 kitti_lidar_pose(const Rigid3& camera_pose, const Rigid3& velodyne_to_camera) { return camera_pose * velodyne_to_camera; }

@@ -20,6 +20,11 @@ std::vector<Rigid3> read_kitti_poses(const std::string& path, bool time_column =
 // (sequences 00-02 share one calibration day, 04-10 another; 03 is not known here: Error).
 Rigid3 kitti_velodyne_to_camera(const std::string& sequence);
 
+// The rigid transform of a row-major 3 x 4 [R|t] as KITTI writes it (9 digits), its rotation
+// re-orthonormalised so that products of many stay rigid. Error naming `path`, `line` and `field`
+// when R is not a rotation (to 1e-3).
+Rigid3 rigid_from_kitti_3x4(const double (&m)[12], const std::string& path, int line, const std::string& field);
+
 // The LiDAR's pose in the reference frame of the camera poses: L_k = P_k Tr.
 Rigid3 kitti_lidar_pose(const Rigid3& camera_pose, const Rigid3& velodyne_to_camera);
 

@@ -48,14 +48,10 @@ std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
       e.pose.linear() = q.normalized().toRotationMatrix();
       e.pose.translation() = Vec3(v[1], v[2], v[3]);
     } else {
-      const double* m = columns == 13 ? v + 1 : v;
+      double m[12];
+      std::copy(v + (columns == 13 ? 1 : 0), v + columns, m);
       if (columns == 13) e.t_s = v[0];
-      Eigen::Matrix3d r;
-      r << m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10];
-      if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3) || !(r.determinant() > 0))
-        throw Error("the rotation part is not a rotation", path, line_no, "pose");
-      e.pose.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
-      e.pose.translation() = Vec3(m[3], m[7], m[11]);
+      e.pose = rigid_from_kitti_3x4(m, path, line_no, "pose");
     }
     if (e.t_s && !out.empty() && out.back().t_s && !(*e.t_s > *out.back().t_s))
       throw Error("times must increase", path, line_no, "t");
@@ -94,14 +90,7 @@ std::optional<Rigid3> calib_tr(const std::string& path) {
     double v[12];
     for (std::size_t k = 0; k < 12; ++k)
       if (!parse_finite_number(f[k], v[k])) throw Error("'" + printable(f[k], 30) + "' is not a finite number", path, line_no, "Tr");
-    Eigen::Matrix3d r;
-    r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-    if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3) || !(r.determinant() > 0))
-      throw Error("the rotation part is not a rotation", path, line_no, "Tr");
-    Rigid3 t = Rigid3::Identity();
-    t.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
-    t.translation() = Vec3(v[3], v[7], v[11]);
-    tr = t;
+    tr = rigid_from_kitti_3x4(v, path, line_no, "Tr");
   });
   return tr;
 }
@@ -115,17 +104,23 @@ void set_truth_from_sensor_poses(LidarFrameFolder& folder, const std::vector<Rig
     folder.frames[i].truth = to_pose3(mount * first_inv * sensor[i] * mount.inverse());
 }
 
+// The clouds of a folder's frames, read one at a time from the files they name.
+std::function<void(std::size_t, const std::function<void(std::size_t, PointCloud&&)>&)> folder_cloud_stream(
+    const LidarFrameFolder& folder) {
+  const auto frames = std::make_shared<const LidarFrameFolder>(folder);
+  return [frames](std::size_t count, const std::function<void(std::size_t, PointCloud&&)>& visit) {
+    const std::size_t n = count == 0 ? frames->frames.size() : std::min(count, frames->frames.size());
+    for (std::size_t i = 0; i < n; ++i) visit(i, read_point_cloud(frames->cloud_path(frames->frames[i])).points);
+  };
+}
+
 LidarRecording open_frames_folder(const std::string& dir, const LidarRecordingOptions& o) {
   LidarRecording rec;
   rec.path = dir;
   rec.kind = "frames folder";
   rec.frames = read_lidar_frame_folder(dir);
   if (o.mount) rec.frames.mount = *o.mount;
-  const auto frames = std::make_shared<const LidarFrameFolder>(rec.frames);
-  rec.for_each_cloud = [frames](std::size_t count, const std::function<void(std::size_t, PointCloud&&)>& visit) {
-    const std::size_t n = count == 0 ? frames->frames.size() : std::min(count, frames->frames.size());
-    for (std::size_t i = 0; i < n; ++i) visit(i, read_point_cloud(frames->cloud_path(frames->frames[i])).points);
-  };
+  rec.for_each_cloud = folder_cloud_stream(rec.frames);
   return rec;
 }
 
@@ -231,11 +226,7 @@ LidarRecording open_cloud_files(const std::string& input, const LidarRecordingOp
     }
     set_truth_from_sensor_poses(f, sensor);
   }
-  const auto frames = std::make_shared<const LidarFrameFolder>(f);
-  rec.for_each_cloud = [frames](std::size_t count, const std::function<void(std::size_t, PointCloud&&)>& visit) {
-    const std::size_t n = count == 0 ? frames->frames.size() : std::min(count, frames->frames.size());
-    for (std::size_t i = 0; i < n; ++i) visit(i, read_point_cloud(frames->cloud_path(frames->frames[i])).points);
-  };
+  rec.for_each_cloud = folder_cloud_stream(f);
   return rec;
 }
 
