@@ -12,31 +12,60 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <utility>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/number_text.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/core/output_file.hpp"
 
 namespace starnav::cli {
 
 bool parse_double(const std::string& s, double& out) {
-  if (s.empty()) return false;
-  const char* begin = s.c_str();
-  char* end = nullptr;
-  errno = 0;
-  out = std::strtod(begin, &end);
-  return errno == 0 && end == begin + s.size() && std::isfinite(out);
+  const std::optional<double> v = parse_real_text(s);
+  if (v) out = *v;
+  return v.has_value();
 }
 
 std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const std::string& what) {
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
-    throw Error("expected " + what + ", got '" + text + "'", {}, 0, flag);
-  errno = 0;
-  const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
-  if (errno == ERANGE) throw Error("out of range (at most 2^64 - 1), got '" + text + "'", {}, 0, flag);
-  return static_cast<std::uint64_t>(v);
+  const std::optional<std::uint64_t> v = parse_unsigned_text(text);
+  if (v) return *v;
+  if (!text.empty() && text.find_first_not_of("+0123456789") == std::string::npos)
+    throw Error("out of range (at most 2^64 - 1), got '" + printable(text, 40) + "'", {}, 0, flag);
+  throw Error("expected " + what + ", got '" + printable(text, 40) + "'", {}, 0, flag);
+}
+
+void apply_number_rules(CLI::App& app) {
+  // CLI11 reads integers with strtoull(base 0): "-1" wraps to 2^64 - 1, "010" is eight, "0x10"
+  // sixteen. A check on the text, before CLI11 converts it, keeps every numeric flag to the one
+  // decimal reading of core/number_text.hpp.
+  for (CLI::Option* opt : app.get_options()) {
+    const std::string type = opt->get_type_name();
+    if (type == "UINT")
+      opt->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return parse_unsigned_text(text) ? std::string() : "expected a non-negative whole number, got '" + printable(text, 40) + "'";
+          },
+          "", "decimal count"));
+    else if (type == "INT")
+      opt->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return parse_integer_text(text) ? std::string() : "expected a whole number, got '" + printable(text, 40) + "'";
+          },
+          "", "decimal integer"));
+    else if (type == "FLOAT")
+      opt->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return parse_real_text(text) ? std::string() : "expected a finite number, got '" + printable(text, 40) + "'";
+          },
+          "", "decimal number"));
+    else if (type == "TEXT")
+      opt->check(CLI::Validator(
+          [](std::string& text) -> std::string { return text.empty() ? "empty value" : std::string(); }, "", "non-empty"));
+  }
+  for (CLI::App* sub : app.get_subcommands({})) apply_number_rules(*sub);
 }
 
 std::vector<double> parse_number_list(const std::string& text, const std::string& flag, std::size_t count,

@@ -1,6 +1,8 @@
 #pragma once
 // Small helpers shared by the CLI commands: argument parsing that names the flag in errors,
 // output-file rules (conventions.md: never overwrite without --force).
+#include <CLI/CLI.hpp>
+
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -45,6 +47,11 @@ std::vector<ParamSetting> parse_set_options(const std::vector<std::string>& sets
 // Parses a non-negative integer written in decimal digits only (no sign); throws Error naming
 // `flag`: "expected <what>, got '...'" or out of range above 2^64 - 1.
 std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const std::string& what);
+
+// Every numeric option of `app` and its subcommands read as core/number_text.hpp says (decimal
+// only; no sign for unsigned ones), and no option takes an empty string: call once the commands
+// are registered.
+void apply_number_rules(CLI::App& app);
 
 // Throws Error when `path` exists and `force` is false, or its folder does not exist.
 void check_output_path(const std::string& path, bool force, const std::string& flag);

@@ -76,6 +76,7 @@ void run_map_convert(const MapConvertOptions& o) {
   const LoadedMap m = load_map(o.in);
   const MapFormat target = output_map_format(o.out, m.is_elevation());
   for (const std::string& f : map_output_files(o.out, target, m.ros)) check_output_path(f, o.force, "OUT");
+  for (const std::string& loss : map_conversion_losses(m, target)) std::cerr << "starnav: warning: " << o.out << ": " << loss << "\n";
   save_map(m, o.out, target);
   std::cout << "wrote " << o.out << " (" << map_format_name(target) << ")\n";
 }

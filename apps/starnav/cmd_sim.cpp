@@ -55,10 +55,8 @@ struct SimOptions {
 };
 
 double parse_duration(const std::string& text) {
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || errno != 0 || end != text.c_str() + text.size() || !std::isfinite(v) || !(v > 0.0))
+  double v = 0.0;
+  if (!parse_double(text, v) || !(v > 0.0))
     throw Error("expected a positive number of seconds, got '" + text + "'", {}, 0, "--duration");
   return v;
 }

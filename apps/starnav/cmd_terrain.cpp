@@ -147,6 +147,10 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
       r.n2 = b[1];
     }
     if (!o.intervals.empty()) r.intervals = parse_count(o.intervals, "--intervals", 1, kMaxRoadIntervals);
+    if (!o.directions.empty() && r.method != RoadMethod::Directional)
+      throw Error("only for --method directional (the paper method has no directions)", {}, 0, "--directions");
+    if (!o.blur_cells.empty() && r.method != RoadMethod::Paper)
+      throw Error("only for --method paper (the directional method does not blur)", {}, 0, "--blur-cells");
     if (!o.directions.empty()) r.directions = parse_count(o.directions, "--directions", 1, kMaxRoadDirections);
     if (!o.blur_cells.empty()) {
       r.blur_sigma_cells = parse_number(o.blur_cells, "--blur-cells");

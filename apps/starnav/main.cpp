@@ -7,9 +7,45 @@
 #include <new>
 #include <string>
 
+#include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/config.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+
+namespace {
+
+// The unknown option on the command line of the subcommand that was parsed, if any. CLI11 checks
+// required options before unknown ones, so `plan --bogus` would otherwise be told that --map is
+// required: the misspelt option is the real mistake.
+std::string first_unknown_option(const CLI::App& app) {
+  for (const CLI::App* sub = &app; sub != nullptr;) {
+    for (const std::string& arg : sub->remaining(false))
+      if (arg.size() > 1 && arg[0] == '-') return arg;
+    const auto parsed = sub->get_subcommands();
+    sub = parsed.empty() ? nullptr : parsed.front();
+  }
+  return {};
+}
+
+// CLI11's wording for an option given too often ("At Most 1 required but received 2") in plain words.
+std::string usage_error_message(const CLI::App& app, const CLI::ParseError& e) {
+  std::string msg = e.what();
+  if (const std::string unknown = first_unknown_option(app); !unknown.empty()) return "unknown option " + unknown;
+  const std::string at_most = "At Most 1 required but received ";
+  if (const auto pos = msg.find(at_most); pos != std::string::npos)
+    msg = msg.substr(0, pos) + "given " + msg.substr(pos + at_most.size()) + " times; give it once";
+  return msg;
+}
+
+// Names the file whose reading ran out of memory, when a reader was at work.
+std::string out_of_memory_message() {
+  const std::string file = starnav::input_file_left_by_exception();
+  if (file.empty()) return "out of memory";
+  return starnav::escape_control_characters(file) + ": out of memory while reading it";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"starnav: mobile-robot navigation toolkit and simulator (planners, terrain, LiDAR, robots)", "starnav"};
@@ -27,6 +63,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_slam_commands(app, ctx);
   starnav::cli::register_localize_command(app, ctx);
   starnav::cli::register_slam3d_command(app, ctx);
+  starnav::cli::apply_number_rules(app);
 
   try {
     app.parse(argc, argv);
@@ -38,13 +75,14 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Usage errors: one line, exit 2 (CLI11's own codes are not the project's).
-    std::cerr << "starnav: error: " << starnav::escape_control_characters(e.what()) << " (run with --help for usage)\n";
+    std::cerr << "starnav: error: " << starnav::escape_control_characters(usage_error_message(app, e))
+              << " (run with --help for usage)\n";
     return 2;
   } catch (const starnav::Error& e) {
     std::cerr << "starnav: error: " << e.what() << "\n";
     return 2;
   } catch (const std::bad_alloc&) {
-    std::cerr << "starnav: error: out of memory\n";
+    std::cerr << "starnav: error: " << out_of_memory_message() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "starnav: error: " << starnav::escape_control_characters(e.what()) << "\n";

@@ -61,7 +61,8 @@ const BadElevationFile kBadElevationFiles[] = {
     {"elev_nodata_out_of_range.yaml", ElevationReader::ElevationYaml, ":6: nodata: must be in 0..65535, got 70000"},
     {"elev_resolution_zero.yaml", ElevationReader::ElevationYaml, ":2: resolution: must be positive"},
     {"elev_origin_two_values.yaml", ElevationReader::ElevationYaml, ":3: origin: must be a list of three numbers"},
-    {"elev_not_yaml.yaml", ElevationReader::ElevationYaml, ": invalid YAML"},
+    {"elev_duplicate_key.yaml", ElevationReader::ElevationYaml, ":6: z_min: duplicate key"},
+    {"elev_not_yaml.yaml", ElevationReader::ElevationYaml, ": YAML syntax error"},
     {"elev_not_a_mapping.yaml", ElevationReader::ElevationYaml, ": expected a YAML mapping of keys"},
     // CSV
     {"csv_ragged_rows.csv", ElevationReader::Csv, ":2: row has 2 fields, the first row has 3"},

@@ -46,6 +46,7 @@ const BadFile kBadFiles[] = {
     {"movingai_missing_map_line.map", Reader::MovingAiMap, ":4: map: expected 'map'"},
     {"movingai_huge_dimensions.map", Reader::MovingAiMap, ":2: height: map too large"},
     {"movingai_empty.map", Reader::MovingAiMap, ":1: type: empty file"},
+    {"movingai_hex_width.map", Reader::MovingAiMap, ":3: width: expected a positive integer, found '0x5'"},
     // MovingAI scenarios
     {"scen_bad_version.map.scen", Reader::MovingAiScenario, ":1: version: expected 'version 1'"},
     {"scen_missing_version.map.scen", Reader::MovingAiScenario, ":1: version:"},
@@ -55,6 +56,7 @@ const BadFile kBadFiles[] = {
     {"scen_negative_length.map.scen", Reader::MovingAiScenario, ":2: optimal_length:"},
     {"scen_length_not_a_number.map.scen", Reader::MovingAiScenario, ":2: optimal_length: expected a non-negative"},
     {"scen_blank_line_inside.map.scen", Reader::MovingAiScenario, ":4: blank line 3 inside the problem list"},
+    {"scen_hex_start.map.scen", Reader::MovingAiScenario, ":2: start_x: expected a non-negative integer"},
     // map_server YAML
     {"ros_missing_resolution.yaml", Reader::RosMap, ": resolution: required key is missing"},
     {"ros_negative_resolution.yaml", Reader::RosMap, ":2: resolution: must be positive"},
@@ -69,6 +71,8 @@ const BadFile kBadFiles[] = {
     {"ros_bad_mode.yaml", Reader::RosMap, ":7: mode: must be trinary, scale or raw"},
     {"ros_bad_negate.yaml", Reader::RosMap, ":4: negate: must be 0, 1, true or false"},
     {"ros_yaml_syntax.yaml", Reader::RosMap, "YAML syntax error"},
+    {"ros_duplicate_key.yaml", Reader::RosMap, ":7: resolution: duplicate key"},
+    {"ros_resolution_hex.yaml", Reader::RosMap, ":2: resolution: expected a number, found '0x10'"},
     {"ros_not_a_mapping.yaml", Reader::RosMap, "YAML top level must be a mapping"},
     {"ros_truncated.pgm", Reader::Image, ": pixels: truncated pixel data"},
     // PGM

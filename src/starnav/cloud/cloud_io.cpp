@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/logs/decompress.hpp"
@@ -373,6 +374,7 @@ PointCloudFile parse_kitti_bin(std::string_view bytes, const std::string& path) 
 }
 
 PointCloudFile read_point_cloud(const std::string& path) {
+  const InputFileScope reading_path(path);
   std::string bytes = read_file_bytes(path);
   if (is_gzip(bytes)) bytes = gunzip(bytes, path);
   const std::string_view v = bytes;

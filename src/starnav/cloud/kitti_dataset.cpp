@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/logs/decompress.hpp"
@@ -22,6 +23,7 @@ Rigid3 rigid_from_kitti_3x4(const double (&m)[12], const std::string& path, int 
 }
 
 std::vector<Rigid3> read_kitti_poses(const std::string& path, bool time_column) {
+  const InputFileScope reading_path(path);
   const std::string text = read_file_bytes(path);
   std::vector<Rigid3> poses;
   const std::size_t expected = time_column ? 13 : 12;

@@ -9,6 +9,7 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
+#include "starnav/io/yaml_document.hpp"
 
 namespace starnav {
 
@@ -74,12 +75,7 @@ LidarFrameFolder read_lidar_frame_folder(const std::string& dir) {
   const std::string sensor = (fs::path(dir) / "sensor.yaml").string();
   {
     const std::string text = read_file_bytes(sensor);
-    YAML::Node y;
-    try {
-      y = YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-      throw Error(one_line(e.what(), 120), sensor, e.mark.line + 1);
-    }
+    const YAML::Node y = load_yaml_document(text, sensor);
     auto number = [&](const YAML::Node& n, const std::string& key) {
       if (!n || !n[key] || !n[key].IsScalar()) throw Error("missing", sensor, 0, key);
       double v = 0.0;

@@ -10,6 +10,7 @@
 #include "starnav/cloud/kitti_dataset.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
 
@@ -23,6 +24,7 @@ void LidarRecordingOptions::validate() const {
 }
 
 std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
+  const InputFileScope reading_path(path);
   const std::string text = read_file_bytes(path);
   std::vector<PoseFileEntry> out;
   std::size_t columns = 0;

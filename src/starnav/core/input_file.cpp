@@ -4,12 +4,45 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
+#include <exception>
 
 #include "starnav/core/error.hpp"
 
 namespace starnav {
+
+namespace {
+thread_local const std::string* current_input_file = nullptr;
+// No allocation while unwinding from an allocation failure: a fixed buffer, truncated if need be.
+thread_local std::array<char, 1024> file_left_by_exception{};
+thread_local bool recorded_in_this_unwind = false;
+}  // namespace
+
+InputFileScope::InputFileScope(const std::string& path)
+    : previous_(current_input_file), exceptions_at_start_(std::uncaught_exceptions()) {
+  current_input_file = &path;
+  recorded_in_this_unwind = false;
+  if (previous_ == nullptr) file_left_by_exception[0] = '\0';
+}
+
+InputFileScope::~InputFileScope() {
+  // The innermost scope an exception leaves records its file; the outer ones keep that name.
+  if (std::uncaught_exceptions() > exceptions_at_start_ && !recorded_in_this_unwind) {
+    const std::size_t n = std::min(current_input_file->size(), file_left_by_exception.size() - 1);
+    std::memcpy(file_left_by_exception.data(), current_input_file->data(), n);
+    file_left_by_exception[n] = '\0';
+    recorded_in_this_unwind = true;
+  } else if (previous_ == nullptr && std::uncaught_exceptions() == exceptions_at_start_) {
+    file_left_by_exception[0] = '\0';  // a read that ended well leaves no name behind
+  }
+  current_input_file = previous_;
+}
+
+const std::string* input_file_being_read() { return current_input_file; }
+const char* input_file_left_by_exception() { return file_left_by_exception.data(); }
 
 std::string read_input_file(const std::string& path, std::uint64_t max_bytes) {
   if (path.empty()) throw Error("empty file name", path);

@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/number_text.hpp"
 
 namespace starnav {
 
@@ -64,25 +65,15 @@ std::string quoted(const std::string& text) { return "'" + one_line(text, 60) + 
 
 double parse_param_real(const ParamSetting& v) {
   const std::string& s = v.value;
-  double x = 0.0;
-  const char* begin = s.data();
-  const char* end = s.data() + s.size();
-  if (begin != end && *begin == '+') ++begin;
-  const auto r = std::from_chars(begin, end, x);
-  if (s.empty() || r.ec != std::errc() || r.ptr != end) bad_value(v, "expected a number, found " + quoted(s));
-  if (!std::isfinite(x)) bad_value(v, "must be a finite number, found " + quoted(s));
-  return x;
+  if (const std::optional<double> x = parse_real_text(s)) return *x;
+  bad_value(v, "expected a finite number, found " + quoted(s));
 }
 
 long long parse_param_integer(const ParamSetting& v) {
   const std::string& s = v.value;
-  long long x = 0;
-  const char* begin = s.data();
-  const char* end = s.data() + s.size();
-  if (begin != end && *begin == '+') ++begin;
-  const auto r = std::from_chars(begin, end, x);
-  if (s.empty() || r.ec != std::errc() || r.ptr != end) bad_value(v, "expected an integer, found " + quoted(s));
-  return x;
+  const std::optional<std::int64_t> x = parse_integer_text(s);
+  if (!x) bad_value(v, "expected an integer, found " + quoted(s));
+  return *x;
 }
 
 bool parse_param_boolean(const ParamSetting& v) {

@@ -11,17 +11,18 @@
 
 #include "starnav/core/cpu_time.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/rng.hpp"
-#include "starnav/experiment/runner.hpp"
 #include "starnav/core/statistics.hpp"
+#include "starnav/experiment/runner.hpp"
+#include "starnav/io/file_bytes.hpp"
 #include "starnav/io/movingai.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/inflation.hpp"
 #include "starnav/plan/ou2022.hpp"
 #include "starnav/plan/path_smoothing.hpp"
 #include "starnav/viz/map_picture.hpp"
-#include "starnav/core/input_file.hpp"
 
 namespace starnav {
 
@@ -64,11 +65,13 @@ std::unique_ptr<GridPlanner> make_variant(const AblationVariant& v, const std::s
 
 }  // namespace
 
-std::vector<AblationQuery> read_ablation_queries(const std::string& path) {
+std::vector<AblationQuery> read_ablation_queries(const std::string& path, int map_width, int map_height,
+                                                 const std::string& map_name) {
   std::vector<AblationQuery> out;
-  if (path.size() > 5 && path.substr(path.size() - 5) == ".scen") {
-    for (const ScenarioEntry& e : read_movingai_scenario(path).entries)
-      out.push_back({{e.start_x, e.start_y}, {e.goal_x, e.goal_y}});
+  if (lower_extension(path) == ".scen") {
+    const MovingAiScenario scen = read_movingai_scenario(path);
+    check_scenario_map_size(scen, path, map_width, map_height, map_name);
+    for (const ScenarioEntry& e : scen.entries) out.push_back({{e.start_x, e.start_y}, {e.goal_x, e.goal_y}});
     return out;
   }
   std::istringstream in([&] {
@@ -96,8 +99,10 @@ std::vector<AblationQuery> read_ablation_queries(const std::string& path) {
     for (int i = 1; ok && i < 4; ++i) ok = (s >> comma) && comma == ',' && (s >> v[i]);
     std::string rest;
     if (!ok || (s >> rest)) throw Error("expected four integers start_x,start_y,goal_x,goal_y", path, line_no);
-    for (long long x : v)
-      if (x < -1000000000LL || x > 1000000000LL) throw Error("cell index out of range", path, line_no);
+    if (v[0] < 0 || v[2] < 0 || v[0] >= map_width || v[2] >= map_width || v[1] < 0 || v[3] < 0 || v[1] >= map_height ||
+        v[3] >= map_height)
+      throw Error("a cell outside the " + std::to_string(map_width) + " x " + std::to_string(map_height) + " map " + map_name,
+                  path, line_no);
     out.push_back({{static_cast<int>(v[0]), static_cast<int>(v[1])}, {static_cast<int>(v[2]), static_cast<int>(v[3])}});
   }
   if (out.empty()) throw Error("no queries", path, 0, "--queries");
@@ -446,7 +451,7 @@ AblationResult run_ablation_experiment(const AblationConfig& o) {
   const GridSearchMap original_map(grid, thresholds, false);
   const ClearanceField clearance(geometry, inflated.clearance_m);
   res.inflated_blocked = std::move(inflated.blocked);
-  res.queries = from_file ? read_ablation_queries(o.queries) : random_queries(o, grid, inflated_map);
+  res.queries = from_file ? read_ablation_queries(o.queries, grid.width(), grid.height(), o.map) : random_queries(o, grid, inflated_map);
 
   for (const char* h : {"manhattan", "octile"})
     for (bool infl : {false, true}) {

@@ -41,9 +41,11 @@ struct AblationQuery {
   Cell start, goal;
 };
 
-// A MovingAI .scen, or a CSV with header start_x,start_y,goal_x,goal_y. Throws Error naming the
-// file and line (field "--queries").
-std::vector<AblationQuery> read_ablation_queries(const std::string& path);
+// A MovingAI .scen, or a CSV with header start_x,start_y,goal_x,goal_y, for a map of
+// map_width x map_height cells. Throws Error naming the file and line (field "--queries"), also
+// for a .scen written for another map size and for a query cell outside the map.
+std::vector<AblationQuery> read_ablation_queries(const std::string& path, int map_width, int map_height,
+                                                 const std::string& map_name);
 
 struct AblationConfig {
   std::string map;              // an occupancy map file

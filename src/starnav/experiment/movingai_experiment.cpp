@@ -181,14 +181,7 @@ MovingAiResult run_movingai_experiment(const MovingAiConfig& config) {
       loaded.map = read_movingai_map(pair.map_path);
       loaded.scen = read_movingai_scenario(pair.scen_path);
       loaded.grid = loaded.map.to_occupancy();
-      for (std::size_t k = 0; k < loaded.scen.entries.size(); ++k) {
-        const ScenarioEntry& e = loaded.scen.entries[k];
-        if (e.map_width != loaded.map.width || e.map_height != loaded.map.height)
-          throw Error("problem " + std::to_string(k + 1) + " is for a " + std::to_string(e.map_width) + " x " +
-                          std::to_string(e.map_height) + " map, but " + pair.map_path + " is " +
-                          std::to_string(loaded.map.width) + " x " + std::to_string(loaded.map.height),
-                      pair.scen_path, 0, "width/height");
-      }
+      check_scenario_map_size(loaded.scen, pair.scen_path, loaded.map.width, loaded.map.height, pair.map_path);
       loaded.chosen = select_instances(loaded.scen.entries.size(), config.limit);
       result.total_instances += loaded.chosen.size();
     }

@@ -359,6 +359,11 @@ TerrainExperimentResult run_terrain_experiment(const TerrainExperimentConfig& c)
     if (c.start_m || !from_map) {
       out.start = cell_of_point(g, start_m);
       out.goal = cell_of_point(g, goal_m);
+      // A query off the map is the user's mistake, not a row of failed plans.
+      for (const auto& [cell, point, flag] : {std::tuple{out.start, start_m, "--start"}, std::tuple{out.goal, goal_m, "--goal"}})
+        if (!g.contains(cell))
+          throw Error("(" + format_number(point.x()) + ", " + format_number(point.y()) + ") m is outside the map " + out.name,
+                      {}, 0, flag);
     } else {
       auto_endpoints(*analysis, out.start, out.goal);
     }

@@ -21,10 +21,12 @@
 #include <vector>
 
 #include "starnav/core/error.hpp"
-#include "starnav/io/image.hpp"
-#include "starnav/map/occupancy_grid.hpp"  // validate_geometry
-#include "starnav/core/output_file.hpp"
 #include "starnav/core/input_file.hpp"
+#include "starnav/core/output_file.hpp"
+#include "starnav/core/text_lines.hpp"
+#include "starnav/io/image.hpp"
+#include "starnav/io/yaml_document.hpp"
+#include "starnav/map/occupancy_grid.hpp"  // validate_geometry
 
 namespace starnav {
 
@@ -129,11 +131,7 @@ void split_blanks(std::string_view line, std::vector<std::string_view>& out) {
 // Iterates the lines of a text (LF or CRLF), numbering them from 1.
 class LineReader {
  public:
-  explicit LineReader(std::string_view text) : text_(text) {
-    if (text_.size() >= 3 && static_cast<unsigned char>(text_[0]) == 0xEF &&
-        static_cast<unsigned char>(text_[1]) == 0xBB && static_cast<unsigned char>(text_[2]) == 0xBF)
-      pos_ = 3;  // UTF-8 byte-order mark
-  }
+  explicit LineReader(std::string_view text) : text_(without_utf8_bom(text)) {}
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
     const std::size_t nl = text_.find('\n', pos_);
@@ -206,11 +204,7 @@ class YamlKeys {
  public:
   YamlKeys(std::string path, const std::string& text) : path_(std::move(path)) {
     if (text.size() > (1u << 20)) throw Error("too large for a YAML sidecar (over 1 MiB)", path_);
-    try {
-      root_ = YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-      throw Error("invalid YAML: " + one_line(e.msg), path_, e.mark.line >= 0 ? e.mark.line + 1 : 0);
-    }
+    root_ = load_yaml_document(text, path_);
     if (!root_.IsMap()) throw Error("expected a YAML mapping of keys", path_);
   }
 
@@ -628,6 +622,7 @@ ElevationMap parse_asc(std::string_view text, const std::string& source) {
 ElevationMap read_asc(const std::string& path) { return read_asc(path, nullptr); }
 
 ElevationMap read_asc(const std::string& path, ElevationGeoref* georef) {
+  const InputFileScope reading_path(path);
   const std::string text = read_whole_file(path);
   AscParsed parsed = parse_asc_full(text, path);
   ElevationGeoref g;
@@ -762,6 +757,7 @@ ElevationMap parse_elevation_csv(std::string_view text, const std::string& sourc
 }
 
 ElevationMap read_elevation_csv(const std::string& path, double resolution, Pose2 origin) {
+  const InputFileScope reading_path(path);
   const std::string text = read_whole_file(path);
   return parse_elevation_csv(text, path, resolution, origin);
 }
@@ -783,6 +779,7 @@ void write_elevation_csv(const ElevationMap& map, const std::string& path) {
 // ---- PNG16 + YAML ------------------------------------------------------------------------------
 
 ElevationMap read_elevation_yaml(const std::string& yaml_path) {
+  const InputFileScope reading_yaml_path(yaml_path);
   const YamlKeys y(yaml_path, read_whole_file(yaml_path));
   // The sidecar of a Unity RAW export also has z_min/z_max: read the RAW it describes.
   if (y.has("format") && y.string("format") == "unity_raw") {
@@ -953,6 +950,7 @@ void write_unity_raw(const ElevationMap& map, const std::string& path) {
 }
 
 ElevationMap read_unity_raw(const std::string& path) {
+  const InputFileScope reading_path(path);
   const std::string sidecar = raw_sidecar(path);
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw Error("file not found", path);

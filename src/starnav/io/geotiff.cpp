@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "starnav/core/input_file.hpp"
 #include "starnav/config.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/elevation_io.hpp"
@@ -143,6 +144,7 @@ GeotiffSupport geotiff_support() { return plugin().support; }
 ElevationMap read_geotiff(const std::string& path) { return read_geotiff(path, nullptr); }
 
 ElevationMap read_geotiff(const std::string& path, ElevationGeoref* georef) {
+  const InputFileScope reading_path(path);
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("file not found", path);
   if (!fs::is_regular_file(path, ec)) throw Error("not a regular file", path);

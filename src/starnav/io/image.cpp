@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/core/output_file.hpp"
 
@@ -372,7 +373,10 @@ RasterImage parse_raster_image(std::string_view bytes, const std::string& source
   throw Error("unrecognised image format (expected PGM P2/P5 or PNG)", source, 0, "magic");
 }
 
-RasterImage read_raster_image(const std::string& path) { return parse_raster_image(read_file_bytes(path), path); }
+RasterImage read_raster_image(const std::string& path) {
+  const InputFileScope reading_path(path);
+  return parse_raster_image(read_file_bytes(path), path);
+}
 
 GrayImage to_gray_image(const RasterImage& raster) {
   GrayImage gray;

@@ -9,8 +9,11 @@
 #include <sstream>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/io/elevation_io.hpp"
 #include "starnav/io/file_bytes.hpp"
+#include "starnav/io/yaml_document.hpp"
 
 namespace starnav {
 
@@ -20,12 +23,7 @@ namespace {
 // occupied_thresh (conventions.md).
 MapFormat detect_yaml_kind(const std::string& path) {
   if (!std::filesystem::exists(path)) throw Error("file not found", path);
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw Error("not valid YAML: " + e.msg, path, e.mark.line >= 0 ? e.mark.line + 1 : 0);
-  }
+  const YAML::Node root = load_yaml_document(read_input_file(path, 1u << 20), path);
   if (!root.IsMap()) throw Error("expected a YAML mapping of keys", path);
   if (root["z_min"] || root["z_max"]) return MapFormat::ElevationYaml;
   if (root["occupied_thresh"] || root["free_thresh"] || root["negate"]) return MapFormat::RosMap;
@@ -74,6 +72,7 @@ OccupancyThresholds LoadedMap::thresholds() const {
 }
 
 LoadedMap load_map(const std::string& path) {
+  const InputFileScope reading_path(path);
   LoadedMap out;
   out.format = detect_map_format(path);
   switch (out.format) {
@@ -127,6 +126,24 @@ void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
     case MapFormat::UnityRaw: write_unity_raw(map.elevation(), path); return;
     case MapFormat::GeoTiff: throw Error("writing GeoTIFF is not supported (read only)", path);
   }
+}
+
+std::vector<std::string> map_conversion_losses(const LoadedMap& map, MapFormat format) {
+  std::vector<std::string> losses;
+  const GridGeometry& g = map.geometry();
+  const bool placed = g.origin.x != 0.0 || g.origin.y != 0.0 || g.origin.yaw != 0.0;
+  if (format == MapFormat::MovingAi && map.format != MapFormat::MovingAi) {
+    if (placed) losses.push_back("a .map keeps no origin or yaw: the map's origin (" + format_number(g.origin.x) + ", " +
+                                 format_number(g.origin.y) + ", yaw " + format_number(g.origin.yaw) + " rad) is dropped");
+    if (g.resolution != 1.0)
+      losses.push_back("a .map keeps no resolution: its cells are read back as 1 unit, not " + format_number(g.resolution) + " m");
+    const OccupancyCounts counts = map.occupancy().counts(map.thresholds());
+    if (counts.unknown > 0)
+      losses.push_back("a .map has no unknown cells: " + std::to_string(counts.unknown) + " unknown cells become obstacles ('@')");
+  }
+  if (format == MapFormat::Csv && map.format != MapFormat::Csv && (placed || g.resolution != 1.0))
+    losses.push_back("an elevation CSV keeps no origin or resolution: it reads back with resolution 1 m at the origin");
+  return losses;
 }
 
 std::vector<std::string> map_output_files(const std::string& path, MapFormat format, const std::optional<RosMapMetadata>& ros) {

@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+#include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
@@ -18,7 +20,7 @@ namespace {
 // without a newline is kept; the empty piece after a final newline is not a line.
 class MovingAiLines {
  public:
-  explicit MovingAiLines(std::string_view text) : text_(text) {}
+  explicit MovingAiLines(std::string_view text) : text_(without_utf8_bom(text)) {}
 
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
@@ -214,7 +216,10 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
   return map;
 }
 
-MovingAiMap read_movingai_map(const std::string& path) { return parse_movingai_map(read_file_bytes(path), path); }
+MovingAiMap read_movingai_map(const std::string& path) {
+  const InputFileScope reading_path(path);
+  return parse_movingai_map(read_file_bytes(path), path);
+}
 
 std::string format_movingai_map(const MovingAiMap& map) {
   const std::size_t cell_count =
@@ -315,7 +320,20 @@ MovingAiScenario parse_movingai_scenario(std::string_view text, const std::strin
   return scen;
 }
 
+void check_scenario_map_size(const MovingAiScenario& scen, const std::string& scen_path, int map_width, int map_height,
+                             const std::string& map_name) {
+  for (std::size_t k = 0; k < scen.entries.size(); ++k) {
+    const ScenarioEntry& e = scen.entries[k];
+    if (e.map_width != map_width || e.map_height != map_height)
+      throw Error("problem " + std::to_string(k + 1) + " is for a " + std::to_string(e.map_width) + " x " +
+                      std::to_string(e.map_height) + " map, but " + map_name + " is " + std::to_string(map_width) + " x " +
+                      std::to_string(map_height),
+                  scen_path, 0, "width/height");
+  }
+}
+
 MovingAiScenario read_movingai_scenario(const std::string& path) {
+  const InputFileScope reading_path(path);
   return parse_movingai_scenario(read_file_bytes(path), path);
 }
 

@@ -65,6 +65,10 @@ struct MovingAiScenario {
 MovingAiScenario parse_movingai_scenario(std::string_view text, const std::string& source);
 MovingAiScenario read_movingai_scenario(const std::string& path);
 std::string format_movingai_scenario(const MovingAiScenario& scen);
+// Throws Error(scen_path, field "width/height") when a problem was written for a map of another
+// size than `map_name`'s width x height: its cells would mean other places.
+void check_scenario_map_size(const MovingAiScenario& scen, const std::string& scen_path, int map_width, int map_height,
+                             const std::string& map_name);
 void write_movingai_scenario(const MovingAiScenario& scen, const std::string& path);
 
 }  // namespace starnav

@@ -8,8 +8,10 @@
 #include <filesystem>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/number_text.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/io/image.hpp"
+#include "starnav/io/yaml_document.hpp"
 
 namespace starnav {
 
@@ -69,13 +71,9 @@ class YamlFields {
   double parse_number(const YAML::Node& node, const char* key) const {
     std::string_view text = node.Scalar();
     if (is_yaml_infinity_or_nan(text)) throw Error("must be finite, got " + node.Scalar(), source_, line(key), key);
-    if (!text.empty() && text.front() == '+') text.remove_prefix(1);  // from_chars rejects a leading '+'
-    double value = 0.0;
-    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
-      throw Error("expected a number, found '" + one_line(node.Scalar()) + "'", source_, line(key), key);
-    if (!std::isfinite(value)) throw Error("must be finite, got " + node.Scalar(), source_, line(key), key);
-    return value;
+    const std::optional<double> value = parse_real_text(text);
+    if (!value) throw Error("expected a number, found '" + one_line(node.Scalar()) + "'", source_, line(key), key);
+    return *value;
   }
 
   int line(const char* key) const { return key_line(doc_, key); }
@@ -140,12 +138,7 @@ std::uint32_t shade_to_quantum(double shade) { return static_cast<std::uint32_t>
 }  // namespace
 
 RosMapMetadata parse_ros_map_yaml(std::string_view yaml_text, const std::string& source) {
-  YAML::Node doc;
-  try {
-    doc = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::Exception& e) {
-    throw Error("YAML syntax error: " + one_line(e.msg), source, e.mark.is_null() ? 0 : e.mark.line + 1);
-  }
+  const YAML::Node doc = load_yaml_document(yaml_text, source);
   if (!doc.IsDefined() || doc.IsNull()) throw Error("empty YAML file: expected map_server metadata", source);
   if (!doc.IsMap()) throw Error("YAML top level must be a mapping of keys (image, resolution, ...)", source, 1);
 

@@ -1,3 +1,4 @@
+#include "starnav/core/input_file.hpp"
 #include "starnav/logs/log_file.hpp"
 
 #include <filesystem>
@@ -11,6 +12,7 @@
 namespace starnav {
 
 RobotLog read_robot_log(const std::string& path, const LogReadOptions& options) {
+  const InputFileScope reading_path(path);
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);

@@ -11,12 +11,13 @@
 #include <sstream>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+#include "starnav/core/number_text.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/io/ros_map.hpp"
 #include "starnav/sim/occupancy_world.hpp"
 #include "starnav/sim/terrain_surface.hpp"
-#include "starnav/core/input_file.hpp"
-#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -68,14 +69,10 @@ class Value {
 
   double number() const {
     if (!node_.IsScalar()) fail("expected a number, found " + node_kind(node_));
-    std::string_view t = node_.Scalar();
-    if (is_special_float(t)) fail("must be finite, got " + node_.Scalar());
-    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-    double v = 0.0;
-    const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (t.empty() || ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v))
-      fail("expected a number, found " + node_kind(node_));
-    return v;
+    if (is_special_float(node_.Scalar())) fail("must be finite, got " + node_.Scalar());
+    const std::optional<double> v = parse_real_text(node_.Scalar());
+    if (!v) fail("expected a number, found " + node_kind(node_));
+    return *v;
   }
   double positive() const {
     const double v = number();
@@ -94,23 +91,16 @@ class Value {
   }
   long long integer(long long lo, long long hi) const {
     if (!node_.IsScalar()) fail("expected an integer, found " + node_kind(node_));
-    std::string_view t = node_.Scalar();
-    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-    long long v = 0;
-    const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (t.empty() || ec != std::errc() || ptr != t.data() + t.size())
-      fail("expected an integer, found " + node_kind(node_));
-    if (v < lo || v > hi) fail("must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + node_.Scalar());
-    return v;
+    const std::optional<std::int64_t> v = parse_integer_text(node_.Scalar());
+    if (!v) fail("expected an integer, found " + node_kind(node_));
+    if (*v < lo || *v > hi) fail("must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + node_.Scalar());
+    return *v;
   }
   std::uint64_t seed() const {
     if (!node_.IsScalar()) fail("expected a non-negative integer, found " + node_kind(node_));
-    const std::string& t = node_.Scalar();
-    std::uint64_t v = 0;
-    const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (t.empty() || ec != std::errc() || ptr != t.data() + t.size())
-      fail("expected a non-negative integer, found " + node_kind(node_));
-    return v;
+    const std::optional<std::uint64_t> v = parse_unsigned_text(node_.Scalar());
+    if (!v) fail("expected a non-negative integer, found " + node_kind(node_));
+    return *v;
   }
   bool boolean() const {
     bool b = false;
@@ -381,8 +371,15 @@ void parse_generate(Fields& g, ScenarioTerrain& t, const Doc& doc) {
     }
     r.waviness = g.positive("waviness", r.waviness);
     if (auto v = g.take("intervals")) r.intervals = static_cast<int>(v->integer(1, kMaxRoadIntervals));
-    if (auto v = g.take("directions")) r.directions = static_cast<int>(v->integer(1, kMaxRoadDirections));
-    r.blur_sigma_cells = g.positive("blur_sigma_cells", r.blur_sigma_cells);
+    // Each method's own knob is refused with the other method rather than silently ignored.
+    if (auto v = g.take("directions")) {
+      if (r.method != RoadMethod::Directional) v->fail("only for method directional (the paper method has no directions)");
+      r.directions = static_cast<int>(v->integer(1, kMaxRoadDirections));
+    }
+    if (auto v = g.take("blur_sigma_cells")) {
+      if (r.method != RoadMethod::Paper) v->fail("only for method paper (the directional method does not blur)");
+      r.blur_sigma_cells = v->positive();
+    }
     g.finish("kind, size_m, resolution_m, origin_m, origin_yaw_deg, seed, features, class, gd_n0_m3, method, "
              "n0_per_m, band_per_m, waviness, intervals, directions, blur_sigma_cells");
     try {
@@ -417,8 +414,10 @@ ScenarioTerrain parse_terrain(const Value& v, const Doc& doc, const fs::path& ba
     if (gv.node().IsNull()) gv.fail("expected a mapping with at least 'kind' and 'size_m'");
     parse_generate(g, t, doc);
     t.source = {gv.line(), gv.field()};
+    // A generated terrain takes its features inside 'generate:'; say so rather than list 'features' as allowed.
+    if (auto fl = f.take("features")) fl->fail("with 'generate', put 'features' inside 'generate:'");
   }
-  f.finish("file, generate, features");
+  f.finish(has_file ? "file, features" : "generate");
   return t;
 }
 
@@ -1243,6 +1242,7 @@ void check_simulation_steps(const ScenarioSpec& spec, const std::string& field) 
 }
 
 ScenarioSpec load_scenario(const std::string& path, std::span<const ScenarioOverride> overrides) {
+  const InputFileScope reading_path(path);
   return parse_scenario(read_input_file(path), path, overrides);
 }
 

@@ -368,6 +368,9 @@ MapPicture::Frame MapPicture::frame(double px_per_m, const Metrics& m) const {
   double w = L.plot_x + L.plot_w + right;
   if (!options_.title.empty()) w = std::max(w, m.title_width(options_.title) + 2 * pad);
   const double h = std::max(L.plot_y + L.plot_h + bottom, legend_bottom + pad);
+  if (!std::isfinite(w) || !std::isfinite(h))
+    throw Error("the picture's size is not a finite number of pixels (the map's extent, resolution or scale is out of range)",
+                {}, 0, "size");
   if (!(w < kMaxSide) || !(h < kMaxSide))
     throw Error("picture would be " + fmt(w, 0) + " x " + fmt(h, 0) + " pixels, more than " +
                     std::to_string(kMaxSide) + " on a side",

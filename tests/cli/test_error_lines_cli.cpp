@@ -1,0 +1,158 @@
+// Error-line discipline and consistent acceptance across commands: each row is one member found
+// while hardening, answered with exit 2 and one line that names the right flag, file or field.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "support/test_support.hpp"
+
+namespace starnav {
+namespace {
+
+struct ErrorLineCase {
+  std::vector<std::string> args;
+  std::string expected;  // a part of the one error line
+  std::string not_expected = {};
+};
+
+void expect_one_error_line(const ErrorLineCase& c) {
+  std::string line;
+  for (const std::string& a : c.args) line += a + " ";
+  SCOPED_TRACE(line);
+  const test::CliResult r = test::run_cli(c.args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("starnav: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  if (!c.not_expected.empty()) {
+    EXPECT_EQ(r.err.find(c.not_expected), std::string::npos) << r.err;
+  }
+}
+
+TEST(ErrorLinesCli, UsageMistakesAreNamedForWhatTheyAre) {
+  test::ScratchDir dir;
+  const std::string map = test::test_data("movingai_tiny.map");
+  test::write_text(dir.file("generated_with_features.yaml"),
+                   "world:\n  terrain:\n    generate: {kind: flat, size_m: [10, 10], resolution_m: 0.5}\n    features: []\n");
+  const std::vector<ErrorLineCase> cases = {
+      // A misspelt option is the mistake, not the required option it hides.
+      {{"plan", "--bogus"}, "unknown option --bogus", "--map is required"},
+      {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--bogus", "3"}, "unknown option --bogus"},
+      // An option given twice, in plain words.
+      {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--goal", "2,2"}, "--goal: given 2 times; give it once"},
+      {{"sim", ".", "--out", dir.file("o")}, "is a directory"},
+      {{"sim", dir.file("generated_with_features.yaml"), "--out", dir.file("o2")},
+       "world.terrain.features: with 'generate', put 'features' inside 'generate:'"},
+  };
+  for (const ErrorLineCase& c : cases) expect_one_error_line(c);
+}
+
+TEST(ErrorLinesCli, EveryCountSeedAndCoordinateIsReadOneWay) {
+  test::ScratchDir dir;
+  const std::string map = test::test_data("movingai_tiny.map");
+  const std::vector<std::string> road = {"terrain", "generate", "--kind", "road", "--size-m", "2,2", "--resolution", "0.1",
+                                         "--out", dir.file("road.asc")};
+  auto with = [](std::vector<std::string> base, std::initializer_list<std::string> more) {
+    base.insert(base.end(), more);
+    return base;
+  };
+  const std::vector<ErrorLineCase> cases = {
+      // Negative counts and seeds are refused, never wrapped to 2^64 - 1.
+      {{"bench", "movingai", "--map", map, "--limit", "-1"}, "--limit: expected a non-negative whole number, got '-1'"},
+      {{"bench", "ablation", "--map", map, "--random", "2", "--seed", "-1", "--out", dir.file("a1")}, "--seed:"},
+      {{"localize", "log", "--map", "m.yaml", "--out", dir.file("l1"), "--initial", "global", "--seed", "-1"}, "--seed:"},
+      // Hex and octal are not numbers here (CLI11 alone would read "010" as eight).
+      {{"bench", "movingai", "--map", map, "--limit", "0x3"}, "--limit: expected a non-negative whole number, got '0x3'"},
+      {{"plan", "--map", map, "--start", "0x1,1", "--goal", "2,2"}, "--start"},
+      {with(road, {"--resolution", "0x1p-3"}), "--resolution"},
+      // Empty strings are not values.
+      {with(road, {"--class", ""}), "--class: empty value"},
+      {with(road, {"--seed", ""}), "--seed: empty value"},
+      // Each road method's own knob is refused with the other method, not ignored.
+      {with(road, {"--blur-cells", "3"}), "--blur-cells: only for --method paper"},
+      {with(road, {"--method", "paper", "--directions", "8"}), "--directions: only for --method directional"},
+      // Queries for another map, and endpoints off the map, are the user's mistake.
+      {{"bench", "terrain", "--generate", "1", "--start", "50,50", "--goal", "1,1", "--out", dir.file("t1")},
+       "--start: (50, 50) m is outside the map"},
+  };
+  for (const ErrorLineCase& c : cases) expect_one_error_line(c);
+}
+
+TEST(ErrorLinesCli, AblationQueriesMustBeForTheMapTheyRunOn) {
+  test::ScratchDir dir;
+  const std::string map = test::test_data("movingai_tiny.map");  // 5 x 3
+  test::write_text(dir.file("q.map.scen"), "version 1\n0\tother.map\t49\t49\t1\t1\t2\t2\t1.41421356\n");
+  test::write_text(dir.file("q.csv"), "start_x,start_y,goal_x,goal_y\n0,0,7,1\n");
+  expect_one_error_line({{"bench", "ablation", "--map", map, "--queries", dir.file("q.map.scen"), "--out", dir.file("a")},
+                         "problem 1 is for a 49 x 49 map"});
+  expect_one_error_line({{"bench", "ablation", "--map", map, "--queries", dir.file("q.csv"), "--out", dir.file("b")},
+                         "q.csv:2: a cell outside the 5 x 3 map"});
+}
+
+TEST(ErrorLinesCli, AByteOrderMarkReadsTheSameInEveryTextFormat) {
+  test::ScratchDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string map_text = test::read_text(test::test_data("movingai_tiny.map"));
+  test::write_text(dir.file("bom.map"), bom + map_text);
+  const test::CliResult plain = test::run_cli({"map", "info", test::test_data("movingai_tiny.map"), "--json"});
+  const test::CliResult marked = test::run_cli({"map", "info", dir.file("bom.map"), "--json"});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(marked.exit_code, 0) << marked.err;
+  // The same cells, so the same counts (the file name differs).
+  for (const char* key : {"\"free\"", "\"occupied\"", "\"width\"", "\"height\""}) {
+    const auto a = plain.out.find(key), b = marked.out.find(key);
+    ASSERT_NE(a, std::string::npos) << plain.out;
+    ASSERT_NE(b, std::string::npos) << marked.out;
+    EXPECT_EQ(plain.out.substr(a, plain.out.find(',', a) - a), marked.out.substr(b, marked.out.find(',', b) - b));
+  }
+}
+
+TEST(ErrorLinesCli, ConvertingToAFormatThatLosesInformationWarns) {
+  test::ScratchDir dir;
+  const test::CliResult r = test::run_cli({"map", "convert", test::test_data("ros_modes.yaml"), dir.file("x.map")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("starnav: warning: "), std::string::npos);
+  EXPECT_NE(r.err.find("origin"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unknown cells become obstacles"), std::string::npos) << r.err;
+  // A lossless conversion says nothing.
+  const test::CliResult back = test::run_cli({"map", "convert", dir.file("x.map"), dir.file("y.map")});
+  ASSERT_EQ(back.exit_code, 0) << back.err;
+  EXPECT_EQ(back.err, "");
+}
+
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__has_feature)
+#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
+#elif defined(__has_feature)
+#if !__has_feature(address_sanitizer)
+#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
+#endif
+#endif
+
+TEST(ErrorLinesCli, RunningOutOfMemoryNamesTheFileBeingRead) {
+#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#else
+  test::ScratchDir dir;
+  // 8000 x 8000 cells: 64 MB of text, which with its cells is more than a 100 MB address space.
+  {
+    std::string text = "type octile\nheight 8000\nwidth 8000\nmap\n";
+    const std::string row = std::string(8000, '.') + "\n";
+    text.reserve(text.size() + row.size() * 8000);
+    for (int i = 0; i < 8000; ++i) text += row;
+    test::write_text(dir.file("big.map"), text);
+  }
+  const std::string cmd = "ulimit -v 100000; " + test::shell_quote(STARNAV_CLI_PATH) + " map info " +
+                          test::shell_quote(dir.file("big.map")) + " >/dev/null 2>" + test::shell_quote(dir.file("err"));
+  const int status = std::system(("sh -c " + test::shell_quote(cmd)).c_str());
+  const std::string err = test::read_text(dir.file("err"));
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) GTEST_SKIP() << "the map fitted under the limit here";
+  EXPECT_EQ(WEXITSTATUS(status), 2) << err;
+  EXPECT_EQ(err, "starnav: error: " + dir.file("big.map") + ": out of memory while reading it\n");
+#endif
+}
+
+}  // namespace
+}  // namespace starnav
