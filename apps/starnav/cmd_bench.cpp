@@ -16,6 +16,7 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/run_limits.hpp"
 #include "starnav/experiment/movingai_experiment.hpp"
 
 namespace starnav::cli {
@@ -98,7 +99,7 @@ std::vector<MovingAiPair> find_pairs(const MovingAiBenchOptions& o) {
 
 int run_bench_movingai(const MovingAiBenchOptions& o) {
   // Every repeat runs the whole scenario file again: 1,000 is already hours on a large map.
-  if (o.repeat < 1 || o.repeat > 1000) throw Error("must be 1..1000, got " + std::to_string(o.repeat), {}, 0, "--repeat");
+  if (o.repeat < 1 || o.repeat > kMaxRepeats) throw Error("must be 1.." + std::to_string(kMaxRepeats) + ", got " + std::to_string(o.repeat), {}, 0, "--repeat");
   MovingAiConfig config;
   config.planners = movingai_planners(o.planners);  // an unknown name fails before any map is read
   config.limit = o.limit;

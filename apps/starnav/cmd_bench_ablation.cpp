@@ -21,6 +21,7 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/run_limits.hpp"
 #include "starnav/experiment/ablation_experiment.hpp"
 
 namespace starnav::cli {
@@ -45,8 +46,8 @@ void run_bench_ablation(AblationOptions& o) {
   if (c.queries.empty() == (o.random_opt->count() == 0))
     throw Error("give exactly one of --queries FILE and --random N", {}, 0, "--queries");
   // Each query is planned by every variant and kept in memory with its paths.
-  if (c.queries.empty() && (o.random <= 0 || o.random > 100000))
-    throw Error("expected a number of queries in 1..100000", {}, 0, "--random");
+  if (c.queries.empty() && (o.random <= 0 || static_cast<std::uint64_t>(o.random) > kMaxRandomQueries))
+    throw Error("expected a number of queries in 1.." + std::to_string(kMaxRandomQueries), {}, 0, "--random");
   c.random = c.queries.empty() ? static_cast<std::size_t>(o.random) : 0;
   c.exact_variant = !o.no_exact;
   std::optional<OutputFolder> out_folder;

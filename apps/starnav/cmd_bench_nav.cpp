@@ -37,6 +37,7 @@
 #include "commands.hpp"
 #include "starnav/control/path_follower.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/run_limits.hpp"
 #include "starnav/experiment/navigation_experiment.hpp"
 #include "starnav/sim/scenario.hpp"
 
@@ -46,7 +47,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::uint64_t kMaxSeeds = 1000000;
 
 struct NavBenchOptions {
   std::string scenario;

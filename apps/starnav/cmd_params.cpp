@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "starnav/experiment/limits_docs.hpp"
 #include "starnav/experiment/metrics.hpp"
 #include "starnav/harness/parameter_docs.hpp"
 
@@ -22,6 +23,14 @@ void register_params_command(CLI::App& app, Context& ctx) {
     if (o->json) std::cout << parameters_json();
     else if (o->markdown) std::cout << parameters_markdown();
     else std::cout << component_help();
+    ctx.exit_code = 0;
+  });
+
+  auto limits_markdown_only = std::make_shared<bool>(false);
+  auto* limits = app.add_subcommand("limits", "list every bound on an input or on the work a command plans (docs/limits.md)");
+  limits->add_flag("--markdown", *limits_markdown_only, "print docs/limits.md (the default output too)");
+  limits->callback([&ctx, limits_markdown_only] {
+    std::cout << limits_markdown();
     ctx.exit_code = 0;
   });
 

@@ -161,9 +161,7 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
     try {
       t = generate_road(r);
     } catch (const Error& e) {
-      if (e.field() == "size_m") throw Error(e.message(), {}, 0, "--size-m");
-      if (e.field() == "blur_sigma_cells") throw Error(e.message(), {}, 0, "--blur-cells");
-      throw;
+      rethrow_with_flag(e, {{"blur_sigma_cells", "--blur-cells"}});
     }
     meta = road_metadata(r, t, o.out, map_format_name(format));
     sigma2 = t.spectrum.sigma2;

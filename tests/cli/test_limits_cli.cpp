@@ -36,6 +36,15 @@ TEST(LimitsCli, UnboundedWorkIsRefusedNamingItsField) {
       {{"sim", e1, "--out", dir.file("s3"), "--quiet", "--duration", "1e12"}, "--duration"},
       {{"sim", e1, "--out", dir.file("s4"), "--quiet", "--set", "sim.duration_s=1e9"}, "sim.duration_s"},
       {{"bench", "movingai", "--map", map, "--repeat", "5000"}, "--repeat"},
+      // Work estimated before starting: 4 million cells x 1000 intervals x 16 directions.
+      {{"terrain", "generate", "--kind", "road", "--size-m", "100,100", "--resolution", "0.05", "--intervals", "1000",
+        "--out", dir.file("big.asc")},
+       "--directions: the terrain would take about"},
+      {{"terrain", "generate", "--kind", "road", "--method", "paper", "--size-m", "100,100", "--resolution", "0.05",
+        "--intervals", "4096", "--out", dir.file("big2.asc")},
+       "--intervals: the terrain would take about"},
+      // 1e5 s of scans: within the step limit, far beyond the rays a run may cast.
+      {{"sim", e1, "--out", dir.file("s5"), "--quiet", "--duration", "1e5"}, "--duration"},
   };
   for (const LimitCase& c : cases) {
     std::string line;

@@ -14,6 +14,7 @@
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/rng.hpp"
+#include "starnav/core/run_limits.hpp"
 #include "starnav/core/statistics.hpp"
 #include "starnav/experiment/runner.hpp"
 #include "starnav/io/file_bytes.hpp"
@@ -426,7 +427,7 @@ std::string ablation_table_title(const AblationResult& r, const AblationTable& t
 AblationResult run_ablation_experiment(const AblationConfig& o) {
   const bool from_file = !o.queries.empty();
   if (!from_file && o.random == 0) throw Error("expected a number of queries >= 1", {}, 0, "--random");
-  if (o.repeat < 1 || o.repeat > 1000) throw Error("expected a number in 1..1000", {}, 0, "--repeat");
+  if (o.repeat < 1 || o.repeat > kMaxRepeats) throw Error("expected a number in 1.." + std::to_string(kMaxRepeats), {}, 0, "--repeat");
   if (!(o.min_dist >= 0) || !(o.max_dist >= o.min_dist) || !std::isfinite(o.max_dist))
     throw Error("expected 0 <= --min-dist <= --max-dist", {}, 0, "--max-dist");
   if (!std::isfinite(o.inflate) || o.inflate < 0) throw Error("expected a radius >= 0", {}, 0, "--inflate");

@@ -46,10 +46,8 @@ bool is_special_float(std::string_view t) {
 }
 
 // Largest generated terrain (4000 x 4000 cells: 400 m x 400 m at 0.1 m).
-constexpr std::size_t kMaxTerrainCells = 16'000'000;
 // Most gravel pieces over all gravel fields of a scenario (ten fields at the largest count): one
 // line of YAML per field must not be able to ask for gigabytes.
-constexpr long long kMaxGravelPieces = 1'000'000;
 
 // The reading context of one document: file name for errors.
 struct Doc {
@@ -1239,6 +1237,16 @@ void check_simulation_steps(const ScenarioSpec& spec, const std::string& field) 
     throw Error(format_number(spec.duration_s) + " s at sim.dt_s " + format_number(spec.dt_s) + " s is " + format_number(steps) +
                     " steps, more than the " + format_number(kMaxSimulationSteps) + " a run may take",
                 spec.file, 0, field);
+  if (spec.lidar) {
+    const LidarConfig& l = spec.lidar->config;
+    const double scans = std::floor(spec.duration_s * l.rate_hz) + 1.0;
+    const double rays = scans * static_cast<double>(l.ray_count());
+    if (!(rays <= kMaxSimulationLidarRays))
+      throw Error(format_number(spec.duration_s) + " s of " + format_number(l.rate_hz) + " Hz scans of " +
+                      std::to_string(l.ray_count()) + " rays is " + format_number(rays) + " rays, more than the " +
+                      format_number(kMaxSimulationLidarRays) + " a run may cast",
+                  spec.file, 0, field);
+  }
 }
 
 ScenarioSpec load_scenario(const std::string& path, std::span<const ScenarioOverride> overrides) {

@@ -236,6 +236,13 @@ ScenarioOverride parse_scenario_override(const std::string& text);
 // A run is at most kMaxSimulationSteps fixed steps (duration_s / dt_s): 10 million steps are
 // 28 simulated hours at the default 0.01 s. Error naming `field` above it.
 inline constexpr double kMaxSimulationSteps = 1e7;
+// A simulated terrain has at most this many cells, and a gravel field at most this many pieces.
+inline constexpr std::size_t kMaxTerrainCells = 16'000'000;
+inline constexpr long long kMaxGravelPieces = 1'000'000;
+// and casts at most kMaxSimulationLidarRays LiDAR rays (scans x rays per scan): two billion
+// rays are about half an hour of ray casting on one core.
+inline constexpr double kMaxSimulationLidarRays = 2e9;
+// Error naming `field` when the run would take more steps or rays than these.
 void check_simulation_steps(const ScenarioSpec& spec, const std::string& field);
 
 // Parses a scenario. `file` names the document in errors and anchors relative paths.

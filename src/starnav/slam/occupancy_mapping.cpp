@@ -14,7 +14,6 @@ float log_odds(double p) { return static_cast<float>(std::log(p / (1.0 - p))); }
 
 // The most cells a map may grow to (about 1.6 GB of cells): a pose or a reading far off the
 // map's scale is refused instead of allocating without bound.
-constexpr std::int64_t kMaxCells = std::int64_t{1} << 28;
 
 }  // namespace
 
@@ -66,7 +65,7 @@ OccupancyMapper::Cell& OccupancyMapper::cell(std::int64_t ix, std::int64_t iy) {
     if (ny0 < y0_ || !h_) ny0 -= my;
     if (ny1 > y0_ + h_ || !h_) ny1 += my;
     const std::int64_t nw = nx1 - nx0, nh = ny1 - ny0;
-    if (nw > kMaxCells / nh)
+    if (nw > kMaxOccupancyMapCells / nh)
       throw Error("the map would grow to " + std::to_string(nw) + " x " + std::to_string(nh) +
                       " cells: a pose or reading lies far outside the mapped area",
                   {}, 0, "resolution_m");

@@ -24,6 +24,9 @@
 
 namespace starnav {
 
+// A map built from scans has at most this many cells (1 GiB of log odds as float).
+inline constexpr std::int64_t kMaxOccupancyMapCells = std::int64_t{1} << 28;
+
 // The cells of side `resolution` (lattice corner at the origin) that the segment from `from` to
 // `to` passes through, in order from the one holding `from` to the one holding `to` (visited last,
 // with last = true): an exact traversal (Amanatides and Woo 1987); where the segment passes

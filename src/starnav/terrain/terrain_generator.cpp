@@ -7,6 +7,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 
@@ -214,8 +215,31 @@ void add_terrain_feature(ElevationMap& map, const TerrainFeature& f) {
 
 // ---- hills -----------------------------------------------------------------------------------------
 
+namespace {
+
+// Elementary operations of a separable Gaussian blur of sigma_cells on a w x h grid: two passes,
+// each a kernel of 2 ceil(3 sigma) + 1 taps clipped to the grid.
+double blur_operations(int w, int h, double sigma_cells) {
+  if (!(sigma_cells > 0.0)) return 0.0;
+  const double taps_x = std::min(2.0 * std::ceil(3.0 * sigma_cells) + 1.0, 2.0 * w + 1.0);
+  const double taps_y = std::min(2.0 * std::ceil(3.0 * sigma_cells) + 1.0, 2.0 * h + 1.0);
+  return static_cast<double>(w) * h * (taps_x + taps_y);
+}
+
+// Refuses, before any work, a generation estimated above kMaxTerrainGenerationOperations.
+constexpr double kMaxHills = 1e7;  // the count is an int
+
+void check_generation_work(double operations, const std::string& how, const char* field) {
+  if (operations <= kMaxTerrainGenerationOperations) return;
+  throw Error("the terrain would take about " + format_number(operations) + " operations (" + how + "), more than the " +
+                  format_number(kMaxTerrainGenerationOperations) + " a generation may plan",
+              {}, 0, field);
+}
+
+}  // namespace
+
 void HillsOptions::validate() const {
-  terrain_geometry(width_m, height_m, resolution, origin);
+  const GridGeometry g = terrain_geometry(width_m, height_m, resolution, origin);
   require_non_negative(amplitude, "amplitude");
   require_non_negative(hills_per_100m2, "hills_per_100m2");
   require_non_negative(hill_height_min_m, "hill_height_min_m");
@@ -227,6 +251,18 @@ void HillsOptions::validate() const {
   require_non_negative(roughness_m, "roughness_m");
   require_non_negative(roughness_correlation_m, "roughness_correlation_m");
   for (const auto& f : features) validate_feature(f);
+  // Each hill touches the cells within 5 sigma; the roughness is one blur of the whole map.
+  const double hills = std::max(1.0, std::round(hills_per_100m2 * g.width_m() * g.height_m() / 100.0));
+  if (!(hills <= kMaxHills))
+    throw Error("makes " + format_number(hills) + " hills on this map, more than " + format_number(kMaxHills), {}, 0,
+                "hills_per_100m2");
+  const double reach_cells = std::min(10.0 * hill_sigma_max_m / g.resolution + 1.0, static_cast<double>(std::max(g.width, g.height)));
+  check_generation_work(hills * reach_cells * reach_cells, format_number(hills) + " hills of up to " +
+                                                               format_number(std::round(reach_cells)) + " cells across",
+                        "hills_per_100m2");
+  if (roughness_m > 0.0)
+    check_generation_work(blur_operations(g.width, g.height, roughness_correlation_m / g.resolution),
+                          "the roughness blur over " + std::to_string(g.cell_count()) + " cells", "roughness_correlation_m");
 }
 
 ElevationMap generate_hills(const HillsOptions& o) {
@@ -321,6 +357,17 @@ void RoadOptions::validate() const {
     const int side = std::max(g.width, g.height);
     if (blur_sigma_cells > side)
       throw Error("must be at most the map's larger side, " + std::to_string(side) + " cells", {}, 0, "blur_sigma_cells");
+    // Directional: a sine per cell, interval and direction; paper: a sine per cell and interval, then the blur.
+    const double cells = static_cast<double>(g.cell_count());
+    if (method == RoadMethod::Directional)
+      check_generation_work(cells * intervals * directions,
+                            std::to_string(g.cell_count()) + " cells x " + std::to_string(intervals) + " intervals x " +
+                                std::to_string(directions) + " directions",
+                            "directions");
+    else
+      check_generation_work(cells * intervals + blur_operations(g.width, g.height, blur_sigma_cells),
+                            std::to_string(g.cell_count()) + " cells x " + std::to_string(intervals) + " intervals, and the blur",
+                            "intervals");
   }
   for (const auto& f : features) validate_feature(f);
 }

@@ -68,6 +68,9 @@ double road_class_gd_n0(char road_class, const std::string& field = "class");
 
 // The road generator's counts, the same in the CLI and in scenario YAML (docs/terrain.md): its
 // work grows with cells x intervals (x directions).
+// The work a generator may plan, in elementary operations (a sine, an exponential or a
+// multiply-add), estimated from the options before any is done: about a minute on one core.
+inline constexpr double kMaxTerrainGenerationOperations = 1e10;
 inline constexpr int kMaxRoadIntervals = 4096;
 inline constexpr int kMaxRoadDirections = 1024;
 

@@ -17,8 +17,6 @@ namespace starnav::viz {
 namespace {
 
 constexpr double kTickLen = 5.0;
-constexpr int kMaxSide = 32768;                   // pixels, either side of a picture
-constexpr double kMaxPixels = 400.0 * 1000 * 1000;  // pixels in a PNG
 
 // Fixed-point text of a number, locale-independent; never "-0".
 std::string fmt(double v, int decimals) {
@@ -371,9 +369,9 @@ MapPicture::Frame MapPicture::frame(double px_per_m, const Metrics& m) const {
   if (!std::isfinite(w) || !std::isfinite(h))
     throw Error("the picture's size is not a finite number of pixels (the map's extent, resolution or scale is out of range)",
                 {}, 0, "size");
-  if (!(w < kMaxSide) || !(h < kMaxSide))
+  if (!(w < kMaxPictureSidePixels) || !(h < kMaxPictureSidePixels))
     throw Error("picture would be " + fmt(w, 0) + " x " + fmt(h, 0) + " pixels, more than " +
-                    std::to_string(kMaxSide) + " on a side",
+                    std::to_string(kMaxPictureSidePixels) + " on a side",
                 {}, 0, "size");
   L.width_px = static_cast<int>(std::ceil(w));
   L.height_px = static_cast<int>(std::ceil(h));
@@ -382,8 +380,8 @@ MapPicture::Frame MapPicture::frame(double px_per_m, const Metrics& m) const {
 }
 
 MapPicture::Frame MapPicture::frame_for_width(int width_px, const Metrics& m) const {
-  if (width_px <= 0 || width_px >= kMaxSide)
-    throw Error("PNG width must be 1.." + std::to_string(kMaxSide - 1) + " pixels, got " + std::to_string(width_px),
+  if (width_px <= 0 || width_px >= kMaxPictureSidePixels)
+    throw Error("PNG width must be 1.." + std::to_string(kMaxPictureSidePixels - 1) + " pixels, got " + std::to_string(width_px),
                 {}, 0, "width");
   double s = auto_pixels_per_cell() / geometry_.resolution;
   Frame f = frame(s, m);
@@ -423,9 +421,9 @@ MapPicture::Frame MapPicture::png_frame(const RasterSize& size) const {
     }
     f = frame(ppc / geometry_.resolution, m);
   }
-  if (static_cast<double>(f.layout.width_px) * f.layout.height_px > kMaxPixels)
+  if (static_cast<double>(f.layout.width_px) * f.layout.height_px > kMaxPicturePixels)
     throw Error("PNG would have " + fmt(static_cast<double>(f.layout.width_px) * f.layout.height_px, 0) +
-                    " pixels, more than " + fmt(kMaxPixels, 0),
+                    " pixels, more than " + fmt(kMaxPicturePixels, 0),
                 {}, 0, "size");
   return f;
 }
@@ -450,8 +448,8 @@ MapPicture::MapPicture(const GridGeometry& geometry, PictureOptions options, Kin
                   {}, 0, "picture");
   if (!(options_.font_px > 0.0) || !std::isfinite(options_.font_px) || options_.font_px > 200.0)
     throw Error("font size must be in (0, 200] pixels", {}, 0, "font_px");
-  if (options_.target_plot_px <= 0 || options_.target_plot_px >= kMaxSide)
-    throw Error("target plot size must be 1.." + std::to_string(kMaxSide - 1) + " pixels", {}, 0, "target_plot_px");
+  if (options_.target_plot_px <= 0 || options_.target_plot_px >= kMaxPictureSidePixels)
+    throw Error("target plot size must be 1.." + std::to_string(kMaxPictureSidePixels - 1) + " pixels", {}, 0, "target_plot_px");
   if (!(options_.pixels_per_cell >= 0.0) || !std::isfinite(options_.pixels_per_cell))
     throw Error("pixels per cell must be positive and finite (0 = automatic)", {}, 0, "pixels_per_cell");
 }

@@ -33,6 +33,10 @@
 
 namespace starnav::viz {
 
+// Either side of a picture is below kMaxPictureSidePixels; a PNG holds at most kMaxPicturePixels.
+inline constexpr int kMaxPictureSidePixels = 32768;
+inline constexpr double kMaxPicturePixels = 400.0 * 1000 * 1000;
+
 struct LineStyle {
   Rgba colour{213, 94, 0, 255};  // vermillion
   double width_px = 2.0;
