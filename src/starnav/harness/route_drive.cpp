@@ -5,6 +5,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/inflation.hpp"
@@ -39,7 +40,7 @@ RouteDrive::RouteDrive(Simulation& sim, const OccupancyGrid& map, const Occupanc
     const std::string field = "route.waypoints_m[" + std::to_string(i) + "]";
     if (!c) throw Error("lies outside the map", spec.file, route.source.line, field);
     if (thresholds.classify(grid.at(c->x, c->y)) != CellState::Free)
-      throw Error("is not free at the route's clearance (" + std::to_string(route.clearance_m) + " m)", spec.file,
+      throw Error("is not free at the route's clearance (" + format_number(route.clearance_m) + " m)", spec.file,
                   route.source.line, field);
     return *c;
   };

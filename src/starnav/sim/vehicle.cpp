@@ -7,6 +7,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/planar_motion.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -111,8 +112,8 @@ Vehicle::Vehicle(const World& world, const VehicleConfig& config, const Pose2& s
 
   Block block;
   if (!place(start, t0, here_, block))
-    throw Error("no ground under a wheel at the start pose (" + std::to_string(start.x) + ", " +
-                    std::to_string(start.y) + ")",
+    throw Error("no ground under a wheel at the start pose (" + format_number(start.x) + ", " +
+                    format_number(start.y) + ")",
                 {}, 0, "start");
   state_.t_s = t0;
   state_.pose = here_.pose;

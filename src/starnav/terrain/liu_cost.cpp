@@ -1,6 +1,7 @@
 #include "starnav/terrain/liu_cost.hpp"
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -16,7 +17,7 @@ void LiuCostParams::validate() const {
   require_non_negative(w2, "w2");
   require_non_negative(unobserved_g, "unobserved_g");
   if (std::abs(w_s + w_e + w_r - 1.0) > 1e-6)
-    throw Error("w_s + w_e + w_r must be 1, got " + std::to_string(w_s + w_e + w_r), {}, 0, "weights");
+    throw Error("w_s + w_e + w_r must be 1, got " + format_number(w_s + w_e + w_r), {}, 0, "weights");
 }
 
 double liu_g(double a, double h, double s, const LiuCostParams& p) {

@@ -383,8 +383,8 @@ RoadSpectrum road_spectrum(const RoadOptions& o, int width_cells, int height_cel
   sp.n_low = std::max(o.n1, 1.0 / shorter);
   sp.n_high = std::min(o.n2, 1.0 / (2.0 * o.resolution));
   if (!(sp.n_high > sp.n_low))
-    throw Error("the band [" + std::to_string(o.n1) + ", " + std::to_string(o.n2) + "] 1/m clipped to the map (1/L = " +
-                    std::to_string(1.0 / shorter) + ", 1/(2 res) = " + std::to_string(1.0 / (2.0 * o.resolution)) +
+    throw Error("the band [" + format_number(o.n1) + ", " + format_number(o.n2) + "] 1/m clipped to the map (1/L = " +
+                    format_number(1.0 / shorter) + ", 1/(2 res) = " + format_number(1.0 / (2.0 * o.resolution)) +
                     ") is empty: the map is too small or too coarse",
                 {}, 0, "size_m");
   const int m = o.intervals;
