@@ -41,29 +41,26 @@ void apply_number_rules(CLI::App& app) {
   // CLI11 reads integers with strtoull(base 0): "-1" wraps to 2^64 - 1, "010" is eight, "0x10"
   // sixteen. A check on the text, before CLI11 converts it, keeps every numeric flag to the one
   // decimal reading of core/number_text.hpp.
+  // A check that refuses the text unless `accepts` it, with "expected <what>, got '...'".
+  const auto rule = [](bool (*accepts)(const std::string&), const char* what, const char* name) {
+    return CLI::Validator(
+        [accepts, what](std::string& text) -> std::string {
+          if (accepts(text)) return {};
+          return text.empty() ? std::string("empty value") : std::string("expected ") + what + ", got '" + printable(text, 40) + "'";
+        },
+        "", name);
+  };
   for (CLI::Option* opt : app.get_options()) {
     const std::string type = opt->get_type_name();
     if (type == "UINT")
-      opt->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            return parse_unsigned_text(text) ? std::string() : "expected a non-negative whole number, got '" + printable(text, 40) + "'";
-          },
-          "", "decimal count"));
+      opt->check(rule([](const std::string& t) { return parse_unsigned_text(t).has_value(); }, "a non-negative whole number",
+                      "decimal count"));
     else if (type == "INT")
-      opt->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            return parse_integer_text(text) ? std::string() : "expected a whole number, got '" + printable(text, 40) + "'";
-          },
-          "", "decimal integer"));
+      opt->check(rule([](const std::string& t) { return parse_integer_text(t).has_value(); }, "a whole number", "decimal integer"));
     else if (type == "FLOAT")
-      opt->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            return parse_real_text(text) ? std::string() : "expected a finite number, got '" + printable(text, 40) + "'";
-          },
-          "", "decimal number"));
+      opt->check(rule([](const std::string& t) { return parse_real_text(t).has_value(); }, "a finite number", "decimal number"));
     else if (type == "TEXT")
-      opt->check(CLI::Validator(
-          [](std::string& text) -> std::string { return text.empty() ? "empty value" : std::string(); }, "", "non-empty"));
+      opt->check(rule([](const std::string& t) { return !t.empty(); }, "a value", "non-empty"));
   }
   for (CLI::App* sub : app.get_subcommands({})) apply_number_rules(*sub);
 }
