@@ -15,6 +15,12 @@ namespace starnav {
 
 namespace {
 
+// The half-width of the truncated Gaussian kernel along an axis of n cells: ceil(4 sigma),
+// clipped to the field (weights beyond its far side never meet a cell, and a huge sigma (1e9)
+// must not ask for a kernel of billions of weights).
+int blur_radius(double sigma, int n) {
+  return static_cast<int>(std::min(std::ceil(4.0 * sigma), static_cast<double>(std::max(n - 1, 0))));
+}
 
 // Truncated Gaussian blur (radius ceil(4 sigma)) along one axis of a row-major w x h field, the
 // kernel renormalised where it is cut by the border. `sq` receives, per position along the
@@ -23,9 +29,7 @@ void blur_axis(std::vector<double>& z, int w, int h, double sigma, bool along_x,
   const int n = along_x ? w : h;
   sq.assign(static_cast<std::size_t>(n), 1.0);
   if (!(sigma > 0.0)) return;
-  // Clipped to the field: weights beyond its far side never meet a cell, and a huge sigma (1e9)
-  // must not ask for a kernel of billions of weights.
-  const int radius = static_cast<int>(std::min(std::ceil(4.0 * sigma), static_cast<double>(std::max(n - 1, 0))));
+  const int radius = blur_radius(sigma, n);
   std::vector<double> kernel(static_cast<std::size_t>(2 * radius + 1));
   for (int i = -radius; i <= radius; ++i) kernel[static_cast<std::size_t>(i + radius)] = std::exp(-0.5 * i * i / (sigma * sigma));
   // Normalisation per output position.
@@ -217,18 +221,18 @@ void add_terrain_feature(ElevationMap& map, const TerrainFeature& f) {
 
 namespace {
 
-// Elementary operations of a separable Gaussian blur of sigma_cells on a w x h grid: two passes,
-// each a kernel of 2 ceil(3 sigma) + 1 taps clipped to the grid.
+// Elementary operations of blur_unit_noise on a w x h grid: a pass along each axis, each cell
+// weighing the 2 radius + 1 taps of blur_axis's kernel.
 double blur_operations(int w, int h, double sigma_cells) {
   if (!(sigma_cells > 0.0)) return 0.0;
-  const double taps_x = std::min(2.0 * std::ceil(3.0 * sigma_cells) + 1.0, 2.0 * w + 1.0);
-  const double taps_y = std::min(2.0 * std::ceil(3.0 * sigma_cells) + 1.0, 2.0 * h + 1.0);
+  const double taps_x = 2.0 * blur_radius(sigma_cells, w) + 1.0;
+  const double taps_y = 2.0 * blur_radius(sigma_cells, h) + 1.0;
   return static_cast<double>(w) * h * (taps_x + taps_y);
 }
 
-// Refuses, before any work, a generation estimated above kMaxTerrainGenerationOperations.
 constexpr double kMaxHills = 1e7;  // the count is an int
 
+// Refuses, before any work, a generation estimated above kMaxTerrainGenerationOperations.
 void check_generation_work(double operations, const std::string& how, const char* field) {
   if (operations <= kMaxTerrainGenerationOperations) return;
   throw Error("the terrain would take about " + format_number(operations) + " operations (" + how + "), more than the " +
@@ -338,7 +342,7 @@ double road_class_gd_n0(char road_class, const std::string& field) {
 }
 
 void RoadOptions::validate() const {
-  terrain_geometry(width_m, height_m, resolution, origin);
+  const GridGeometry g = terrain_geometry(width_m, height_m, resolution, origin);
   if (gd_n0 == 0.0) road_class_gd_n0(road_class);
   else require_positive(gd_n0, "gd_n0");
   require_positive(n0, "n0");
@@ -353,7 +357,6 @@ void RoadOptions::validate() const {
   require_non_negative(blur_sigma_cells, "blur_sigma_cells");
   {
     // A blur wider than the map is its mean: a sigma beyond the larger side is a mistake.
-    const GridGeometry g = terrain_geometry(width_m, height_m, resolution, origin);
     const int side = std::max(g.width, g.height);
     if (blur_sigma_cells > side)
       throw Error("must be at most the map's larger side, " + std::to_string(side) + " cells", {}, 0, "blur_sigma_cells");
