@@ -32,7 +32,8 @@ bool parse_double(const std::string& s, double& out) {
 std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const std::string& what) {
   const std::optional<std::uint64_t> v = parse_unsigned_text(text);
   if (v) return *v;
-  if (!text.empty() && text.find_first_not_of("+0123456789") == std::string::npos)
+  const std::string_view digits = std::string_view(text).substr(!text.empty() && text.front() == '+' ? 1 : 0);
+  if (!digits.empty() && digits.find_first_not_of("0123456789") == std::string_view::npos)
     throw Error("out of range (at most 2^64 - 1), got '" + printable(text, 40) + "'", {}, 0, flag);
   throw Error("expected " + what + ", got '" + printable(text, 40) + "'", {}, 0, flag);
 }
@@ -40,8 +41,7 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
 void apply_number_rules(CLI::App& app) {
   // CLI11 reads integers with strtoull(base 0): "-1" wraps to 2^64 - 1, "010" is eight, "0x10"
   // sixteen. A check on the text, before CLI11 converts it, keeps every numeric flag to the one
-  // decimal reading of core/number_text.hpp.
-  // A check that refuses the text unless `accepts` it, with "expected <what>, got '...'".
+  // decimal reading of core/number_text.hpp: each rule refuses the text unless `accepts` it.
   const auto rule = [](bool (*accepts)(const std::string&), const char* what, const char* name) {
     return CLI::Validator(
         [accepts, what](std::string& text) -> std::string {

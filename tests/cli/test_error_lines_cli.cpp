@@ -64,6 +64,10 @@ TEST(ErrorLinesCli, EveryCountSeedAndCoordinateIsReadOneWay) {
       {{"bench", "movingai", "--map", map, "--limit", "-1"}, "--limit: expected a non-negative whole number, got '-1'"},
       {{"bench", "ablation", "--map", map, "--random", "2", "--seed", "-1", "--out", dir.file("a1")}, "--seed:"},
       {{"localize", "log", "--map", "m.yaml", "--out", dir.file("l1"), "--initial", "global", "--seed", "-1"}, "--seed:"},
+      // Digits too many for 64 bits are out of range; anything else is not a number at all.
+      {{"sim", test::kE1, "--out", dir.file("s1"), "--quiet", "--seed", "99999999999999999999999"},
+       "--seed: out of range (at most 2^64 - 1)"},
+      {{"sim", test::kE1, "--out", dir.file("s2"), "--quiet", "--seed", "1+2"}, "--seed: expected a non-negative integer, got '1+2'"},
       // Hex and octal are not numbers here (CLI11 alone would read "010" as eight).
       {{"bench", "movingai", "--map", map, "--limit", "0x3"}, "--limit: expected a non-negative whole number, got '0x3'"},
       {{"plan", "--map", map, "--start", "0x1,1", "--goal", "2,2"}, "--start"},
