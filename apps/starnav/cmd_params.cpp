@@ -10,6 +10,23 @@
 
 namespace starnav::cli {
 
+namespace {
+
+// A command that prints one generated reference page; --markdown is accepted (the page is the
+// default output too), so the docs' regeneration commands read the same for every page.
+void add_page_command(CLI::App& app, Context& ctx, const char* name, const char* help, const std::string& page,
+                      std::string (*generate)()) {
+  auto markdown = std::make_shared<bool>(false);
+  auto* cmd = app.add_subcommand(name, help);
+  cmd->add_flag("--markdown", *markdown, "print " + page + " (the default output too)");
+  cmd->callback([&ctx, markdown, generate] {
+    std::cout << generate();
+    ctx.exit_code = 0;
+  });
+}
+
+}  // namespace
+
 void register_params_command(CLI::App& app, Context& ctx) {
   struct Options {
     bool markdown = false;
@@ -26,21 +43,10 @@ void register_params_command(CLI::App& app, Context& ctx) {
     ctx.exit_code = 0;
   });
 
-  auto limits_markdown_only = std::make_shared<bool>(false);
-  auto* limits = app.add_subcommand("limits", "list every bound on an input or on the work a command plans (docs/limits.md)");
-  limits->add_flag("--markdown", *limits_markdown_only, "print docs/limits.md (the default output too)");
-  limits->callback([&ctx, limits_markdown_only] {
-    std::cout << limits_markdown();
-    ctx.exit_code = 0;
-  });
-
-  auto metrics_markdown_only = std::make_shared<bool>(false);
-  auto* metrics = app.add_subcommand("metrics", "list every metric the bench commands report, with its unit and meaning");
-  metrics->add_flag("--markdown", *metrics_markdown_only, "print docs/metrics.md (the default output too)");
-  metrics->callback([&ctx, metrics_markdown_only] {
-    std::cout << metrics_markdown();
-    ctx.exit_code = 0;
-  });
+  add_page_command(app, ctx, "limits", "list every bound on an input or on the work a command plans (docs/limits.md)",
+                   "docs/limits.md", limits_markdown);
+  add_page_command(app, ctx, "metrics", "list every metric the bench commands report, with its unit and meaning",
+                   "docs/metrics.md", metrics_markdown);
 }
 
 }  // namespace starnav::cli

@@ -57,12 +57,6 @@ std::string lower(std::string_view s) {
   return out;
 }
 
-std::string read_whole_file(const std::string& path) {
-  return read_input_file(path);
-}
-
-void write_whole_file(const std::string& path, std::string_view bytes) { write_file_atomically(path, bytes); }
-
 // Rethrows an Error that names no file as one naming `path`.
 template <class F>
 auto attributed(const std::string& path, F&& f) -> decltype(f()) {
@@ -292,7 +286,7 @@ std::optional<std::string> read_prj_beside(const std::string& asc_path) {
   for (const char* ext : {".prj", ".PRJ"}) {
     fs::path p(asc_path);
     p.replace_extension(ext);
-    if (fs::is_regular_file(p, ec)) return read_whole_file(p.string());
+    if (fs::is_regular_file(p, ec)) return read_input_file(p.string());
   }
   return std::nullopt;
 }
@@ -623,7 +617,7 @@ ElevationMap read_asc(const std::string& path) { return read_asc(path, nullptr);
 
 ElevationMap read_asc(const std::string& path, ElevationGeoref* georef) {
   const InputFileScope reading_path(path);
-  const std::string text = read_whole_file(path);
+  const std::string text = read_input_file(path);
   AscParsed parsed = parse_asc_full(text, path);
   ElevationGeoref g;
   g.x_min = parsed.x;
@@ -691,7 +685,7 @@ void write_asc(const ElevationMap& map, const std::string& path) {
     }
     out += '\n';
   }
-  write_whole_file(path, out);
+  write_file_atomically(path, out);
 }
 
 // ---- CSV -------------------------------------------------------------------------------------
@@ -758,7 +752,7 @@ ElevationMap parse_elevation_csv(std::string_view text, const std::string& sourc
 
 ElevationMap read_elevation_csv(const std::string& path, double resolution, Pose2 origin) {
   const InputFileScope reading_path(path);
-  const std::string text = read_whole_file(path);
+  const std::string text = read_input_file(path);
   return parse_elevation_csv(text, path, resolution, origin);
 }
 
@@ -773,14 +767,14 @@ void write_elevation_csv(const ElevationMap& map, const std::string& path) {
     }
     out += '\n';
   }
-  write_whole_file(path, out);
+  write_file_atomically(path, out);
 }
 
 // ---- PNG16 + YAML ------------------------------------------------------------------------------
 
 ElevationMap read_elevation_yaml(const std::string& yaml_path) {
   const InputFileScope reading_yaml_path(yaml_path);
-  const YamlKeys y(yaml_path, read_whole_file(yaml_path));
+  const YamlKeys y(yaml_path, read_input_file(yaml_path));
   // The sidecar of a Unity RAW export also has z_min/z_max: read the RAW it describes.
   if (y.has("format") && y.string("format") == "unity_raw") {
     const std::string suffix = ".yaml";
@@ -876,7 +870,7 @@ void write_elevation_yaml(const ElevationMap& map, const std::string& yaml_path)
   if (q.has_nodata) out += "nodata: 0\n";
   out += "width: " + std::to_string(g.width) + "\n";
   out += "height: " + std::to_string(g.height) + "\n";
-  write_whole_file(yaml_path, out);
+  write_file_atomically(yaml_path, out);
 }
 
 // ---- Unity RAW ---------------------------------------------------------------------------------
@@ -932,7 +926,7 @@ void write_unity_raw(const ElevationMap& map, const std::string& path) {
   if (size != g.width || size != g.height)
     std::cerr << "starnav: warning: " << path << ": padded " << g.width << " x " << g.height << " to " << size
               << " x " << size << " for Unity (edge replication)\n";
-  write_whole_file(path, bytes);
+  write_file_atomically(path, bytes);
   std::string y;
   y += "# starnav Unity RAW sidecar: 16-bit little-endian, rows bottom first, size x size samples;\n";
   y += "# height = z_min + v / 65535 * (z_max - z_min); cells beyond width/height are padding\n";
@@ -946,7 +940,7 @@ void write_unity_raw(const ElevationMap& map, const std::string& path) {
   y += "z_min: " + yaml_number(q.z_min) + "\n";
   y += "z_max: " + yaml_number(q.z_max) + "\n";
   if (q.has_nodata) y += "nodata: 0\n";
-  write_whole_file(raw_sidecar(path), y);
+  write_file_atomically(raw_sidecar(path), y);
 }
 
 ElevationMap read_unity_raw(const std::string& path) {
@@ -956,7 +950,7 @@ ElevationMap read_unity_raw(const std::string& path) {
   if (!fs::is_regular_file(path, ec)) throw Error("file not found", path);
   if (!fs::is_regular_file(sidecar, ec))
     throw Error("sidecar " + sidecar + " not found (it gives size, resolution, origin and z range)", path);
-  const YamlKeys y(sidecar, read_whole_file(sidecar));
+  const YamlKeys y(sidecar, read_input_file(sidecar));
   if (y.has("format") && y.string("format") != "unity_raw")
     throw y.error("format", "must be unity_raw, got " + quote(y.string("format")));
   if (y.has("byte_order") && y.string("byte_order") != "little")
@@ -978,7 +972,7 @@ ElevationMap read_unity_raw(const std::string& path) {
     throw Error("file has " + std::to_string(have) + " bytes, a " + std::to_string(size) + " x " +
                     std::to_string(size) + " 16-bit RAW has " + std::to_string(want) + " (wrong file size)",
                 path);
-  const std::string bytes = read_whole_file(path);
+  const std::string bytes = read_input_file(path);
   if (bytes.size() != want) throw Error("file changed size while reading", path);
 
   GridGeometry geometry;

@@ -1,15 +1,10 @@
 #include "starnav/io/file_bytes.hpp"
 
 #include <cctype>
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
-#include "starnav/core/error.hpp"
-#include "starnav/core/output_file.hpp"
 #include "starnav/core/input_file.hpp"
+#include "starnav/core/output_file.hpp"
 
 namespace starnav {
 

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "starnav/core/input_file.hpp"
 #include "starnav/config.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/io/elevation_io.hpp"
 #include "starnav/io/gdal_raster.hpp"
 

@@ -11,8 +11,8 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
-#include "starnav/io/file_bytes.hpp"
 #include "starnav/core/output_file.hpp"
+#include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
 

@@ -1,10 +1,10 @@
-#include "starnav/core/input_file.hpp"
 #include "starnav/logs/log_file.hpp"
 
 #include <filesystem>
 #include <system_error>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/logs/decompress.hpp"
 #include "starnav/logs/ros_bag.hpp"

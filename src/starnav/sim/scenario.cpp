@@ -45,9 +45,6 @@ bool is_special_float(std::string_view t) {
          lower == "-inf" || lower == "nan";
 }
 
-// Largest generated terrain (4000 x 4000 cells: 400 m x 400 m at 0.1 m).
-// Most gravel pieces over all gravel fields of a scenario (ten fields at the largest count): one
-// line of YAML per field must not be able to ask for gigabytes.
 
 // The reading context of one document: file name for errors.
 struct Doc {

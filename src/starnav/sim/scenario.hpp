@@ -233,14 +233,16 @@ struct ScenarioOverride {
 // "KEY=VALUE"; Error (field "--set") otherwise.
 ScenarioOverride parse_scenario_override(const std::string& text);
 
-// A run is at most kMaxSimulationSteps fixed steps (duration_s / dt_s): 10 million steps are
-// 28 simulated hours at the default 0.01 s. Error naming `field` above it.
-inline constexpr double kMaxSimulationSteps = 1e7;
-// A simulated terrain has at most this many cells, and a gravel field at most this many pieces.
+// Largest generated terrain (4000 x 4000 cells: 400 m x 400 m at 0.1 m).
 inline constexpr std::size_t kMaxTerrainCells = 16'000'000;
+// Most gravel pieces over all gravel fields of a scenario (ten fields at the largest count): one
+// line of YAML per field must not be able to ask for gigabytes.
 inline constexpr long long kMaxGravelPieces = 1'000'000;
-// and casts at most kMaxSimulationLidarRays LiDAR rays (scans x rays per scan): two billion
-// rays are about half an hour of ray casting on one core.
+
+// A run is at most kMaxSimulationSteps fixed steps (duration_s / dt_s): 10 million steps are
+// 28 simulated hours at the default 0.01 s; and it casts at most kMaxSimulationLidarRays LiDAR
+// rays (scans x rays per scan): two billion rays are about half an hour of ray casting on one core.
+inline constexpr double kMaxSimulationSteps = 1e7;
 inline constexpr double kMaxSimulationLidarRays = 2e9;
 // Error naming `field` when the run would take more steps or rays than these.
 void check_simulation_steps(const ScenarioSpec& spec, const std::string& field);

@@ -12,8 +12,6 @@ namespace {
 
 float log_odds(double p) { return static_cast<float>(std::log(p / (1.0 - p))); }
 
-// The most cells a map may grow to (about 1.6 GB of cells): a pose or a reading far off the
-// map's scale is refused instead of allocating without bound.
 
 }  // namespace
 

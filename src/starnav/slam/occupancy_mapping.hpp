@@ -24,7 +24,8 @@
 
 namespace starnav {
 
-// A map built from scans has at most this many cells (1 GiB of log odds as float).
+// The most cells a map built from scans may grow to (2^28, about 268 million): a pose or a
+// reading far off the map's scale is refused instead of allocating without bound.
 inline constexpr std::int64_t kMaxOccupancyMapCells = std::int64_t{1} << 28;
 
 // The cells of side `resolution` (lattice corner at the origin) that the segment from `from` to
