@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job on the built-in default: navigate the paper's dynamic dead-end scenario (E4,
-# Li 2019) with a simulated VLP-16, then plan across the demo office map and draw it.
+# Li 2019) with a simulated VLP-16, then plan across the demo office map and draw it; ends with the
+# command that opens E4's run in the browser viewer.
 set -euo pipefail
 bin=${1:-build/bin/starnav}
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,3 +24,9 @@ echo "== starnav plan: A* and JPS from (3,3) to (60,44); JPS shown"
 "$bin" plan --map "$map" --start 3,3 --goal 60,44 --planner jps
 echo "== outputs in $out:"
 ls -1 "$out" | sed 's/^/   /'
+if [ -f "$(dirname "$bin")/../viewer/viewer.js" ]; then
+  rel_bin=$(realpath --relative-to="$PWD" "$bin")
+  rel_run=$(realpath --relative-to="$PWD" "$out/e4")
+  echo "== view E4's run in 3D in the browser (serves on 127.0.0.1 and prints the URL; Ctrl-C stops):"
+  echo "   $rel_bin view $rel_run"
+fi

@@ -75,4 +75,23 @@ expect=(
 for e in "${expect[@]}"; do
   grep -qF -- "$e" <<<"$out" || die "expected the output to contain: $e"
 done
+# The viewer, when the build bundled it: installed in share/starnav/viewer, where the installed
+# starnav finds it (an exported page of a tiny run, made with the installed binary).
+if [ -f "$BUILD_DIR/viewer/viewer.js" ]; then
+  for f in viewer.js index.html; do
+    [ -f "$PREFIX/share/starnav/viewer/$f" ] || die "the viewer's $f is not installed in share/starnav/viewer"
+  done
+  cat >"$SCRATCH/tiny.yaml" <<'YAML'
+name: tiny
+world: {obstacles: [{name: box, kind: box, position_m: [2.0, 0.0], size_m: [0.5, 0.5, 0.5]}]}
+robot: {start: {x_m: 0.0, y_m: 0.0, yaw_deg: 0.0}}
+sim: {dt_s: 0.01, duration_s: 0.5}
+commands: [{duration_s: 0.5, vx_mps: 0.2}]
+YAML
+  "$PREFIX/bin/starnav" sim "$SCRATCH/tiny.yaml" --out "$SCRATCH/tiny" --quiet >/dev/null || die "installed starnav sim"
+  STARNAV_VIEWER_DIR= "$PREFIX/bin/starnav" view "$SCRATCH/tiny" --export "$SCRATCH/tiny.html" >/dev/null \
+    || die "the installed starnav view --export (does it find share/starnav/viewer?)"
+  grep -q 'id="starnav-run"' "$SCRATCH/tiny.html" || die "the exported page holds no run"
+  say "the installed viewer exports a run"
+fi
 say "OK: installed package works (GDAL ${with_gdal:-?}); scratch in ${SCRATCH#"$ROOT"/}"

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian packages starnav needs, only those missing (dpkg -s), so a second run is
-# quick. Usage: scripts/install-deps.sh [core|fuzz|ci|all]   (default core)
+# quick, then the viewer's npm packages when viewer/package-lock.json is newer than what is installed.
+# Usage: scripts/install-deps.sh [core|fuzz|ci|all]   (default core)
 #   core  what make build / test / demo need; fuzz  plus clang-16 for the sanitizer build;
-#   ci    everything .ci/run uses; all  plus the developer tools (clang-format)
+#   ci    everything .ci/run uses (with chromium for the browser tests); all  plus the developer
+#   tools (clang-format)
 set -euo pipefail
 what=${1:-core}
 core=(build-essential cmake ninja-build pkg-config libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
@@ -10,10 +12,12 @@ core=(build-essential cmake ninja-build pkg-config libeigen3-dev libyaml-cpp-dev
       libnanoflann-dev liboctomap-dev)
 if [ "${STARNAV_WITH_GDAL:-ON}" != "OFF" ]; then core+=(libgdal-dev); fi
 if [ "${STARNAV_WITH_PCL:-ON}" != "OFF" ]; then core+=(libpcl-dev); fi
+if [ "${STARNAV_WITH_HTTP:-ON}" != "OFF" ]; then core+=(libcpp-httplib-dev); fi
 fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
 case "$what" in
   core) pkgs=("${core[@]}") ;;
-  fuzz|ci) pkgs=("${core[@]}" "${fuzz[@]}") ;;
+  fuzz) pkgs=("${core[@]}" "${fuzz[@]}") ;;
+  ci) pkgs=("${core[@]}" "${fuzz[@]}" chromium) ;;
   all)  pkgs=("${core[@]}" "${fuzz[@]}" clang-format) ;;
   *) echo "usage: $0 [core|fuzz|ci|all]" >&2; exit 2 ;;
 esac
@@ -21,10 +25,25 @@ missing=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then exit 0; fi
-echo "starnav: installing ${missing[*]}" >&2
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "starnav: installing ${missing[*]}" >&2
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# The viewer's JavaScript (three.js, esbuild, playwright-core) from npm, pinned by the lock file;
+# npm ci only when the lock file changed since the last install. Without npm the viewer is not
+# bundled (the rest of starnav builds and tests without it).
+viewer="$(cd "$(dirname "$0")/.." && pwd)/viewer"
+if [ "${STARNAV_WITH_VIEWER:-ON}" != "OFF" ] && [ -f "$viewer/package-lock.json" ]; then
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "starnav: npm not found: the browser viewer will not be bundled" >&2
+  elif [ ! -f "$viewer/node_modules/.package-lock.json" ] || [ "$viewer/package-lock.json" -nt "$viewer/node_modules/.package-lock.json" ]; then
+    echo "starnav: installing the viewer's npm packages (npm ci)" >&2
+    (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+    touch "$viewer/node_modules/.package-lock.json"
+  fi
+fi

@@ -18,4 +18,5 @@ here=$(cd "$(dirname "$0")" && pwd)
 cxx=${FUZZ_CXX:-clang++-16}
 command -v "$cxx" >/dev/null || { echo "starnav: $cxx not found: run scripts/install-deps.sh fuzz" >&2; exit 2; }
 exec "$here/cmake-build.sh" "$build" "-DCMAKE_CXX_COMPILER=$cxx -DCMAKE_BUILD_TYPE=Sanitize \
--DSTARNAV_SANITIZE=ON -DSTARNAV_BUILD_FUZZ=ON -DSTARNAV_BUILD_BENCH=OFF $extra -DSTARNAV_WITH_PCL=OFF" "$@"
+-DSTARNAV_SANITIZE=ON -DSTARNAV_BUILD_FUZZ=ON -DSTARNAV_BUILD_BENCH=OFF $extra -DSTARNAV_WITH_PCL=OFF \
+-DSTARNAV_WITH_VIEWER=OFF" "$@"

@@ -199,4 +199,10 @@ OutputFolder check_out_dir(const std::string& dir, bool force) {
   return OutputFolder(dir, "--out");
 }
 
+std::string executable_path() {
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string() : p.string();
+}
+
 }  // namespace starnav::cli

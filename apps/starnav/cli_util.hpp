@@ -53,6 +53,9 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
 // are registered.
 void apply_number_rules(CLI::App& app);
 
+// This program's own path (/proc/self/exe; "" when unknown): files installed beside it are found from it.
+std::string executable_path();
+
 // Throws Error when `path` exists and `force` is false, or its folder does not exist.
 void check_output_path(const std::string& path, bool force, const std::string& flag);
 // Writes `text` to `path`; an Error naming the file and `flag` when it cannot.

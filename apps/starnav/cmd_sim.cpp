@@ -24,9 +24,15 @@
 #include "starnav/harness/route_drive.hpp"
 #include "starnav/harness/lidar_frame_recorder.hpp"
 #include "starnav/harness/robot_log_recorder.hpp"
+#include "starnav/harness/run_record.hpp"
 #include "starnav/harness/simulation_pictures.hpp"
 #include "starnav/logs/carmen_log.hpp"
+#include "starnav/config.hpp"
 #include "starnav/sim/simulation.hpp"
+#include "starnav/view/run_folder.hpp"
+#if STARNAV_HAVE_HTTP
+#include "starnav/view/run_server.hpp"
+#endif
 
 namespace starnav::cli {
 
@@ -52,6 +58,9 @@ struct SimOptions {
   bool force = false;
   bool json = false;
   bool quiet = false;
+  bool live = false;
+  int port = 8765;
+  std::string bind = "127.0.0.1";
 };
 
 double parse_duration(const std::string& text) {
@@ -87,6 +96,26 @@ class SimProgress {
   double duration_s_;
 };
 
+#if STARNAV_HAVE_HTTP
+// The viewer's server for a live run: the world and a live manifest from memory, steps as events.
+std::unique_ptr<RunServer> start_live_server(const NavigationRun& run, const SimOptions& o) {
+  RunServerOptions options;
+  options.viewer_dir = find_viewer_dir(viewer_dir_candidates(executable_path()));
+  options.host = o.bind;
+  options.port = o.port;
+  options.live = true;
+  if (o.bind != "127.0.0.1" && o.bind != "localhost" && o.bind != "::1")
+    std::fprintf(stderr, "starnav: warning: --bind %s: the run is served to every machine that can reach this address\n",
+                 o.bind.c_str());
+  auto server = std::make_unique<RunServer>(options);
+  server->set_memory_file("world.json", world_json(run.simulation(), &run));
+  server->set_memory_file("run.json", run_manifest_json(run.simulation(), "navigation", {"world.json"}, true));
+  server->start();
+  std::fprintf(stderr, "starnav: live viewer at %s\n", server->url().c_str());
+  return server;
+}
+#endif
+
 // ---- the command -------------------------------------------------------------------------------
 
 // A navigation scenario (a `navigation` section): the navigation stack drives.
@@ -101,7 +130,15 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     if (!std::isfinite(t) || t < 0.0 || t > spec.duration_s)
       throw Error("each time must be in [0, sim.duration_s]", "", 0, "--dwa-pictures");
   options.dwa_snapshot_times_s = o.dwa_pictures;
+#if STARNAV_HAVE_HTTP
+  // The server is made once the run exists (it serves the run's world); steps before that: none.
+  std::unique_ptr<RunServer> live;
+  if (o.live) options.on_step_line = [&live](const std::string& line) { live->publish("step", line); };
+#endif
   NavigationRun run(spec, options);
+#if STARNAV_HAVE_HTTP
+  if (o.live) live = start_live_server(run, o);
+#endif
   for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
   prepare_out_dir(o.out);
   add_cloud_writer(run.simulation(), spec, o.out);
@@ -140,6 +177,16 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
       }
     }
   }
+  write_run_record(run.simulation(), &run, o.out);
+#if STARNAV_HAVE_HTTP
+  if (live) {
+    live->end_live();
+    // Open viewers get the last steps and the end; a stalled one is not waited for long.
+    live->wait_drained(5.0);
+    live->stop();
+    std::fprintf(stderr, "starnav: live run ended; replay it with: starnav view %s\n", o.out.c_str());
+  }
+#endif
   const NavigationMetrics m = run.metrics();
   if (o.json) {
     std::cout << navigation_metrics_json(run);
@@ -156,7 +203,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     const bool arrivals = std::filesystem::exists(std::filesystem::path(o.out) / "arrivals.csv");
     const bool nav_events = std::filesystem::exists(std::filesystem::path(o.out) / "nav_events.csv");
     std::printf("wrote %s/{trajectory.csv, paths.csv, replans.csv, events.csv, steps.jsonl, map.yaml, map.pgm, "
-                "metrics.json, timing.json, scene.svg, overlay.svg%s%s%s%s%s%s}\n",
+                "metrics.json, timing.json, world.json, run.json, scene.svg, overlay.svg%s%s%s%s%s%s}\n",
                 o.out.c_str(), o.png ? ", scene.png, overlay.png" : "", recorder ? ", log.clf" : "",
                 spec.localization ? ", estimate.csv" : "", arrivals ? ", arrivals.csv" : "", nav_events ? ", nav_events.csv" : "",
                 dwa_files.c_str());
@@ -192,6 +239,11 @@ void run_sim(const SimOptions& o, Context& ctx) {
                                       std::pair{"--dwa-pictures", !o.dwa_pictures.empty()}})
       if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
   }
+  if (o.live && !spec.navigation)
+    throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, "--live");
+#if !STARNAV_HAVE_HTTP
+  if (o.live) throw Error("this starnav was built without its HTTP server (STARNAV_WITH_HTTP=OFF)", "", 0, "--live");
+#endif
   const OutputFolder out_folder = check_out_dir(o.out, o.force);
   if (spec.navigation) return run_navigation_scenario(spec, o, ctx);
 
@@ -232,6 +284,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   write_scene_svg(sim, (dir / "scene.svg").string());
   write_height_trace(sim, (dir / "height_trace.svg").string());
   write_track(sim, (dir / "track.svg").string());
+  write_run_record(sim, nullptr, o.out);
 
   if (o.json) {
     std::cout << metrics_json(sim);
@@ -241,7 +294,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
                 static_cast<long long>(m.collisions), m.collisions == 1 ? "" : "s", m.z_min_m, m.z_max_m);
     if (m.has_reference)
       std::printf("deviation from the reference line: mean %.4f m, max %.4f m\n", m.deviation_mean_m, m.deviation_max_m);
-    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, scene.svg, height_trace.svg, track.svg%s%s}\n",
+    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, world.json, run.json, scene.svg, height_trace.svg, "
+                "track.svg%s%s}\n",
                 o.out.c_str(), recorder ? ", log.clf" : "", chain ? ", estimate.csv" : "");
   }
   ctx.exit_code = 0;
@@ -274,6 +328,11 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
   sim->add_flag("--force", o->force, "write into a non-empty output folder");
   sim->add_flag("--json", o->json, "print metrics.json to stdout");
   sim->add_flag("--quiet", o->quiet, "no progress bar");
+  sim->add_flag("--live", o->live,
+                "navigation: serve the browser viewer and stream the steps to it while the run goes (docs/viewer.md); "
+                "the records written are the same bytes as without it");
+  sim->add_option("--port", o->port, "--live: TCP port (0: any free port; default 8765)")->check(CLI::Range(0, 65535));
+  sim->add_option("--bind", o->bind, "--live: address to listen on (default 127.0.0.1)");
   sim->footer(component_help());
   sim->callback([o, &ctx] { run_sim(*o, ctx); });
 }

@@ -29,5 +29,6 @@ void register_log_commands(CLI::App& app, Context& ctx);      // cmd_log.cpp
 void register_slam_commands(CLI::App& app, Context& ctx);     // cmd_slam.cpp
 void register_localize_command(CLI::App& app, Context& ctx);  // cmd_localize.cpp
 void register_slam3d_command(CLI::App& app, Context& ctx);    // cmd_slam3d.cpp
+void register_view_command(CLI::App& app, Context& ctx);      // cmd_view.cpp
 
 }  // namespace starnav::cli

@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_slam_commands(app, ctx);
   starnav::cli::register_localize_command(app, ctx);
   starnav::cli::register_slam3d_command(app, ctx);
+  starnav::cli::register_view_command(app, ctx);
   starnav::cli::apply_number_rules(app);
 
   try {

@@ -3,6 +3,7 @@
 // localizer, and a map-based localizer without a map is one error naming the field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "starnav/core/angle.hpp"
@@ -41,6 +42,14 @@ TEST(LocalizationChain, AmclTracksTheRobotOnTheMapOfItsWorld) {
   EXPECT_TRUE(chain.records(0).back().estimate.converged);
   EXPECT_GT(chain.records(0).back().estimate.updates, 50);
   EXPECT_LE(chain.records(0).back().estimate.particles, 2000);
+  // A viewer's sample of the belief: as many as asked (up to the set), around the estimate.
+  const PoseEstimate e = chain.localizer().estimate();
+  const std::vector<Pose2> samples = chain.localizer().belief_samples(100);
+  ASSERT_EQ(samples.size(), std::min<std::size_t>(100, static_cast<std::size_t>(e.particles)));
+  Vec2 mean = Vec2::Zero();
+  for (const Pose2& p : samples) mean += p.translation() / static_cast<double>(samples.size());
+  EXPECT_LT((mean - e.pose.translation()).norm(), 0.1);
+  EXPECT_TRUE(chain.localizer().belief_samples(0).empty());
   // Same inputs, same bytes: the run is a function of its seed.
   Simulation again(spec);
   LocalizationChain chain2(again, localization_config(spec));

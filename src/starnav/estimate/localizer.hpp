@@ -49,6 +49,9 @@ class Localizer {
   // The simulator's truth; a real robot never calls it (a motion-capture system would).
   virtual void on_ground_truth(double /*t_s*/, const Pose2& /*pose*/) {}
   virtual PoseEstimate estimate() const = 0;
+  // At most `max` poses drawn evenly from the belief, for viewers (a particle filter's particles);
+  // empty for a localizer whose belief is not a sample set.
+  virtual std::vector<Pose2> belief_samples(std::size_t /*max*/) const { return {}; }
 };
 
 // What a localizer is built from: the start pose, the scenario's seed, the scenario file, and

@@ -397,6 +397,10 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   localization_ = localization_config(spec_);
   sim_ = std::make_unique<Simulation>(spec_, world);
   nav_ = make_navigator(spec_, config);
+  if (options_.record_steps) {
+    const std::span<const std::int8_t> cells = nav_->map().occupancy().data();
+    initial_occupancy_.assign(cells.begin(), cells.end());
+  }
   CommandArbiterConfig arbiter = settings_.bumper;
   arbiter.bumper_stop = arbiter.bumper_stop && spec_.bumper;
   arbiter_ = std::make_unique<CommandArbiter>(arbiter, spec_.navigation->manual);
@@ -443,7 +447,12 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
       for (const Cell& c : cycle.update.occupancy_changed) r.changed.emplace_back(c, occ.at(c.x, c.y));
       r.path_id = nav_->plans().empty() ? 0 : nav_->plans().back().id;
       r.new_path = cycle.planned;
+      if (spec_.localization) {
+        r.estimate = pose;
+        r.particles = chain_->localizer().belief_samples(options_.step_particles);
+      }
       steps_.push_back(std::move(r));
+      if (options_.on_step_line) options_.on_step_line(step_json_line(*this, steps_.back()));
     }
     if (nav_->status() == NavStatus::NoPath) sim_->stop();
   };
@@ -693,32 +702,40 @@ double cm(double v) { return unsigned_zero(std::round(v * 100.0) / 100.0); }
 
 std::string steps_jsonl(const NavigationRun& run) {
   std::string out;
-  const auto& plans = run.navigator().plans();
-  for (const NavStepRecord& r : run.steps()) {
-    nlohmann::ordered_json j;
-    j["t_s"] = mm(r.t_s);
-    const Vec3 rpy = r.pose.rpy();
-    j["pose"] = {mm(r.pose.position.x()), mm(r.pose.position.y()), mm(r.pose.position.z()),
-                 mm(rpy.x()),             mm(rpy.y()),             mm(rpy.z())};
-    j["returns"] = r.returns;
-    nlohmann::ordered_json hits = nlohmann::ordered_json::array();
-    for (const Vec3& p : r.hits) hits.push_back({cm(p.x()), cm(p.y()), cm(p.z())});
-    j["hits"] = std::move(hits);
-    nlohmann::ordered_json changed = nlohmann::ordered_json::array();
-    for (const auto& [c, v] : r.changed) changed.push_back({c.x, c.y, static_cast<int>(v)});
-    j["changed"] = std::move(changed);
-    j["path_id"] = r.path_id;
-    if (r.new_path && r.path_id > 0) {
-      nlohmann::ordered_json path = nlohmann::ordered_json::array();
-      for (const Vec2& v : plans[static_cast<std::size_t>(r.path_id - 1)].points) path.push_back({mm(v.x()), mm(v.y())});
-      j["path"] = std::move(path);
-    }
-    out += j.dump() + '\n';
-  }
+  for (const NavStepRecord& r : run.steps()) out += step_json_line(run, r) + '\n';
   return out;
 }
 
 }  // namespace
+
+std::string step_json_line(const NavigationRun& run, const NavStepRecord& r) {
+  nlohmann::ordered_json j;
+  j["t_s"] = mm(r.t_s);
+  const Vec3 rpy = r.pose.rpy();
+  j["pose"] = {mm(r.pose.position.x()), mm(r.pose.position.y()), mm(r.pose.position.z()),
+               mm(rpy.x()),             mm(rpy.y()),             mm(rpy.z())};
+  j["returns"] = r.returns;
+  nlohmann::ordered_json hits = nlohmann::ordered_json::array();
+  for (const Vec3& p : r.hits) hits.push_back({cm(p.x()), cm(p.y()), cm(p.z())});
+  j["hits"] = std::move(hits);
+  nlohmann::ordered_json changed = nlohmann::ordered_json::array();
+  for (const auto& [c, v] : r.changed) changed.push_back({c.x, c.y, static_cast<int>(v)});
+  j["changed"] = std::move(changed);
+  j["path_id"] = r.path_id;
+  if (r.new_path && r.path_id > 0) {
+    const auto& plans = run.navigator().plans();
+    nlohmann::ordered_json path = nlohmann::ordered_json::array();
+    for (const Vec2& v : plans[static_cast<std::size_t>(r.path_id - 1)].points) path.push_back({mm(v.x()), mm(v.y())});
+    j["path"] = std::move(path);
+  }
+  if (r.estimate) j["estimate"] = {mm(r.estimate->x), mm(r.estimate->y), mm(wrap_angle(r.estimate->yaw))};
+  if (!r.particles.empty()) {
+    nlohmann::ordered_json particles = nlohmann::ordered_json::array();
+    for (const Pose2& p : r.particles) particles.push_back({cm(p.x), cm(p.y), cm(wrap_angle(p.yaw))});
+    j["particles"] = std::move(particles);
+  }
+  return j.dump();
+}
 
 void write_navigation_records(const NavigationRun& run, const std::string& dir) {
   namespace fs = std::filesystem;

@@ -34,6 +34,10 @@ struct NavigationOptions {
   bool compare_astar = false;              // incremental planners: A* from scratch beside every plan
   bool record_steps = true;                // keep the per-cycle records for steps.jsonl
   bool step_all_hits = false;              // steps.jsonl: every return, not only the obstacle hits
+  std::size_t step_particles = 200;        // steps.jsonl: at most this many particles per cycle
+  // Called with each cycle's steps.jsonl line as it is recorded (a live viewer's feed); the run
+  // never waits on it beyond the call.
+  std::function<void(const std::string&)> on_step_line;
   std::vector<double> dwa_snapshot_times_s;  // with the dwa controller: keep its first step at or after each time
 };
 
@@ -84,6 +88,8 @@ struct NavStepRecord {
   std::vector<std::pair<Cell, std::int8_t>> changed;  // occupancy changes: cell, new value
   int path_id = 0;                                // current plan (0: none)
   bool new_path = false;                          // planned in this cycle
+  std::optional<Pose2> estimate;                  // the localization chain's pose (scenarios with one)
+  std::vector<Pose2> particles;                   // a subsample of its belief (particle filters)
 };
 
 // One arrival at a goal: the true pose once the robot has come to rest there.
@@ -146,6 +152,8 @@ class NavigationRun {
   // Wheel odometry from the encoder hook (odometry: wheel or ekf), else null.
   const WheelOdometry* odometry() const { return chain_->odometry(); }
   const std::vector<NavStepRecord>& steps() const { return steps_; }
+  // The navigator's occupancy before the first scan (the prior map, or all unknown).
+  const std::vector<std::int8_t>& initial_occupancy() const { return initial_occupancy_; }
   const std::vector<NavArrival>& arrivals() const { return arrivals_; }
   const CommandArbiter& arbiter() const { return *arbiter_; }
   // The DWA steps kept at NavigationOptions::dwa_snapshot_times_s.
@@ -162,6 +170,7 @@ class NavigationRun {
   LocalizationConfig localization_;
   std::unique_ptr<LocalizationChain> chain_;
   std::vector<NavStepRecord> steps_;
+  std::vector<std::int8_t> initial_occupancy_;
   std::unique_ptr<CommandArbiter> arbiter_;
   NavigationSettings settings_;
   std::vector<NavArrival> arrivals_;
@@ -190,5 +199,7 @@ class NavigationRun {
 void write_navigation_records(const NavigationRun& run, const std::string& dir);
 std::string navigation_metrics_json(const NavigationRun& run);
 std::string paths_csv(const NavigationRun& run);
+// One line of steps.jsonl (without its newline; docs/run-records.md).
+std::string step_json_line(const NavigationRun& run, const NavStepRecord& record);
 
 }  // namespace starnav

@@ -1,0 +1,181 @@
+#include "starnav/harness/run_record.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <variant>
+
+#include "starnav/core/record_format.hpp"
+#include "starnav/harness/navigation_run.hpp"
+#include "starnav/io/file_bytes.hpp"
+#include "starnav/sim/simulation.hpp"
+#include "starnav/view/run_folder.hpp"
+
+namespace starnav {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Millimetres: a viewer needs no more, and the bytes stay a fraction of six decimals'.
+double to_mm(double v) { return unsigned_zero(std::round(v * 1000.0) / 1000.0); }
+
+Json vec3_json(const Vec3& v) { return Json::array({to_mm(v.x()), to_mm(v.y()), to_mm(v.z())}); }
+
+// A time that may be infinite (an obstacle that never disappears): null.
+Json time_json(double t) { return std::isfinite(t) ? Json(to_mm(t)) : Json(nullptr); }
+
+Json pose2_json(const Pose2& p) { return Json::array({to_mm(p.x), to_mm(p.y), to_mm(p.yaw)}); }
+
+// One part: its kind and its numbers in a fixed order (docs/run-records.md).
+Json part_json(const Primitive& part) {
+  return std::visit(
+      [](const auto& p) -> Json {
+        using T = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, Box>) {
+          return Json::array({"box", to_mm(p.center.x()), to_mm(p.center.y()), to_mm(p.center.z()), to_mm(p.size.x()),
+                              to_mm(p.size.y()), to_mm(p.size.z()), to_mm(p.roll), to_mm(p.pitch), to_mm(p.yaw)});
+        } else if constexpr (std::is_same_v<T, Cylinder>) {
+          return Json::array({"cylinder", to_mm(p.base.x()), to_mm(p.base.y()), to_mm(p.base.z()), to_mm(p.radius),
+                              to_mm(p.height)});
+        } else if constexpr (std::is_same_v<T, Prism>) {
+          return Json::array({"prism", to_mm(p.base.x()), to_mm(p.base.y()), to_mm(p.base.z()), to_mm(p.yaw),
+                              to_mm(p.base_width), to_mm(p.height), to_mm(p.apex_offset), to_mm(p.length)});
+        } else {
+          return Json::array({"sphere", to_mm(p.center.x()), to_mm(p.center.y()), to_mm(p.center.z()), to_mm(p.radius)});
+        }
+      },
+      part);
+}
+
+Json obstacle_json(const Obstacle& o) {
+  Json j;
+  j["name"] = o.name;
+  j["appear_s"] = time_json(o.appear);
+  j["disappear_s"] = time_json(o.disappear);
+  j["anchor"] = vec3_json(o.anchor);
+  if (o.velocity != Vec3::Zero()) j["velocity"] = vec3_json(o.velocity);
+  if (!o.waypoints.empty()) {
+    Json w = Json::array();
+    for (const Waypoint& p : o.waypoints) w.push_back({to_mm(p.time), to_mm(p.position.x()), to_mm(p.position.y()), to_mm(p.position.z())});
+    j["waypoints"] = std::move(w);
+  }
+  Json parts = Json::array();
+  for (const Primitive& p : o.parts) parts.push_back(part_json(p));
+  j["parts"] = std::move(parts);
+  return j;
+}
+
+Json geometry_json(const GridGeometry& g) {
+  return Json{{"width", g.width}, {"height", g.height}, {"resolution_m", g.resolution}, {"origin", pose2_json(g.origin)}};
+}
+
+// The terrain, every stride-th sample in x and y (row-major from the origin corner, null where
+// unobserved): a mesh for the eye, not a map to plan on.
+Json terrain_json(const ElevationMap& map) {
+  const int stride = std::max(1, static_cast<int>(std::ceil(static_cast<double>(std::max(map.width(), map.height())) /
+                                                            kWorldTerrainMaxSide)));
+  const int w = (map.width() + stride - 1) / stride, h = (map.height() + stride - 1) / stride;
+  Json j = geometry_json(map.geometry());
+  j["stride"] = stride;
+  j["samples_x"] = w;
+  j["samples_y"] = h;
+  Json heights = Json::array();
+  for (int sy = 0; sy < h; ++sy)
+    for (int sx = 0; sx < w; ++sx) {
+      const int ix = sx * stride, iy = sy * stride;
+      if (map.observed_at(ix, iy) && std::isfinite(map.height_at(ix, iy)))
+        heights.push_back(to_mm(map.height_at(ix, iy)));
+      else
+        heights.push_back(nullptr);
+    }
+  j["heights"] = std::move(heights);
+  return j;
+}
+
+// Run-length pairs [value, count, value, count, ...] of a row-major grid.
+Json run_lengths_json(const std::vector<std::int8_t>& cells) {
+  Json out = Json::array();
+  for (std::size_t i = 0; i < cells.size();) {
+    std::size_t j = i;
+    while (j < cells.size() && cells[j] == cells[i]) ++j;
+    out.push_back(static_cast<int>(cells[i]));
+    out.push_back(j - i);
+    i = j;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string world_json(const Simulation& sim, const NavigationRun* navigation) {
+  const ScenarioSpec& spec = sim.spec();
+  Json j;
+  j["schema"] = "starnav-world";
+  j["version"] = kRunRecordVersion;
+  if (sim.terrain_map()) j["terrain"] = terrain_json(*sim.terrain_map());
+  Json obstacles = Json::array();
+  for (const Obstacle& o : sim.world().obstacles()) obstacles.push_back(obstacle_json(o));
+  j["obstacles"] = std::move(obstacles);
+  const RobotConfig& r = spec.vehicle.robot;
+  j["robot"] = {{"drive", drive_kind_name(r.drive)},
+                {"body_length_m", r.body_length_m},
+                {"body_width_m", r.body_width_m},
+                {"body_height_m", r.body_height_m},
+                {"ground_clearance_m", r.ground_clearance_m},
+                {"wheel_radius_m", r.wheel_radius_m},
+                {"half_track_m", r.half_track_m},
+                {"half_wheelbase_m", r.half_wheelbase_m},
+                {"body_center_x_m", r.drive == DriveKind::Ackermann ? r.half_wheelbase_m : 0.0}};
+  j["start"] = pose2_json(spec.start);
+  if (!spec.reference_line.empty()) {
+    Json line = Json::array();
+    for (const Vec2& p : spec.reference_line) line.push_back({to_mm(p.x()), to_mm(p.y())});
+    j["reference_line"] = std::move(line);
+  }
+  if (spec.navigation) {
+    Json goals = Json::array();
+    for (const ScenarioGoal& g : spec.navigation->goals)
+      goals.push_back({to_mm(g.position.x()), to_mm(g.position.y()), g.yaw_rad ? Json(to_mm(*g.yaw_rad)) : Json(nullptr)});
+    j["goals"] = std::move(goals);
+  }
+  if (navigation) {
+    Json map = geometry_json(navigation->navigator().map().geometry());
+    map["initial"] = run_lengths_json(navigation->initial_occupancy());
+    j["nav_map"] = std::move(map);
+  }
+  return j.dump() + "\n";
+}
+
+std::string run_manifest_json(const Simulation& sim, const std::string& kind, const std::vector<std::string>& files,
+                              bool live) {
+  const ScenarioSpec& spec = sim.spec();
+  Json j;
+  j["schema"] = "starnav-run";
+  j["version"] = kRunRecordVersion;
+  j["kind"] = kind;
+  j["scenario"] = {{"name", spec.name}, {"file", std::filesystem::path(spec.file).filename().string()}};
+  j["seed"] = spec.seed;
+  j["dt_s"] = spec.dt_s;
+  j["duration_s"] = live ? spec.duration_s : sim.time();
+  if (live) j["live"] = true;
+  j["files"] = files;
+  return j.dump(2) + "\n";
+}
+
+void write_run_record(const Simulation& sim, const NavigationRun* navigation, const std::string& dir) {
+  namespace fs = std::filesystem;
+  const fs::path d(dir);
+  write_file_bytes((d / "world.json").string(), world_json(sim, navigation));
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(d, ec))
+    // Plain names only: the output folder's lock (a dot file) is not part of the record.
+    if (e.is_regular_file(ec) && e.path().filename() != "run.json" && is_plain_file_name(e.path().filename().string()))
+      files.push_back(e.path().filename().string());
+  std::sort(files.begin(), files.end());
+  write_file_bytes((d / "run.json").string(), run_manifest_json(sim, navigation ? "navigation" : "simulation", files));
+}
+
+}  // namespace starnav

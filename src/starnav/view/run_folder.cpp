@@ -1,0 +1,148 @@
+#include "starnav/view/run_folder.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+
+namespace starnav {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The files of a run the viewer reads, in the order it reads them.
+constexpr const char* kViewerRunFiles[] = {"run.json", "world.json", "metrics.json", "trajectory.csv", "steps.jsonl"};
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// JSON text safe inside a <script> element: "</" cannot close it.
+std::string script_safe(std::string text) {
+  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
+  return text;
+}
+
+}  // namespace
+
+bool is_plain_file_name(const std::string& name) {
+  if (name.empty() || name.size() > 255 || name.front() == '.') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+  });
+}
+
+RunFolder read_run_folder(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error("not a folder (give the --out folder of starnav sim)", dir, 0, "RUN_DIR");
+  const std::string manifest = (fs::path(dir) / "run.json").string();
+  if (!fs::exists(manifest, ec))
+    throw Error("no run.json: not a run record (written by starnav sim since run-record version 1)", manifest, 0, "");
+  const std::string text = read_input_file(manifest);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string("not JSON: ") + e.what(), manifest, 0, "");
+  }
+  if (!j.is_object() || !j.contains("schema") || j["schema"] != "starnav-run")
+    throw Error("not a starnav run record (schema should be \"starnav-run\")", manifest, 0, "schema");
+  if (!j.contains("version") || !j["version"].is_number_integer())
+    throw Error("missing or not an integer", manifest, 0, "version");
+  const auto version = j["version"].get<long long>();
+  if (version < 1 || version > kRunRecordVersion)
+    throw Error("version " + std::to_string(version) + " is not one this starnav reads (1.." + std::to_string(kRunRecordVersion) +
+                    ")",
+                manifest, 0, "version");
+  RunFolder run;
+  run.dir = dir;
+  if (!j.contains("kind") || !j["kind"].is_string()) throw Error("missing or not text", manifest, 0, "kind");
+  run.kind = j["kind"].get<std::string>();
+  if (!j.contains("files") || !j["files"].is_array()) throw Error("missing or not a list", manifest, 0, "files");
+  for (const auto& f : j["files"]) {
+    if (!f.is_string() || !is_plain_file_name(f.get<std::string>()))
+      throw Error("each entry must be a plain file name", manifest, 0, "files");
+    const std::string name = f.get<std::string>();
+    if (!fs::is_regular_file(fs::path(dir) / name, ec)) throw Error("listed but not in the folder: " + name, manifest, 0, "files");
+    run.files.push_back(name);
+  }
+  if (std::find(run.files.begin(), run.files.end(), "world.json") == run.files.end())
+    throw Error("world.json is not listed (the viewer needs the world)", manifest, 0, "files");
+  return run;
+}
+
+std::vector<std::string> viewer_dir_candidates(const std::string& executable_path) {
+  std::vector<std::string> out;
+  if (const char* env = std::getenv("STARNAV_VIEWER_DIR"); env && *env) out.emplace_back(env);
+  if (!executable_path.empty()) {
+    const fs::path bin = fs::path(executable_path).parent_path();
+    out.push_back((bin.parent_path() / "share" / "starnav" / "viewer").string());
+    out.push_back((bin.parent_path() / "viewer").string());
+  }
+  return out;
+}
+
+std::string find_viewer_dir(const std::vector<std::string>& candidates) {
+  std::error_code ec;
+  std::string searched;
+  for (const std::string& c : candidates) {
+    if (fs::is_regular_file(fs::path(c) / "index.html", ec) && fs::is_regular_file(fs::path(c) / "viewer.js", ec)) return c;
+    searched += (searched.empty() ? "" : ", ") + c;
+  }
+  throw Error("the viewer's files (index.html, viewer.js) are not built: run `make build` (it bundles them with npm's "
+              "esbuild) or set STARNAV_VIEWER_DIR; searched " +
+                  (searched.empty() ? std::string("nothing") : searched),
+              "", 0, "viewer");
+}
+
+std::string export_run_html(const RunFolder& run, const std::string& viewer_dir) {
+  std::uintmax_t total = 0;
+  std::error_code ec;
+  std::vector<std::string> names;
+  for (const char* name : kViewerRunFiles) {
+    if (std::string(name) != "run.json" && std::find(run.files.begin(), run.files.end(), name) == run.files.end()) continue;
+    names.emplace_back(name);
+    total += fs::file_size(fs::path(run.dir) / name, ec);
+  }
+  total += fs::file_size(fs::path(viewer_dir) / "viewer.js", ec);
+  if (total > kMaxExportBytes)
+    throw Error("the run is " + std::to_string(total >> 20) + " MiB, above the " + std::to_string(kMaxExportBytes >> 20) +
+                    " MiB a page can hold: view it served (starnav view RUN_DIR)",
+                run.dir, 0, "--export");
+  nlohmann::json files = nlohmann::json::object();
+  for (const std::string& name : names) files[name] = read_input_file((fs::path(run.dir) / name).string());
+  std::string page = read_input_file((fs::path(viewer_dir) / "index.html").string());
+  const std::string script_tag = "<script src=\"viewer.js\"></script>";
+  const std::string data_mark = "<!--starnav-run-->";
+  const std::size_t script_at = page.find(script_tag), data_at = page.find(data_mark);
+  if (script_at == std::string::npos || data_at == std::string::npos || data_at > script_at)
+    throw Error("not the viewer's page (no run marker before the script tag)", (fs::path(viewer_dir) / "index.html").string(), 0,
+                "viewer");
+  std::string script = read_input_file((fs::path(viewer_dir) / "viewer.js").string());
+  for (std::size_t at = script.find("</script"); at != std::string::npos; at = script.find("</script", at + 3))
+    script.replace(at, 2, "<\\/");
+  page.replace(script_at, script_tag.size(), "<script>" + script + "</script>");
+  page.replace(data_at, data_mark.size(),
+               "<script type=\"application/json\" id=\"starnav-run\">" +
+                   script_safe(files.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>");
+  return page;
+}
+
+std::string content_type_of(const std::string& name) {
+  static const std::pair<const char*, const char*> kTypes[] = {
+      {".html", "text/html; charset=utf-8"},     {".js", "text/javascript; charset=utf-8"},
+      {".json", "application/json"},             {".jsonl", "application/x-ndjson"},
+      {".csv", "text/csv; charset=utf-8"},       {".svg", "image/svg+xml"},
+      {".png", "image/png"},                     {".yaml", "text/yaml; charset=utf-8"},
+      {".pgm", "image/x-portable-graymap"},      {".clf", "text/plain; charset=utf-8"},
+      {".ply", "application/octet-stream"},      {".pcd", "application/octet-stream"}};
+  for (const auto& [ext, type] : kTypes)
+    if (ends_with(name, ext)) return type;
+  return "application/octet-stream";
+}
+
+}  // namespace starnav

@@ -1,0 +1,267 @@
+// The viewer's HTTP server over real sockets: what it serves, what it refuses (path traversal, bad
+// requests, other methods), and the live stream with a stalled client and 20 clients at once.
+#include "starnav/config.hpp"
+#if STARNAV_HAVE_HTTP
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "starnav/core/error.hpp"
+#include "starnav/view/run_server.hpp"
+
+namespace starnav {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TempTree {
+  fs::path root;
+  TempTree() {
+    root = fs::temp_directory_path() / ("starnav_view_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++));
+    fs::remove_all(root);
+    fs::create_directories(root / "run");
+    fs::create_directories(root / "viewer");
+    write("viewer/index.html", "<html>viewer</html>");
+    write("viewer/viewer.js", "console.log('viewer');");
+    write("run/world.json", "{\"schema\":\"starnav-world\",\"version\":1}");
+    write("run/steps.jsonl", std::string(300000, 'x') + "\n");
+    write("secret.txt", "outside the run folder");
+    write("run/.hidden", "hidden");
+    fs::create_symlink(root / "secret.txt", root / "run" / "link.txt");
+  }
+  ~TempTree() {
+    std::error_code ec;
+    fs::remove_all(root, ec);
+  }
+  void write(const std::string& rel, const std::string& text) const { std::ofstream(root / rel, std::ios::binary) << text; }
+  static int& counter() {
+    static int n = 0;
+    return n;
+  }
+};
+
+// One raw HTTP exchange: the bytes sent as given, everything the server answers until it closes
+// (or `timeout_ms` passes).
+std::string raw_request(int port, const std::string& request, int timeout_ms = 3000) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<std::uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return "connect failed";
+  }
+  timeval tv{timeout_ms / 1000, (timeout_ms % 1000) * 1000};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  (void)::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+  std::string out;
+  char buffer[65536];
+  for (;;) {
+    const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+    if (n <= 0) break;
+    out.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  return out;
+}
+
+std::string get(int port, const std::string& target) {
+  return raw_request(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+}
+
+int status_of(const std::string& response) {
+  if (response.rfind("HTTP/1.1 ", 0) != 0) return -1;
+  return std::stoi(response.substr(9, 3));
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+RunServerOptions options_for(const TempTree& t, bool live = false) {
+  RunServerOptions o;
+  o.run_dir = (t.root / "run").string();
+  o.viewer_dir = (t.root / "viewer").string();
+  o.live = live;
+  return o;
+}
+
+TEST(RunServer, ServesTheViewerAndTheRunsFiles) {
+  TempTree t;
+  RunServer server(options_for(t));
+  server.start();
+  ASSERT_GT(server.port(), 0);
+  EXPECT_EQ(server.url(), "http://127.0.0.1:" + std::to_string(server.port()) + "/");
+  const std::string index = get(server.port(), "/");
+  EXPECT_EQ(status_of(index), 200);
+  EXPECT_NE(index.find("<html>viewer</html>"), std::string::npos);
+  EXPECT_NE(index.find("text/html"), std::string::npos);
+  const std::string js = get(server.port(), "/viewer.js");
+  EXPECT_EQ(status_of(js), 200);
+  EXPECT_NE(js.find("text/javascript"), std::string::npos);
+  const std::string world = get(server.port(), "/run/world.json");
+  EXPECT_EQ(status_of(world), 200);
+  EXPECT_NE(world.find("{\"schema\":\"starnav-world\",\"version\":1}"), std::string::npos);
+  // A file larger than a read chunk arrives whole.
+  const std::string steps = get(server.port(), "/run/steps.jsonl");
+  EXPECT_EQ(status_of(steps), 200);
+  const std::size_t body = steps.find("\r\n\r\n") + 4;
+  EXPECT_EQ(steps.substr(body), std::string(300000, 'x') + "\n");
+  // HEAD answers without a body.
+  const std::string head = raw_request(server.port(), "HEAD /run/world.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(status_of(head), 200);
+  EXPECT_EQ(head.find("starnav-world"), std::string::npos);
+  // Memory files are served before (and instead of) the folder's.
+  server.set_memory_file("world.json", "{\"live\":true}");
+  EXPECT_NE(get(server.port(), "/run/world.json").find("{\"live\":true}"), std::string::npos);
+}
+
+TEST(RunServer, RefusesPathTraversalAndHiddenOrLinkedFiles) {
+  TempTree t;
+  RunServer server(options_for(t));
+  server.start();
+  for (const std::string target :
+       {"/run/../secret.txt", "/run/..%2Fsecret.txt", "/run/%2e%2e%2fsecret.txt", "/run/%2E%2E/secret.txt", "/../secret.txt",
+        "/run/..", "/run/.hidden", "/run/link.txt", "/run/run/world.json", "/run/", "/secret.txt", "/run/world.json%00.png",
+        "/run//etc/passwd", "/run/%2Fetc%2Fpasswd", "/viewer/index.html", "/index.html/.."}) {
+    const std::string r = get(server.port(), target);
+    EXPECT_EQ(r.find("outside the run folder"), std::string::npos) << target;
+    EXPECT_EQ(r.find("hidden"), std::string::npos) << target;
+    EXPECT_GE(status_of(r), 400) << target;
+    EXPECT_LT(status_of(r), 500) << target;
+  }
+}
+
+TEST(RunServer, AnswersBadRequestsWith4xx) {
+  TempTree t;
+  RunServer server(options_for(t));
+  server.start();
+  const int port = server.port();
+  EXPECT_EQ(status_of(raw_request(port, "POST /run/world.json HTTP/1.1\r\nHost: x\r\nContent-Length: 2\r\nConnection: close\r\n\r\nab")), 405);
+  EXPECT_EQ(status_of(raw_request(port, "DELETE /run/world.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")), 405);
+  EXPECT_EQ(status_of(get(port, "/nothing-here")), 404);
+  EXPECT_EQ(status_of(get(port, "/events")), 404);  // not a live server
+  // (cpp-httplib answers these at once, then waits out its read timeout before closing: 1 s is enough.)
+  const int garbage = status_of(raw_request(port, "THIS IS NOT HTTP\r\n\r\n", 1000));
+  EXPECT_GE(garbage, 400);
+  EXPECT_LT(garbage, 500);
+  const std::string huge_header = "GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + std::string(100000, 'a') + "\r\nConnection: close\r\n\r\n";
+  const int big = status_of(raw_request(port, huge_header, 1000));
+  EXPECT_TRUE(big == -1 || (big >= 400 && big < 500)) << big;  // refused or the connection closed
+  // A body over the 64 KiB limit: 413 once it has been read.
+  const std::string big_body = "POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 200000\r\nConnection: close\r\n\r\n" + std::string(200000, 'b');
+  const int body = status_of(raw_request(port, big_body));
+  EXPECT_EQ(body, 413);
+  // Still serving after all that.
+  EXPECT_EQ(status_of(get(port, "/run/world.json")), 200);
+}
+
+// A client that never reads: the publisher never waits for it, the other clients get everything,
+// and the server drops it after the write timeout.
+TEST(RunServer, AStalledLiveClientHoldsBackNeitherThePublisherNorTheOthers) {
+  TempTree t;
+  RunServerOptions o = options_for(t, true);
+  o.write_timeout_s = 0.5;
+  RunServer server(o);
+  server.start();
+  const int port = server.port();
+  // The stalled client: a small receive buffer, connected and never read from.
+  const int stalled = ::socket(AF_INET, SOCK_STREAM, 0);
+  int small = 4096;
+  ::setsockopt(stalled, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<std::uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::connect(stalled, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const std::string request = "GET /events HTTP/1.1\r\nHost: x\r\n\r\n";
+  ASSERT_EQ(::send(stalled, request.data(), request.size(), MSG_NOSIGNAL), static_cast<ssize_t>(request.size()));
+  while (server.live_clients() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+
+  std::string reader_got;
+  std::thread reader([&] { reader_got = get(port, "/events"); });
+  while (server.live_clients() < 2) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  // 20 MB of steps: far more than any socket buffer holds.
+  const std::string line = "{\"t_s\":1.0,\"hits\":\"" + std::string(10000, 'h') + "\"}";
+  for (int i = 0; i < 2000; ++i) server.publish("step", line);
+  server.end_live();
+  reader.join();
+  EXPECT_EQ(count_of(reader_got, "event: step"), 2000u);
+  EXPECT_EQ(count_of(reader_got, "event: end"), 1u);
+  EXPECT_EQ(server.events_published(), 2001u);
+  // The stalled client is dropped by the write timeout.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (server.live_clients() > 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(server.live_clients(), 0u);
+  ::close(stalled);
+}
+
+TEST(RunServer, TwentyLiveClientsEachGetEveryStep) {
+  TempTree t;
+  RunServer server(options_for(t, true));
+  server.start();
+  const int port = server.port();
+  constexpr int kClients = 20;
+  std::vector<std::string> got(kClients);
+  std::vector<std::thread> clients;
+  for (int i = 0; i < kClients; ++i) clients.emplace_back([&, i] { got[static_cast<std::size_t>(i)] = get(port, "/events"); });
+  while (server.live_clients() < static_cast<std::size_t>(kClients)) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  // Files are still served while every live stream holds a thread.
+  EXPECT_EQ(status_of(get(port, "/run/world.json")), 200);
+  for (int i = 0; i < 500; ++i) server.publish("step", "{\"i\":" + std::to_string(i) + "}");
+  server.end_live();
+  EXPECT_TRUE(server.wait_drained(30.0));
+  for (std::thread& c : clients) c.join();
+  for (const std::string& g : got) {
+    EXPECT_EQ(count_of(g, "event: step"), 500u);
+    EXPECT_NE(g.find("data: {\"i\":499}"), std::string::npos);
+    EXPECT_EQ(count_of(g, "event: end"), 1u);
+  }
+}
+
+TEST(RunServer, RefusesLiveClientsBeyondItsLimitWith503) {
+  TempTree t;
+  RunServerOptions o = options_for(t, true);
+  o.max_live_clients = 2;
+  RunServer server(o);
+  server.start();
+  const int port = server.port();
+  std::vector<std::thread> clients;
+  for (int i = 0; i < 2; ++i) clients.emplace_back([port] { get(port, "/events"); });
+  while (server.live_clients() < 2) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_EQ(status_of(get(port, "/events")), 503);
+  server.end_live();
+  for (std::thread& c : clients) c.join();
+}
+
+TEST(RunServer, APortInUseIsAnErrorNamingIt) {
+  TempTree t;
+  RunServer first(options_for(t));
+  RunServerOptions o = options_for(t);
+  o.port = first.port();
+  try {
+    RunServer second(o);
+    FAIL() << "bound a port in use";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "--port");
+    EXPECT_NE(std::string(e.what()).find(std::to_string(first.port())), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace starnav
+#endif
