@@ -59,6 +59,7 @@ struct SimOptions {
   bool json = false;
   bool quiet = false;
   bool live = false;
+  bool live_wait = false;
   int port = 8765;
   std::string bind = "127.0.0.1";
 };
@@ -98,7 +99,7 @@ class SimProgress {
 
 #if STARNAV_HAVE_HTTP
 // The viewer's server for a live run: the world and a live manifest from memory, steps as events.
-std::unique_ptr<RunServer> start_live_server(const NavigationRun& run, const SimOptions& o) {
+std::unique_ptr<RunServer> start_live_server(const Simulation& sim, const NavigationRun* navigation, const SimOptions& o) {
   RunServerOptions options;
   options.viewer_dir = find_viewer_dir(viewer_dir_candidates(executable_path()));
   options.host = o.bind;
@@ -108,11 +109,24 @@ std::unique_ptr<RunServer> start_live_server(const NavigationRun& run, const Sim
     std::fprintf(stderr, "starnav: warning: --bind %s: the run is served to every machine that can reach this address\n",
                  o.bind.c_str());
   auto server = std::make_unique<RunServer>(options);
-  server->set_memory_file("world.json", world_json(run.simulation(), &run));
-  server->set_memory_file("run.json", run_manifest_json(run.simulation(), "navigation", {"world.json"}, true));
+  server->set_memory_file("world.json", world_json(sim, navigation));
+  server->set_memory_file("run.json", live_run_manifest_json(sim, navigation ? "navigation" : "simulation"));
   server->start();
   std::fprintf(stderr, "starnav: live viewer at %s\n", server->url().c_str());
+  if (o.live_wait) {
+    std::fprintf(stderr, "starnav: waiting for a viewer to connect before the run starts\n");
+    server->wait_for_live_client(-1.0);
+  }
   return server;
+}
+
+// After the run: the end to every viewer, a short wait for them to read it, and the server stops.
+void finish_live(RunServer& live, const std::string& out) {
+  live.end_live();
+  // Open viewers get the last steps and the end; a stalled one is not waited for long.
+  live.wait_drained(5.0);
+  live.stop();
+  std::fprintf(stderr, "starnav: live run ended; replay it with: starnav view %s\n", out.c_str());
 }
 #endif
 
@@ -137,7 +151,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 #endif
   NavigationRun run(spec, options);
 #if STARNAV_HAVE_HTTP
-  if (o.live) live = start_live_server(run, o);
+  if (o.live) live = start_live_server(run.simulation(), &run, o);
 #endif
   for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
   prepare_out_dir(o.out);
@@ -179,13 +193,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   }
   write_run_record(run.simulation(), &run, o.out);
 #if STARNAV_HAVE_HTTP
-  if (live) {
-    live->end_live();
-    // Open viewers get the last steps and the end; a stalled one is not waited for long.
-    live->wait_drained(5.0);
-    live->stop();
-    std::fprintf(stderr, "starnav: live run ended; replay it with: starnav view %s\n", o.out.c_str());
-  }
+  if (live) finish_live(*live, o.out);
 #endif
   const NavigationMetrics m = run.metrics();
   if (o.json) {
@@ -239,8 +247,6 @@ void run_sim(const SimOptions& o, Context& ctx) {
                                       std::pair{"--dwa-pictures", !o.dwa_pictures.empty()}})
       if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
   }
-  if (o.live && !spec.navigation)
-    throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, "--live");
 #if !STARNAV_HAVE_HTTP
   if (o.live) throw Error("this starnav was built without its HTTP server (STARNAV_WITH_HTTP=OFF)", "", 0, "--live");
 #endif
@@ -262,6 +268,17 @@ void run_sim(const SimOptions& o, Context& ctx) {
   std::unique_ptr<RouteDrive> route;
   if (spec.route) route = make_route_drive(sim);
 
+#if STARNAV_HAVE_HTTP
+  // Live: the true pose ten times a simulated second, as steps without sensor layers.
+  std::unique_ptr<RunServer> live;
+  if (o.live) {
+    live = start_live_server(sim, nullptr, o);
+    const std::int64_t every = std::max<std::int64_t>(1, std::llround(0.1 / spec.dt_s));
+    sim.on_step = [&sim, &live, every] {
+      if (sim.step_count() % every == 0) live->publish("step", pose_step_json_line(sim.time(), sim.vehicle().state().pose));
+    };
+  }
+#endif
   SimProgress bar(o.quiet, spec.duration_s);
   const auto t_run = Clock::now();
   sim.run([&bar](double f) { bar.update(f); });
@@ -285,6 +302,9 @@ void run_sim(const SimOptions& o, Context& ctx) {
   write_height_trace(sim, (dir / "height_trace.svg").string());
   write_track(sim, (dir / "track.svg").string());
   write_run_record(sim, nullptr, o.out);
+#if STARNAV_HAVE_HTTP
+  if (live) finish_live(*live, o.out);
+#endif
 
   if (o.json) {
     std::cout << metrics_json(sim);
@@ -329,12 +349,17 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
   sim->add_flag("--json", o->json, "print metrics.json to stdout");
   sim->add_flag("--quiet", o->quiet, "no progress bar");
   sim->add_flag("--live", o->live,
-                "navigation: serve the browser viewer and stream the steps to it while the run goes (docs/viewer.md); "
+                "serve the browser viewer and stream the run to it while it goes (docs/viewer.md); "
                 "the records written are the same bytes as without it");
+  sim->add_flag("--live-wait", o->live_wait, "--live: start the run only once a viewer has connected");
   sim->add_option("--port", o->port, "--live: TCP port (0: any free port; default 8765)")->check(CLI::Range(0, 65535));
   sim->add_option("--bind", o->bind, "--live: address to listen on (default 127.0.0.1)");
   sim->footer(component_help());
-  sim->callback([o, &ctx] { run_sim(*o, ctx); });
+  sim->callback([o, &ctx, sim] {
+    for (const char* flag : {"--port", "--bind", "--live-wait"})
+      if (sim->count(flag) > 0 && !o->live) throw Error("only with --live", "", 0, flag);
+    run_sim(*o, ctx);
+  });
 }
 
 }  // namespace starnav::cli

@@ -96,7 +96,7 @@ TEST(CliSlam, RunWritesATrajectoryPerScanAndEvalReadsIt) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["poses"], 6);
   EXPECT_EQ(j["rpe_base"]["count"], 1);
-  for (const char* f : {"map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"})
+  for (const char* f : {"map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json", "steps.jsonl", "world.json", "run.json"})
     EXPECT_TRUE(std::filesystem::exists(dir.file(std::string("out/") + f))) << f;
   const auto graph = nlohmann::json::parse(test::read_text(dir.file("out/pose_graph.json")));
   EXPECT_EQ(graph["nodes"].size(), j["nodes"].get<std::size_t>());

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <utility>
 #include <vector>
@@ -145,6 +146,43 @@ TEST(OccupancyMapper, AMappedRoomHasItsWallsOccupiedItsInsideFreeAndItsOutsideUn
   EXPECT_GE(g.origin().y, -0.1 - 1e-9);
   EXPECT_LE(g.origin().x + g.width() * g.resolution(), w + 0.1 + 1e-9);
   EXPECT_NEAR(std::fmod(std::abs(g.origin().x), 0.05), 0.0, 1e-9);  // on the lattice
+}
+
+// The viewer's map updates: replaying every scan's class changes over an all-unknown grid gives
+// map_server's trinary reading of the final map, cell for cell, while the grid grows under it.
+TEST(OccupancyMapper, ReplayingTheTrackedChangesGivesTheFinalMapsClasses) {
+  OccupancyMapper m;
+  m.track_changes(true);
+  std::map<std::pair<std::int64_t, std::int64_t>, int> replay;
+  std::size_t changes = 0;
+  for (int k = 0; k < 12; ++k) {
+    const Pose2 pose(0.5 + 0.4 * k, 1.0 + 0.2 * std::sin(k), 0.3 * k);
+    std::vector<float> ranges;
+    for (int i = 0; i < 360; ++i) ranges.push_back(static_cast<float>(to_walls(pose.translation(), pose.yaw - kPi + i * kPi / 180, 6.0, 3.0)));
+    m.add_rays(pose, -kPi, kPi / 180, ranges, 0.1, 25.0);
+    for (const MapCellChange& c : m.last_changes()) {
+      replay[{c.ix, c.iy}] = c.value;
+      ++changes;
+    }
+  }
+  EXPECT_GT(changes, 100u);
+  const OccupancyGrid g = m.grid();
+  const auto x0 = static_cast<std::int64_t>(std::llround(g.origin().x / g.resolution()));
+  const auto y0 = static_cast<std::int64_t>(std::llround(g.origin().y / g.resolution()));
+  for (int y = 0; y < g.height(); ++y)
+    for (int x = 0; x < g.width(); ++x) {
+      const int v = g(x, y);
+      // The grid rounds p to a percent; classes near a threshold are judged from the rounded value
+      // only where it is unambiguous.
+      if (v == 65 || v == 20) continue;
+      const int expected = v < 0 ? -1 : (v >= 65 ? 100 : (v <= 19 ? 0 : -1));
+      const auto it = replay.find({x0 + x, y0 + y});
+      ASSERT_EQ(it == replay.end() ? -1 : it->second, expected) << "cell " << x << ", " << y << " (" << v << "%)";
+    }
+  // Off, nothing is tracked.
+  OccupancyMapper quiet;
+  quiet.add_rays(Pose2(1, 1, 0), -kPi, kPi / 180, std::vector<float>(360, 1.0f), 0.1, 25.0);
+  EXPECT_TRUE(quiet.last_changes().empty());
 }
 
 TEST(OccupancyMapper, GrowsFarAndRefusesAbsurdExtents) {

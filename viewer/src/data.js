@@ -90,8 +90,10 @@ export function parseTrajectory(text) {
   const lines = text.split('\n');
   const header = lines[0].split(',');
   const col = (name) => header.indexOf(name);
+  // A simulation's (t_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,wz_radps) or a SLAM
+  // run's (t_s,x_m,y_m,yaw_rad): what is missing is zero.
   const cols = ['t_s', 'x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad', 'vx_mps', 'vy_mps', 'wz_radps'].map(col);
-  if (cols.slice(0, 7).some((c) => c < 0)) throw new Error('trajectory.csv: missing a column of t_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad');
+  if ([0, 1, 2, 6].some((i) => cols[i] < 0)) throw new Error('trajectory.csv: missing a column of t_s,x_m,y_m,yaw_rad');
   const n = lines.length - 1;
   const t = new Float64Array(n);
   const pose = new Float32Array(n * 6);
@@ -101,7 +103,7 @@ export function parseTrajectory(text) {
     if (lines[i].length === 0) continue;
     const f = lines[i].split(',');
     t[k] = +f[cols[0]];
-    for (let j = 0; j < 6; ++j) pose[k * 6 + j] = +f[cols[1 + j]];
+    for (let j = 0; j < 6; ++j) pose[k * 6 + j] = cols[1 + j] >= 0 ? +f[cols[1 + j]] : 0;
     for (let j = 0; j < 3; ++j) speed[k * 3 + j] = cols[7 + j] >= 0 ? +f[cols[7 + j]] : 0;
     ++k;
   }
@@ -124,6 +126,7 @@ export class Steps {
     this.particleStart = new Pool(Uint32Array);
     this.particles = new Pool(Float32Array, 1 << 14);
     this.paths = []; // {id, t, points: Float32Array}
+    this.loops = []; // {t, segment: [x1, y1, x2, y2]} (SLAM runs' loop closures)
     this.maxHits = 0;
     this.maxParticles = 0;
   }
@@ -164,6 +167,7 @@ export class Steps {
       this.particles.data[this.particles.length++] = q[2];
     }
     this.maxParticles = Math.max(this.maxParticles, particles.length);
+    for (const l of s.loop_closures || []) this.loops.push({ t: s.t_s, segment: l });
     if (s.path) {
       const pts = new Float32Array(s.path.length * 2);
       s.path.forEach((v, i) => {

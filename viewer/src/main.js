@@ -9,7 +9,7 @@ import {
   DynamicPoints, goalMarker, lineOf, NavMapLayer, Obstacles, pathColour, poseArrow, Robot, Terrain,
 } from './scene.js';
 
-const LAYERS = ['terrain', 'map', 'obstacles', 'robot', 'hits', 'paths', 'trajectory', 'particles', 'estimate'];
+const LAYERS = ['terrain', 'map', 'obstacles', 'robot', 'hits', 'paths', 'trajectory', 'particles', 'estimate', 'loops'];
 
 const state = {
   ready: false,
@@ -54,7 +54,9 @@ class Viewer {
   constructor(root) {
     this.root = root;
     this.source = new RunSource();
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    // No multisampling: with software GL (SwiftShader, the usual case headless and on machines
+    // without a GPU) it multiplies the cost of every pixel.
+    this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.renderer.setClearColor(0xdde6ee);
     this.canvas = this.renderer.domElement;
@@ -67,6 +69,9 @@ class Viewer {
     this.controls.addEventListener('start', () => {
       // Dragging the view lets the robot go.
       this.setFollow(false);
+    });
+    this.controls.addEventListener('change', () => {
+      this.dirty = true;
     });
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x667755, 1.6));
     const sun = new THREE.DirectionalLight(0xffffff, 1.4);
@@ -109,6 +114,9 @@ class Viewer {
       this.navMap.update(this.occupancy.cells, null);
       this.layers.map.add(this.navMap.mesh);
     }
+    // Times in the record are the run's clock (a log's for SLAM runs, from start_s); the
+    // timeline and the page's state count from the start.
+    state.start = this.manifest.start_s || 0;
     state.duration = this.manifest.duration_s || 0;
     this.buildUi();
     this.resize();
@@ -137,7 +145,7 @@ class Viewer {
     }
     if (this.steps.maxParticles > 0 && (!this.particles || this.particles.capacity < this.steps.maxParticles)) {
       if (this.particles) this.layers.particles.remove(this.particles.points);
-      this.particles = new DynamicPoints('particles', 0x1f77b4, 2, this.steps.maxParticles);
+      this.particles = new DynamicPoints('particles', 0x1f77b4, 3, this.steps.maxParticles);
       this.layers.particles.add(this.particles.points);
     }
     for (const p of this.steps.paths.slice(this.pathLines.length)) {
@@ -147,6 +155,8 @@ class Viewer {
       this.layers.paths.add(line);
       this.pathLines.push(line);
     }
+    if (this.steps.loops.length !== (this.loopCount || 0)) this.buildLoops();
+    if (!this.trajectory && this.steps.count > 0) this.buildStepTrajectory();
     if (this.steps.hasEstimate && !this.estimateArrow) {
       this.estimateArrow = poseArrow(0x1f77b4);
       this.layers.estimate.add(this.estimateArrow);
@@ -155,15 +165,48 @@ class Viewer {
     state.pathCount = this.pathLines.length;
     state.stepsLoaded = this.steps.count;
     if (!this.trajectory && this.steps.count > 0) {
-      const last = this.steps.time(this.steps.count - 1);
+      const last = this.steps.time(this.steps.count - 1) - state.start;
       state.duration = Math.max(state.duration, last);
       this.scrubber.max = String(state.duration);
     }
     if (state.live) {
       state.liveSteps = this.steps.count;
-      this.setTime(this.steps.time(this.steps.count - 1));
+      this.setTime(this.steps.time(this.steps.count - 1) - state.start);
     }
     this.dirty = true;
+  }
+
+  // Loop closures (SLAM runs): one segment set in time order, drawn up to the current time.
+  buildLoops() {
+    const loops = this.steps.loops;
+    const pos = new Float32Array(loops.length * 6);
+    loops.forEach((l, i) => pos.set([l.segment[0], l.segment[1], 0.05, l.segment[2], l.segment[3], 0.05], 6 * i));
+    if (this.loopLines) this.layers.loops.remove(this.loopLines);
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    this.loopLines = new THREE.LineSegments(geo, new THREE.LineBasicMaterial({ color: 0xd55e00, transparent: true, opacity: 0.5 }));
+    this.loopLines.name = 'loop_closures';
+    this.loopLines.frustumCulled = false;
+    this.layers.loops.add(this.loopLines);
+    this.loopCount = loops.length;
+  }
+
+  // Without trajectory.csv (a live run): the executed path from the steps' poses.
+  buildStepTrajectory() {
+    const n = this.steps.count;
+    const pts = new Float32Array(n * 2);
+    const zs = new Float32Array(n);
+    for (let i = 0; i < n; ++i) {
+      pts[2 * i] = this.steps.pose.data[6 * i];
+      pts[2 * i + 1] = this.steps.pose.data[6 * i + 1];
+      zs[i] = this.steps.pose.data[6 * i + 2];
+    }
+    let k = 0;
+    if (this.trajLine) this.layers.trajectory.remove(this.trajLine);
+    this.trajLine = lineOf(pts, () => zs[k++] + 0.03, 0x111111, 2);
+    this.trajLine.name = 'trajectory';
+    this.trajFromSteps = true;
+    this.layers.trajectory.add(this.trajLine);
   }
 
   groundZ(x, y) {
@@ -213,25 +256,49 @@ class Viewer {
     this.layers.trajectory.add(this.trajLine);
   }
 
+  // The overview: everything the run is about (start, goals, trajectory, obstacles, the
+  // navigator's grid) from the south-south-west, looking down at about 40 degrees. A terrain
+  // larger than that region does not widen it.
   frameCamera() {
     const box = new THREE.Box3();
-    for (const name of ['terrain', 'obstacles', 'map']) {
-      const g = this.layers[name];
-      if (g.children.length && !(name === 'terrain' && !this.terrain)) box.expandByObject(g);
+    const add = (x, y, z = 0) => box.expandByPoint(new THREE.Vector3(x, y, z));
+    const w = this.world;
+    add(w.start[0], w.start[1], this.groundZ(w.start[0], w.start[1]));
+    for (const g of w.goals || []) add(g[0], g[1], this.groundZ(g[0], g[1]));
+    const tr = this.trajectory;
+    if (tr) for (let i = 0; i < tr.count; i += Math.max(1, Math.floor(tr.count / 2000))) add(tr.pose[6 * i], tr.pose[6 * i + 1], tr.pose[6 * i + 2]);
+    for (const o of w.obstacles || []) {
+      for (const p of o.parts.length > 2000 ? o.parts.filter((_, i) => i % Math.ceil(o.parts.length / 2000) === 0) : o.parts) {
+        add(p[1], p[2], p[3]);
+      }
     }
-    const s = this.world.start;
-    if (box.isEmpty() || box.getSize(new THREE.Vector3()).length() > 1000) {
-      box.setFromCenterAndSize(new THREE.Vector3(s[0], s[1], 0), new THREE.Vector3(20, 20, 2));
+    if (w.nav_map) {
+      const m = w.nav_map;
+      const [ox, oy, yaw] = m.origin;
+      const sx = m.width * m.resolution_m;
+      const sy = m.height * m.resolution_m;
+      for (const [gx, gy] of [[0, 0], [sx, 0], [0, sy], [sx, sy]])
+        add(ox + Math.cos(yaw) * gx - Math.sin(yaw) * gy, oy + Math.sin(yaw) * gx + Math.cos(yaw) * gy, this.baseZ);
     }
-    const c = box.getCenter(new THREE.Vector3());
     const size = box.getSize(new THREE.Vector3());
-    const r = Math.max(size.x, size.y, 4);
-    this.overview = { target: c, position: new THREE.Vector3(c.x - 0.15 * r, c.y - 0.9 * r, c.z + 0.75 * r) };
+    const c = box.getCenter(new THREE.Vector3());
+    const r = Math.max(size.x, size.y, 4) * 1.05;
+    this.overview = { target: c, position: new THREE.Vector3(c.x - 0.2 * r, c.y - 0.85 * r, c.z + 0.75 * r) };
     this.camera.position.copy(this.overview.position);
     this.controls.target.copy(c);
-    this.camera.far = Math.max(100, 8 * r);
+    this.camera.far = Math.max(100, 10 * r);
     this.camera.updateProjectionMatrix();
     this.controls.update();
+  }
+
+  // A close view behind and above the robot, following it.
+  closeUp() {
+    const r = state.robot;
+    if (!r) return;
+    const d = Math.max(2.5, 6 * (this.world.robot.body_length_m || 0.5));
+    this.controls.target.set(r.x, r.y, r.z);
+    this.camera.position.set(r.x - d * Math.cos(r.yaw) * 0.8, r.y - d * Math.sin(r.yaw) * 0.8 - 0.3 * d, r.z + d);
+    this.setFollow(true);
   }
 
   // The robot's true pose at time t: the trajectory (interpolated), or the steps' poses.
@@ -259,15 +326,22 @@ class Viewer {
     return { index: k, pose: Array.from(this.steps.pose.data.subarray(6 * k, 6 * k + 6)), speed: [NaN, NaN, NaN] };
   }
 
-  setTime(t) {
-    t = Math.max(0, Math.min(state.duration || 0, t));
-    state.time = t;
+  setTime(tau) {
+    tau = Math.max(0, Math.min(state.duration || 0, tau));
+    state.time = tau;
+    const t = tau + state.start;
     const { index, pose, speed } = this.poseAt(t);
     this.robot.set(...pose);
     state.robot = { x: pose[0], y: pose[1], z: pose[2], roll: pose[3], pitch: pose[4], yaw: pose[5] };
     state.speed_mps = Math.hypot(speed[0], speed[1]);
     state.obstaclesShown = this.obstacles.update(t);
-    if (this.trajLine) this.trajLine.geometry.setDrawRange(0, index + 1);
+    if (this.trajLine) this.trajLine.geometry.setDrawRange(0, (this.trajFromSteps ? this.steps.indexAt(t) : index) + 1);
+    if (this.loopLines) {
+      let n = 0;
+      while (n < this.steps.loops.length && this.steps.loops[n].t <= t) ++n;
+      this.loopLines.geometry.setDrawRange(0, 2 * n);
+      state.loopsShown = n;
+    }
     const k = this.steps ? this.steps.indexAt(t) : -1;
     state.stepIndex = k;
     if (this.hits) state.hitsShown = k >= 0 ? this.hits.set(this.steps.hitsOf(k)) : this.hits.set([]);
@@ -301,7 +375,7 @@ class Viewer {
         this.occupancy.changedSince = [];
       }
     }
-    if (this.scrubber && document.activeElement !== this.scrubber) this.scrubber.value = String(t);
+    if (this.scrubber && document.activeElement !== this.scrubber) this.scrubber.value = String(tau);
     this.updatePanel();
     this.dirty = true;
   }
@@ -309,6 +383,7 @@ class Viewer {
   setFollow(on) {
     state.follow = on;
     if (this.followBox) this.followBox.checked = on;
+    this.dirty = true;
   }
 
   setLayer(name, on) {
@@ -325,7 +400,7 @@ class Viewer {
     const r = state.robot;
     const m = this.metrics || {};
     const rows = [
-      ['run', `${this.manifest.scenario ? this.manifest.scenario.name : ''} (${this.manifest.kind})`],
+      ['run', `${this.manifest.scenario ? this.manifest.scenario.name : this.manifest.log ? `${this.manifest.log.name}, ${this.manifest.log.method}` : ''} (${this.manifest.kind})`],
       ['time', `${fmt(state.time)} / ${fmt(state.duration)} s`],
       ['pose', r ? `x ${fmt(r.x)} y ${fmt(r.y)} z ${fmt(r.z)} m, yaw ${fmt((r.yaw * 180) / Math.PI, 1)}°` : '-'],
       ['speed', `${fmt(state.speed_mps)} m/s`],
@@ -334,6 +409,7 @@ class Viewer {
     ];
     if (state.estimate && r) rows.push(['estimate error', `${fmt(Math.hypot(state.estimate.x - r.x, state.estimate.y - r.y), 3)} m`]);
     if (m.outcome !== undefined) rows.push(['outcome', `${m.outcome}, ${fmt(m.distance_m)} m, ${m.plans} plans, ${m.collisions} collisions`]);
+    if (this.steps && this.steps.loops.length) rows.push(['loop closures', `${state.loopsShown || 0} of ${this.steps.loops.length}`]);
     if (state.live) rows.push(['live', `${state.liveSteps} steps received${state.liveEnded ? ' (ended)' : ''}`]);
     this.panel.replaceChildren(
       ...rows.map(([k, v]) => el('div', {}, el('b', {}, `${k}: `), v)),
@@ -360,7 +436,7 @@ class Viewer {
       }));
     const stepBy = (d) => () => {
       const k = Math.max(0, Math.min((this.steps ? this.steps.count : 1) - 1, state.stepIndex + d));
-      this.setTime(this.steps && this.steps.count ? this.steps.time(k) : state.time + d * 0.1);
+      this.setTime(this.steps && this.steps.count ? this.steps.time(k) - state.start : state.time + d * 0.1);
     };
     this.scrubber = el('input', {
       type: 'range', id: 'scrubber', min: '0', max: String(state.duration), step: 'any', value: '0',
@@ -414,7 +490,8 @@ class Viewer {
         this.setTime(next);
         if (next >= state.duration && !state.live) this.togglePlay();
       }
-      if (this.dirty || state.follow) this.render();
+      // Only when something changed: an idle page costs nothing (software GL renders on the CPU).
+      if (this.dirty) this.render();
       requestAnimationFrame(tick);
     };
     requestAnimationFrame(tick);
@@ -487,6 +564,10 @@ async function main() {
       viewer.setFollow(false);
       viewer.camera.position.copy(viewer.overview.position);
       viewer.controls.target.copy(viewer.overview.target);
+      viewer.render();
+    },
+    closeUp: () => {
+      viewer.closeUp();
       viewer.render();
     },
   };

@@ -32,16 +32,21 @@ function gridToWorld(g, gx, gy) {
   return [ox + c * gx - s * gy, oy + s * gx + c * gy];
 }
 
+// The most mesh vertices per side: software GL draws every triangle on the CPU, and a finer mesh
+// than the screen shows costs frame time for nothing (heights are still read at full detail).
+const MESH_MAX_SIDE = 128;
+
 export class Terrain {
   constructor(t) {
     this.t = t;
-    const w = t.samples_x;
-    const h = t.samples_y;
-    const step = t.resolution_m * t.stride;
-    const heights = t.heights;
+    const k = Math.max(1, Math.ceil(Math.max(t.samples_x, t.samples_y) / MESH_MAX_SIDE));
+    const w = Math.ceil(t.samples_x / k);
+    const h = Math.ceil(t.samples_y / k);
+    const heights = [];
+    for (let iy = 0; iy < h; ++iy) for (let ix = 0; ix < w; ++ix) heights.push(t.heights[iy * k * t.samples_x + ix * k]);
     let lo = Infinity;
     let hi = -Infinity;
-    for (const v of heights)
+    for (const v of t.heights)
       if (v !== null) {
         lo = Math.min(lo, v);
         hi = Math.max(hi, v);
@@ -55,7 +60,8 @@ export class Terrain {
     for (let iy = 0; iy < h; ++iy)
       for (let ix = 0; ix < w; ++ix) {
         const k = iy * w + ix;
-        const [x, y] = gridToWorld(t, (ix + 0.5) * step, (iy + 0.5) * step);
+        // Sample (ix k, iy k) is cell (ix k stride, iy k stride): its centre.
+        const [x, y] = gridToWorld(t, (ix * k * t.stride + 0.5) * t.resolution_m, (iy * k * t.stride + 0.5) * t.resolution_m);
         const z = heights[k] === null ? lo : heights[k];
         pos.set([x, y, z], 3 * k);
         heightColour(z, lo, hi, rgb);
@@ -77,7 +83,16 @@ export class Terrain {
     geo.setAttribute('color', new THREE.BufferAttribute(col, 3));
     geo.setIndex(index.length > 65535 ? new THREE.Uint32BufferAttribute(index, 1) : new THREE.Uint16BufferAttribute(index, 1));
     geo.computeVertexNormals();
-    this.mesh = new THREE.Mesh(geo, new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide }));
+    // Hill shading baked into the vertex colours under a fixed sun: an unlit material then costs
+    // a software renderer a fraction of a lit one per pixel, and the light never moves anyway.
+    const normals = geo.getAttribute('normal');
+    const sun = new THREE.Vector3(0.3, -0.4, 0.87).normalize();
+    for (let i = 0; i < w * h; ++i) {
+      const lambert = Math.max(0, normals.getX(i) * sun.x + normals.getY(i) * sun.y + normals.getZ(i) * sun.z);
+      const shade = 0.45 + 0.6 * lambert;
+      for (let j = 0; j < 3; ++j) col[3 * i + j] = Math.min(1, col[3 * i + j] * shade);
+    }
+    this.mesh = new THREE.Mesh(geo, new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide }));
     this.mesh.name = 'terrain';
   }
   // Bilinear height at world (x, y) (NaN off the terrain).
@@ -88,9 +103,9 @@ export class Terrain {
     const s = Math.sin(yaw);
     const dx = x - ox;
     const dy = y - oy;
-    const step = t.resolution_m * t.stride;
-    const gx = (c * dx + s * dy) / step - 0.5;
-    const gy = (-s * dx + c * dy) / step - 0.5;
+    // Sample s sits at the centre of cell s * stride.
+    const gx = ((c * dx + s * dy) / t.resolution_m - 0.5) / t.stride;
+    const gy = ((-s * dx + c * dy) / t.resolution_m - 0.5) / t.stride;
     const w = t.samples_x;
     const h = t.samples_y;
     const ix = Math.max(0, Math.min(w - 1, Math.floor(gx)));
@@ -121,7 +136,9 @@ export class NavMapLayer {
     this.texture.minFilter = THREE.NearestFilter;
     const size = [w * navMap.resolution_m, h * navMap.resolution_m];
     const geo = new THREE.PlaneGeometry(size[0], size[1]);
-    const mat = new THREE.MeshBasicMaterial({ map: this.texture, transparent: true, depthWrite: false });
+    // Unknown cells are cut out (alpha test) rather than blended: blending a plane over the whole
+    // view doubles a software renderer's work per pixel.
+    const mat = new THREE.MeshBasicMaterial({ map: this.texture, alphaTest: 0.5, depthWrite: false });
     this.mesh = new THREE.Mesh(geo, mat);
     const [cx, cy] = gridToWorld(navMap, size[0] / 2, size[1] / 2);
     this.mesh.position.set(cx, cy, baseZ + 0.01);
@@ -134,9 +151,9 @@ export class NavMapLayer {
     if (v < 0) {
       this.rgba[o + 3] = 0;
     } else if (v >= 65) {
-      this.rgba.set([200, 40, 40, 230], o);
+      this.rgba.set([200, 40, 40, 255], o);
     } else {
-      this.rgba.set([235, 235, 225, 90], o);
+      this.rgba.set([222, 222, 208, 255], o);
     }
   }
   update(cells, indices) {

@@ -69,6 +69,7 @@ SlamBenchmarkResult run_slam_benchmark(const SlamBenchmarkConfig& c) {
   for (std::size_t k = 0; k < c.logs.size(); ++k) {
     const SlamBenchmarkLog& entry = c.logs[k];
     SlamRunRequest q;
+    q.record_steps = false;  // the viewer's steps would weigh on the measured peak memory
     q.log = under(c.data_dir, entry.log);
     q.relations = under(c.relations_dir, entry.relations);
     q.read = entry.read;

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "starnav/core/angle.hpp"
@@ -18,6 +19,8 @@
 #include "starnav/logs/log_file.hpp"
 #include "starnav/registry/components.hpp"
 #include "starnav/slam/graph_slam.hpp"
+#include "starnav/robot/robot_model.hpp"
+#include "starnav/view/run_folder.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav {
@@ -76,7 +79,23 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   if (r.trajectory.empty()) throw Error("no scan has an odometry pose to start from", q.log, 0, "LOG");
   r.graph = slam->graph();
   r.statistics = slam->statistics();
-  r.map = map_log(log, r.trajectory, q.mapping).grid;
+  MapScanObserver observer;
+  if (q.record_steps)
+    observer = [&r](const LogScan& scan, const Pose2& base, const Pose2& sensor, const std::vector<MapCellChange>& changes) {
+      SlamViewStep step;
+      step.stamp_us = scan.stamp_us;
+      step.base = base;
+      step.changes = changes;
+      const std::size_t every = std::max<std::size_t>(1, (scan.ranges_m.size() + kSlamStepHits - 1) / kSlamStepHits);
+      for (std::size_t i = 0; i < scan.ranges_m.size(); i += every) {
+        const double d = scan.ranges_m[i];
+        if (!(d >= scan.range_min_m && d < scan.range_max_m && d > 0.0)) continue;
+        const double a = sensor.yaw + scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
+        step.hits.push_back(sensor.translation() + d * Vec2(std::cos(a), std::sin(a)));
+      }
+      r.steps.push_back(std::move(step));
+    };
+  r.map = map_log(log, r.trajectory, q.mapping, observer).grid;
   r.peak_rss_bytes = peak_rss_bytes();
   if (!log.truth.empty()) {
     r.ate = absolute_trajectory_error(r.trajectory, log);
@@ -183,8 +202,73 @@ void write_slam_picture(const SlamRunResult& r, const std::string& path) {
 }
 
 const std::vector<std::string>& slam_output_files() {
-  static const std::vector<std::string> files = {"trajectory.csv", "map.yaml", "map.pgm", "pose_graph.json", "map.png", "summary.json"};
+  static const std::vector<std::string> files = {"trajectory.csv", "map.yaml",   "map.pgm",    "pose_graph.json", "map.png",
+                                                 "summary.json",   "steps.jsonl", "world.json", "run.json"};
   return files;
+}
+
+namespace {
+
+double slam_mm(double v) { return unsigned_zero(std::round(v * 1000.0) / 1000.0); }
+double slam_cm(double v) { return unsigned_zero(std::round(v * 100.0) / 100.0); }
+
+}  // namespace
+
+std::string slam_steps_jsonl(const SlamRunResult& r) {
+  if (r.steps.empty()) return {};
+  const GridGeometry& g = r.map.geometry();
+  const auto lattice_x0 = static_cast<std::int64_t>(std::llround(g.origin.x / g.resolution));
+  const auto lattice_y0 = static_cast<std::int64_t>(std::llround(g.origin.y / g.resolution));
+  // Each loop closure shows when the later of its two nodes was added.
+  std::map<std::int64_t, std::vector<std::pair<Vec2, Vec2>>> closures_at;
+  for (const SlamGraphEdge& e : r.graph.edges) {
+    if (e.kind == SlamEdgeKind::Local) continue;
+    const TrajectoryPose& a = r.graph.nodes[e.from];
+    const TrajectoryPose& b = r.graph.nodes[e.to];
+    closures_at[std::max(a.stamp_us, b.stamp_us)].emplace_back(a.pose.translation(), b.pose.translation());
+  }
+  std::string out;
+  for (const SlamViewStep& s : r.steps) {
+    nlohmann::ordered_json j;
+    j["t_s"] = slam_mm(static_cast<double>(s.stamp_us) * 1e-6);  // the log's clock, as trajectory.csv
+    j["pose"] = {slam_mm(s.base.x), slam_mm(s.base.y), 0.0, 0.0, 0.0, slam_mm(wrap_angle(s.base.yaw))};
+    nlohmann::ordered_json hits = nlohmann::ordered_json::array();
+    for (const Vec2& h : s.hits) hits.push_back({slam_cm(h.x()), slam_cm(h.y()), 0.0});
+    j["hits"] = std::move(hits);
+    nlohmann::ordered_json changed = nlohmann::ordered_json::array();
+    for (const MapCellChange& c : s.changes)
+      changed.push_back({c.ix - lattice_x0, c.iy - lattice_y0, static_cast<int>(c.value)});
+    j["changed"] = std::move(changed);
+    if (const auto it = closures_at.find(s.stamp_us); it != closures_at.end()) {
+      nlohmann::ordered_json loops = nlohmann::ordered_json::array();
+      for (const auto& [a, b] : it->second) loops.push_back({slam_mm(a.x()), slam_mm(a.y()), slam_mm(b.x()), slam_mm(b.y())});
+      j["loop_closures"] = std::move(loops);
+    }
+    out += j.dump() + '\n';
+  }
+  return out;
+}
+
+std::string slam_world_json(const SlamRunResult& r) {
+  const GridGeometry& g = r.map.geometry();
+  nlohmann::ordered_json j;
+  j["schema"] = "starnav-world";
+  j["version"] = kRunRecordVersion;
+  j["obstacles"] = nlohmann::ordered_json::array();
+  const RobotConfig robot;  // a log knows nothing of the body: the default robot's, for scale
+  j["robot"] = {{"drive", drive_kind_name(robot.drive)},       {"body_length_m", robot.body_length_m},
+                {"body_width_m", robot.body_width_m},         {"body_height_m", robot.body_height_m},
+                {"ground_clearance_m", robot.ground_clearance_m}, {"wheel_radius_m", robot.wheel_radius_m},
+                {"half_track_m", robot.half_track_m},         {"half_wheelbase_m", robot.half_wheelbase_m},
+                {"body_center_x_m", 0.0}};
+  const Pose2 start = r.trajectory.empty() ? Pose2() : r.trajectory.front().pose;
+  j["start"] = {slam_mm(start.x), slam_mm(start.y), slam_mm(start.yaw)};
+  j["nav_map"] = {{"width", g.width},
+                  {"height", g.height},
+                  {"resolution_m", g.resolution},
+                  {"origin", {slam_mm(g.origin.x), slam_mm(g.origin.y), slam_mm(g.origin.yaw)}},
+                  {"initial", {-1, g.cell_count()}}};
+  return j.dump() + "\n";
 }
 
 void write_slam_outputs(const SlamRunResult& r, const std::string& dir) {
@@ -196,6 +280,16 @@ void write_slam_outputs(const SlamRunResult& r, const std::string& dir) {
   write_file_bytes((d / "pose_graph.json").string(), pose_graph_json(r.graph));
   write_slam_picture(r, (d / "map.png").string());
   write_file_bytes((d / "summary.json").string(), slam_summary_json(r).dump(1) + "\n");
+  if (!r.steps.empty()) {
+    write_file_bytes((d / "steps.jsonl").string(), slam_steps_jsonl(r));
+    write_file_bytes((d / "world.json").string(), slam_world_json(r));
+    nlohmann::ordered_json about;
+    about["log"] = {{"name", fs::path(r.log).filename().string()}, {"method", r.method}};
+    // Times are the log's: the run starts at its first mapped scan.
+    about["start_s"] = slam_mm(static_cast<double>(r.steps.front().stamp_us) * 1e-6);
+    about["duration_s"] = static_cast<double>(r.steps.back().stamp_us - r.steps.front().stamp_us) * 1e-6;
+    write_run_manifest(dir, "slam", about.dump());
+  }
 }
 
 }  // namespace starnav

@@ -2,7 +2,8 @@
 // `starnav slam run` as one library call: a log read, a registered SLAM method run over it, its
 // trajectory evaluated against a benchmark relation file (base and laser poses), the map rendered
 // from every scan at its SLAM pose, and the run's outputs: trajectory.csv, map.yaml + .pgm,
-// pose_graph.json, map.png (the map with the trajectory and the loop closures), summary.json.
+// pose_graph.json, map.png (the map with the trajectory and the loop closures), summary.json,
+// and the run record the viewer reads (steps.jsonl, world.json, run.json).
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/robot_log.hpp"
 #include "starnav/slam/relative_pose_error.hpp"
+#include "starnav/slam/log_mapping.hpp"
 #include "starnav/slam/slam.hpp"
 #include "starnav/slam/trajectory_error.hpp"
 
@@ -28,7 +30,18 @@ struct SlamRunRequest {
   std::vector<ParamSetting> settings;     // its parameters
   std::string relations;                  // optional benchmark relation file
   OccupancyMappingParams mapping;         // the written map
+  bool record_steps = true;               // the viewer's steps (steps.jsonl): poses, scans, map updates
 };
+
+// One mapped scan as the viewer replays it: the base pose, the scan's end points (world frame,
+// every k-th beam: at most kSlamStepHits) and the map cells it changed (lattice indices).
+struct SlamViewStep {
+  std::int64_t stamp_us = 0;
+  Pose2 base;
+  std::vector<Vec2> hits;
+  std::vector<MapCellChange> changes;
+};
+inline constexpr std::size_t kSlamStepHits = 180;
 
 struct SlamRunResult {
   std::string log;
@@ -45,6 +58,7 @@ struct SlamRunResult {
   std::optional<RelativePoseError> rpe, rpe_laser;  // with relations; laser: when the mount is not zero
   // Logs with ground truth (simulated): the absolute trajectory error of SLAM and of the odometry.
   std::optional<AbsoluteTrajectoryError> ate, ate_odometry;
+  std::vector<SlamViewStep> steps;       // with record_steps, in log order
   double real_time_factor() const { return cpu_s > 0 ? log_duration_s / cpu_s : 0.0; }
 };
 
@@ -61,9 +75,15 @@ std::string pose_graph_json(const SlamGraph& graph);
 // The map with the trajectory (blue), loop closures (lines from the submap's anchor to the node).
 void write_slam_picture(const SlamRunResult& r, const std::string& path);
 // The files a SLAM run writes into its folder: trajectory.csv, map.yaml + map.pgm,
-// pose_graph.json, map.png, summary.json.
+// pose_graph.json, map.png, summary.json, and the run record: steps.jsonl, world.json, run.json.
 const std::vector<std::string>& slam_output_files();
-// Every output into `dir` (created).
+// The run record of a SLAM run (docs/run-records.md, kind "slam"): steps.jsonl, one line per
+// mapped scan (t_s on the log's clock, pose, hits, changed: cells of the final map's grid,
+// loop_closures found when the scan's node was added), and world.json (the final map's grid, all
+// unknown at first, and the start).
+std::string slam_steps_jsonl(const SlamRunResult& r);
+std::string slam_world_json(const SlamRunResult& r);
+// Every output into `dir` (created), with run.json last.
 void write_slam_outputs(const SlamRunResult& r, const std::string& dir);
 
 // The process's peak resident set since the last reset_peak_rss() (Linux VmHWM; bytes, 0 where

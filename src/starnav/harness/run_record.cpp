@@ -148,34 +148,46 @@ std::string world_json(const Simulation& sim, const NavigationRun* navigation) {
   return j.dump() + "\n";
 }
 
-std::string run_manifest_json(const Simulation& sim, const std::string& kind, const std::vector<std::string>& files,
-                              bool live) {
+namespace {
+
+Json run_about(const Simulation& sim, bool live) {
   const ScenarioSpec& spec = sim.spec();
   Json j;
-  j["schema"] = "starnav-run";
-  j["version"] = kRunRecordVersion;
-  j["kind"] = kind;
   j["scenario"] = {{"name", spec.name}, {"file", std::filesystem::path(spec.file).filename().string()}};
   j["seed"] = spec.seed;
   j["dt_s"] = spec.dt_s;
   j["duration_s"] = live ? spec.duration_s : sim.time();
   if (live) j["live"] = true;
-  j["files"] = files;
+  return j;
+}
+
+}  // namespace
+
+std::string run_about_json(const Simulation& sim, bool live) { return run_about(sim, live).dump(); }
+
+std::string live_run_manifest_json(const Simulation& sim, const std::string& kind) {
+  Json j;
+  j["schema"] = "starnav-run";
+  j["version"] = kRunRecordVersion;
+  j["kind"] = kind;
+  const Json about = run_about(sim, true);
+  for (const auto& [key, value] : about.items()) j[key] = value;
+  j["files"] = {"world.json"};
   return j.dump(2) + "\n";
 }
 
+std::string pose_step_json_line(double t_s, const Pose3& pose) {
+  const Vec3 rpy = pose.rpy();
+  Json j;
+  j["t_s"] = to_mm(t_s);
+  j["pose"] = {to_mm(pose.position.x()), to_mm(pose.position.y()), to_mm(pose.position.z()),
+               to_mm(rpy.x()),           to_mm(rpy.y()),           to_mm(rpy.z())};
+  return j.dump();
+}
+
 void write_run_record(const Simulation& sim, const NavigationRun* navigation, const std::string& dir) {
-  namespace fs = std::filesystem;
-  const fs::path d(dir);
-  write_file_bytes((d / "world.json").string(), world_json(sim, navigation));
-  std::vector<std::string> files;
-  std::error_code ec;
-  for (const fs::directory_entry& e : fs::directory_iterator(d, ec))
-    // Plain names only: the output folder's lock (a dot file) is not part of the record.
-    if (e.is_regular_file(ec) && e.path().filename() != "run.json" && is_plain_file_name(e.path().filename().string()))
-      files.push_back(e.path().filename().string());
-  std::sort(files.begin(), files.end());
-  write_file_bytes((d / "run.json").string(), run_manifest_json(sim, navigation ? "navigation" : "simulation", files));
+  write_file_bytes((std::filesystem::path(dir) / "world.json").string(), world_json(sim, navigation));
+  write_run_manifest(dir, navigation ? "navigation" : "simulation", run_about_json(sim, false));
 }
 
 }  // namespace starnav

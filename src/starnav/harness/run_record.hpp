@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "starnav/core/geometry.hpp"
+
 namespace starnav {
 
 class Simulation;
@@ -17,12 +19,15 @@ inline constexpr int kWorldTerrainMaxSide = 512;
 // world.json of a run (deterministic; heights to the millimetre).
 std::string world_json(const Simulation& sim, const NavigationRun* navigation = nullptr);
 
-// run.json: schema and version, kind ("simulation" or "navigation"), the scenario's name, file,
-// seed, step and duration, and the files of the folder (plain names, sorted; run.json itself excluded).
-// `live`: the manifest a live server hands out before the run has written anything (its steps
-// come as events; "live": true and the scenario's duration).
-std::string run_manifest_json(const Simulation& sim, const std::string& kind, const std::vector<std::string>& files,
-                              bool live = false);
+// What run.json says of a simulated run besides its schema, kind and files: the scenario's name
+// and file (without folders), seed, step and duration; `live`: the scenario's duration and
+// "live": true, for the manifest a live server hands out before the run has written anything.
+std::string run_about_json(const Simulation& sim, bool live);
+// That live manifest: its only file is world.json (served from memory); the steps come as events.
+std::string live_run_manifest_json(const Simulation& sim, const std::string& kind);
+
+// A steps.jsonl line with the true pose only ({"t_s", "pose"}: what a live scripted run streams).
+std::string pose_step_json_line(double t_s, const Pose3& pose);
 
 // Writes world.json, then run.json listing every regular file in `dir` (call last). Throws Error
 // naming the file when one cannot be written.

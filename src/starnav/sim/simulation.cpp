@@ -189,6 +189,7 @@ void Simulation::step() {
 
   sample_sensors(false);
   track_step();
+  if (on_step) on_step();
 }
 
 void Simulation::teleport(const Pose2& to) {

@@ -98,6 +98,8 @@ class Simulation {
   // When set, replaces the command script: called at every step with t_k and the vehicle in its
   // state at t_k; returns the body twist to apply over the step (navigation drives through it).
   std::function<BodyTwist(double t)> command_source;
+  // Called after every step, the vehicle at its new state (a live viewer's feed of the pose).
+  std::function<void()> on_step;
 
   const ScenarioSpec& spec() const { return spec_; }
   const World& world() const { return world_; }

@@ -16,8 +16,10 @@ namespace starnav {
 namespace {
 
 LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
-                      const std::function<std::optional<Pose2>(std::size_t, bool& sensor_pose)>& pose_of) {
+                      const std::function<std::optional<Pose2>(std::size_t, bool& sensor_pose)>& pose_of,
+                      const MapScanObserver& observer) {
   OccupancyMapper mapper(params);
+  mapper.track_changes(static_cast<bool>(observer));
   LogMapResult r;
   for (std::size_t k = 0; k < log.scans.size(); ++k) {
     const LogScan& scan = log.scans[k];
@@ -30,6 +32,7 @@ LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
     const Pose2 sensor = is_sensor_pose ? *p : laser_pose(log, *p);
     const Pose2 base = is_sensor_pose ? sensor.compose(log.laser_in_base.value_or(Pose2()).inverse()) : *p;
     mapper.add_scan(sensor, scan);
+    if (observer) observer(scan, base, sensor, mapper.last_changes());
     r.base_poses.push_back({scan.stamp_us, base});
     ++r.scans_mapped;
   }
@@ -47,7 +50,8 @@ std::vector<LogOdometry> truth_readings(const RobotLog& log) {
 
 Pose2 laser_pose(const RobotLog& log, const Pose2& base) { return base.compose(log.laser_in_base.value_or(Pose2())); }
 
-LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyMappingParams& params) {
+LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyMappingParams& params,
+                     const MapScanObserver& observer) {
   const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
   const std::vector<LogOdometry> truth = truth_readings(log);
   if (source == LogPoseSource::Truth && truth.empty()) throw Error("holds no ground truth (TRUEPOS lines)", log.path, 0, "--poses");
@@ -59,7 +63,7 @@ LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyM
       return scan.laser_pose;
     }
     return odometry[k];
-  });
+  }, observer);
 }
 
 std::vector<TrajectoryPose> odometry_trajectory(const RobotLog& log) {
@@ -68,7 +72,8 @@ std::vector<TrajectoryPose> odometry_trajectory(const RobotLog& log) {
   return out;
 }
 
-LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& trajectory, const OccupancyMappingParams& params) {
+LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& trajectory, const OccupancyMappingParams& params,
+                     const MapScanObserver& observer) {
   std::map<std::int64_t, Pose2> by_stamp;
   for (const TrajectoryPose& p : trajectory) by_stamp.emplace(p.stamp_us, p.pose);
   return map_with(log, params, [&](std::size_t k, bool&) -> std::optional<Pose2> {
@@ -76,7 +81,7 @@ LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& tra
     const auto it = by_stamp.find(scan.stamp_us);
     if (it == by_stamp.end()) return std::nullopt;
     return it->second;
-  });
+  }, observer);
 }
 
 std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {

@@ -3,6 +3,7 @@
 // its ground truth, or a trajectory file (t_s,x_m,y_m,yaw_rad per scan, matched by stamp to the
 // microsecond), each scan drawn from its laser's pose into an OccupancyMapper.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,7 +49,14 @@ std::vector<LogOdometry> truth_readings(const RobotLog& log);
 // The laser's pose for `scan` from a base pose: base * mount (the log's laser_in_base, else 0).
 Pose2 laser_pose(const RobotLog& log, const Pose2& base);
 
-LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyMappingParams& params);
-LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& trajectory, const OccupancyMappingParams& params);
+// Called after each mapped scan with its base and laser poses and the cells whose class it
+// changed (OccupancyMapper::last_changes: a viewer's map updates). Given, it turns tracking on.
+using MapScanObserver =
+    std::function<void(const LogScan& scan, const Pose2& base, const Pose2& sensor, const std::vector<MapCellChange>& changes)>;
+
+LogMapResult map_log(const RobotLog& log, LogPoseSource source, const OccupancyMappingParams& params,
+                     const MapScanObserver& observer = {});
+LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& trajectory, const OccupancyMappingParams& params,
+                     const MapScanObserver& observer = {});
 
 }  // namespace starnav

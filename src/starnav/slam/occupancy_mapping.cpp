@@ -84,6 +84,7 @@ void OccupancyMapper::update(std::int64_t ix, std::int64_t iy, bool hit) {
     c.log_odds = c.before_scan;
   } else {
     c.before_scan = c.log_odds;
+    if (track_) touched_.push_back({ix, iy, c.observed()});
   }
   c.last_scan = scans_;
   c.last_hit = hit;
@@ -121,6 +122,28 @@ void OccupancyMapper::add_rays(const Pose2& sensor_pose, double angle_min, doubl
     const double a = sensor_pose.yaw + angle_min + static_cast<double>(i) * angle_increment;
     trace(origin, origin + d * Vec2(std::cos(a), std::sin(a)), hit);
   }
+  if (track_) collect_changes();
+}
+
+namespace {
+
+// map_server's trinary reading of a log-odds value (thresholds 0.65 and 0.196, as write_ros_map).
+std::int8_t trinary_class(float log_odds) {
+  const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(log_odds)));
+  return p >= 0.65 ? 100 : (p <= 0.196 ? 0 : -1);
+}
+
+}  // namespace
+
+void OccupancyMapper::collect_changes() {
+  changes_.clear();
+  for (const Touched& t : touched_) {
+    const Cell& c = cells_[static_cast<std::size_t>((t.iy - y0_) * w_ + (t.ix - x0_))];
+    const std::int8_t before = t.observed_before ? trinary_class(c.before_scan) : std::int8_t{-1};
+    const std::int8_t after = trinary_class(c.log_odds);
+    if (after != before) changes_.push_back({t.ix, t.iy, after});
+  }
+  touched_.clear();
 }
 
 void OccupancyMapper::add_scan(const Pose2& sensor_pose, const LogScan& scan) {

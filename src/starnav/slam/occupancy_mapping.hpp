@@ -72,9 +72,23 @@ struct OccupancyMappingParams {
 // The declared parameters (keys as the members).
 const ParamTable<OccupancyMappingParams>& occupancy_mapping_params();
 
+// A cell whose class changed with one scan: its lattice index (the cell's corner is at
+// (ix, iy) * resolution) and its new value as map_server's trinary reading of the map gives it:
+// 100 occupied (p >= 0.65), 0 free (p <= 0.196), -1 neither (or never observed).
+struct MapCellChange {
+  std::int64_t ix = 0, iy = 0;
+  std::int8_t value = -1;
+};
+
 class OccupancyMapper {
  public:
   explicit OccupancyMapper(const OccupancyMappingParams& params = {});
+
+  // With tracking on, each scan records which cells changed class (last_changes()): what a
+  // viewer replays to show the map growing. Off by default (it costs a list per scan).
+  void track_changes(bool on) { track_ = on; }
+  // The changes of the last scan, in the order the cells were first touched by it.
+  const std::vector<MapCellChange>& last_changes() const { return changes_; }
 
   // One scan taken from `sensor_pose` (the laser's pose in the map frame).
   void add_scan(const Pose2& sensor_pose, const LogScan& scan);
@@ -107,6 +121,15 @@ class OccupancyMapper {
   std::int64_t x0_ = 0, y0_ = 0, w_ = 0, h_ = 0;
   std::vector<Cell> cells_;
   std::uint32_t scans_ = 0;
+  // Change tracking: the cells first touched by the current scan (lattice index, observed before).
+  struct Touched {
+    std::int64_t ix, iy;
+    bool observed_before;
+  };
+  bool track_ = false;
+  std::vector<Touched> touched_;
+  std::vector<MapCellChange> changes_;
+  void collect_changes();
 };
 
 }  // namespace starnav

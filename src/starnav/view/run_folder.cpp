@@ -7,6 +7,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
+#include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
 
@@ -34,6 +35,28 @@ bool is_plain_file_name(const std::string& name) {
   return std::all_of(name.begin(), name.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
   });
+}
+
+std::vector<std::string> run_folder_files(const std::string& dir) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_regular_file(ec) && name != "run.json" && is_plain_file_name(name)) files.push_back(name);
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void write_run_manifest(const std::string& dir, const std::string& kind, const std::string& about_json) {
+  nlohmann::ordered_json j;
+  j["schema"] = "starnav-run";
+  j["version"] = kRunRecordVersion;
+  j["kind"] = kind;
+  const auto about = nlohmann::ordered_json::parse(about_json);
+  for (const auto& [key, value] : about.items()) j[key] = value;
+  j["files"] = run_folder_files(dir);
+  write_file_bytes((fs::path(dir) / "run.json").string(), j.dump(2) + "\n");
 }
 
 RunFolder read_run_folder(const std::string& dir) {

@@ -22,6 +22,15 @@ struct RunFolder {
 // another schema, a newer version, a listed file that is missing or not a plain name.
 RunFolder read_run_folder(const std::string& dir);
 
+// The files of a run folder as run.json lists them: every regular file with a plain name (the
+// output folder's lock, a dot file, is not one), sorted, run.json itself excluded.
+std::vector<std::string> run_folder_files(const std::string& dir);
+
+// Writes DIR/run.json (call last, once every other file is written): schema, version, kind, the
+// members of `about` (a JSON object's text: what the run was, e.g. its scenario or log), and
+// run_folder_files(DIR). Throws Error naming the file when it cannot be written.
+void write_run_manifest(const std::string& dir, const std::string& kind, const std::string& about_json);
+
 // True for a name the server and the exporter accept: a plain file name of letters, digits, '_',
 // '-' and '.', not starting with '.', at most 255 bytes.
 bool is_plain_file_name(const std::string& name);

@@ -109,6 +109,7 @@ struct RunServer::Impl {
       ++clients;
       ++clients_behind;
     }
+    changed.notify_all();
     res.set_header("Cache-Control", "no-cache");
     res.set_header("X-Accel-Buffering", "no");
     auto position = std::make_shared<std::size_t>(0);
@@ -269,6 +270,17 @@ void RunServer::end_live() {
     impl_->ended = true;
   }
   impl_->changed.notify_all();
+}
+
+bool RunServer::wait_for_live_client(double seconds) {
+  std::unique_lock<std::mutex> lock(impl_->mutex);
+  const auto connected = [this] { return impl_->clients > 0 || impl_->stopping; };
+  if (seconds < 0) {
+    impl_->changed.wait(lock, connected);
+  } else {
+    impl_->changed.wait_for(lock, std::chrono::duration<double>(seconds), connected);
+  }
+  return impl_->clients > 0;
 }
 
 bool RunServer::wait_drained(double seconds) {

@@ -50,6 +50,8 @@ class RunServer {
   void publish(const std::string& event, const std::string& data);
   // Sends "end" after everything published; streams close once their clients have read it.
   void end_live();
+  // Waits up to `seconds` (forever when negative) for a live client to connect (true when one has).
+  bool wait_for_live_client(double seconds);
   // Waits up to `seconds` for every live client to have read everything (true when they have).
   bool wait_drained(double seconds);
 

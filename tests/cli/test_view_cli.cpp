@@ -1,0 +1,173 @@
+// starnav view and sim --live from the command line: one error line for a folder that is not a
+// run record, --export written and refused over an existing file, the live flags only with --live,
+// and a live scripted run streamed to a client over a real socket: the pose ten times a second,
+// equal to trajectory.csv's, and the records the same bytes as without --live.
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "starnav/config.hpp"
+#include "support/test_support.hpp"
+
+extern char** environ;
+
+namespace starnav {
+namespace {
+
+namespace fs = std::filesystem;
+
+int lines_of(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(CliView, AFolderThatIsNotARunRecordIsOneErrorLine) {
+  const test::ScratchDir dir;
+  fs::create_directories(dir.file("empty"));
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"view", dir.file("missing")}, {"view", dir.file("empty")}, {"view", dir.file("empty"), "--port", "70000"}}) {
+    const test::CliResult r = test::run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(lines_of(r.err), 1) << r.err;
+  }
+  test::write_text(dir.file("empty/run.json"), "{\"schema\":\"starnav-run\",\"version\":99}");
+  const test::CliResult newer = test::run_cli({"view", dir.file("empty")});
+  EXPECT_EQ(newer.exit_code, 2);
+  EXPECT_NE(newer.err.find("version 99"), std::string::npos) << newer.err;
+}
+
+TEST(CliView, ExportsOnePageAndRefusesToOverwriteIt) {
+  const test::ScratchDir dir;
+  const test::CliResult sim = test::run_cli({"sim", test::scenario_path("e1_terrain_platform.yaml"), "--out", dir.file("e1"), "--quiet",
+                                             "--duration", "2"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  if (!fs::exists(fs::path(STARNAV_CLI_PATH).parent_path().parent_path() / "viewer" / "viewer.js"))
+    GTEST_SKIP() << "the viewer is not bundled in this build (no npm)";
+  const test::CliResult r = test::run_cli({"view", dir.file("e1"), "--export", dir.file("e1.html")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string page = test::read_text(dir.file("e1.html"));
+  EXPECT_NE(page.find("id=\"starnav-run\""), std::string::npos);
+  EXPECT_NE(page.find("e1_terrain_platform"), std::string::npos);
+  const test::CliResult again = test::run_cli({"view", dir.file("e1"), "--export", dir.file("e1.html")});
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_EQ(lines_of(again.err), 1) << again.err;
+}
+
+TEST(CliSim, TheLiveFlagsNeedLive) {
+  for (const char* flag : {"--port", "--bind", "--live-wait"}) {
+    std::vector<std::string> args = {"sim", test::scenario_path("e1_terrain_platform.yaml"), "--out", "/tmp/starnav_never", flag};
+    if (std::string(flag) == "--port") args.push_back("9000");
+    if (std::string(flag) == "--bind") args.push_back("127.0.0.1");
+    const test::CliResult r = test::run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << flag;
+    EXPECT_NE(r.err.find(std::string(flag) + ": only with --live"), std::string::npos) << r.err;
+  }
+}
+
+#if STARNAV_HAVE_HTTP
+// Everything a server sends on GET path until it closes.
+std::string http_get(int port, const std::string& path) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<std::uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return {};
+  }
+  timeval tv{60, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  (void)::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+  std::string out;
+  char buffer[65536];
+  for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) out.append(buffer, static_cast<std::size_t>(n));
+  ::close(fd);
+  return out;
+}
+
+TEST(CliSim, ALiveScriptedRunStreamsItsPoseAndWritesTheSameBytes) {
+  if (!fs::exists(fs::path(STARNAV_CLI_PATH).parent_path().parent_path() / "viewer" / "viewer.js"))
+    GTEST_SKIP() << "the viewer is not bundled in this build (no npm)";
+  const test::ScratchDir dir;
+  const std::string scenario = test::scenario_path("e1_terrain_platform.yaml");
+  ASSERT_EQ(test::run_cli({"sim", scenario, "--out", dir.file("plain"), "--quiet", "--duration", "3"}).exit_code, 0);
+  // The live run waits for its viewer (this test) before it starts.
+  const std::string err_file = dir.file("live.err");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 2, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  std::vector<std::string> args = {STARNAV_CLI_PATH, "sim", scenario, "--out", dir.file("live"), "--quiet", "--duration", "3",
+                                   "--live", "--live-wait", "--port", "0"};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, STARNAV_CLI_PATH, &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  int port = 0;
+  const std::regex url(R"(http://127\.0\.0\.1:(\d+)/)");
+  for (int i = 0; i < 600 && port == 0; ++i) {
+    std::smatch m;
+    const std::string err = test::read_text(err_file);
+    if (std::regex_search(err, m, url)) port = std::stoi(m[1]);
+    else std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_GT(port, 0) << test::read_text(err_file);
+  const std::string manifest = http_get(port, "/run/run.json");
+  EXPECT_NE(manifest.find("\"live\": true"), std::string::npos) << manifest;
+  const std::string events = http_get(port, "/events");
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::read_text(err_file);
+
+  // Every 0.1 s of the 3 s run (from the first step after 0 to the end), its pose as trajectory.csv has it.
+  std::vector<std::vector<double>> poses;
+  std::istringstream in(events);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("data: {\"t_s\"", 0) != 0) continue;
+    const auto j = nlohmann::json::parse(line.substr(6));
+    poses.push_back({j["t_s"].get<double>(), j["pose"][0].get<double>(), j["pose"][1].get<double>()});
+  }
+  ASSERT_EQ(poses.size(), 30u) << events.substr(0, 500);
+  EXPECT_NE(events.find("event: end"), std::string::npos);
+  std::istringstream trajectory(test::read_text(dir.file("live/trajectory.csv")));
+  std::string row;
+  std::getline(trajectory, row);
+  std::size_t matched = 0;
+  while (std::getline(trajectory, row)) {
+    double t = 0, x = 0, y = 0;
+    char c = 0;
+    std::istringstream(row) >> t >> c >> x >> c >> y;
+    for (const auto& p : poses)
+      if (std::abs(p[0] - t) < 1e-6) {
+        EXPECT_NEAR(p[1], x, 5e-4) << t;
+        EXPECT_NEAR(p[2], y, 5e-4) << t;
+        ++matched;
+      }
+  }
+  EXPECT_EQ(matched, poses.size());
+  // The same records as the run without --live (timing.json aside).
+  for (const auto& e : fs::directory_iterator(dir.file("plain"))) {
+    const std::string name = e.path().filename().string();
+    if (name == "timing.json" || name[0] == '.') continue;
+    EXPECT_EQ(test::read_text(e.path().string()), test::read_text(dir.file("live/" + name))) << name;
+  }
+}
+#endif
+
+}  // namespace
+}  // namespace starnav
