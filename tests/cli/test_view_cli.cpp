@@ -2,12 +2,9 @@
 // run record, --export written and refused over an existing file, the live flags only with --live,
 // and a live scripted run streamed to a client over a real socket: the pose ten times a second,
 // equal to trajectory.csv's, and the records the same bytes as without --live.
-#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
 #include <spawn.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,6 +18,7 @@
 #include <thread>
 
 #include "starnav/config.hpp"
+#include "support/raw_http.hpp"
 #include "support/test_support.hpp"
 
 extern char** environ;
@@ -76,28 +74,6 @@ TEST(CliSim, TheLiveFlagsNeedLive) {
 }
 
 #if STARNAV_HAVE_HTTP
-// Everything a server sends on GET path until it closes.
-std::string http_get(int port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<std::uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    return {};
-  }
-  timeval tv{60, 0};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-  (void)::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
-  std::string out;
-  char buffer[65536];
-  for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) out.append(buffer, static_cast<std::size_t>(n));
-  ::close(fd);
-  return out;
-}
-
 TEST(CliSim, ALiveScriptedRunStreamsItsPoseAndWritesTheSameBytes) {
   if (!fs::exists(fs::path(STARNAV_CLI_PATH).parent_path().parent_path() / "viewer" / "viewer.js"))
     GTEST_SKIP() << "the viewer is not bundled in this build (no npm)";
@@ -127,9 +103,9 @@ TEST(CliSim, ALiveScriptedRunStreamsItsPoseAndWritesTheSameBytes) {
     else std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   ASSERT_GT(port, 0) << test::read_text(err_file);
-  const std::string manifest = http_get(port, "/run/run.json");
+  const std::string manifest = test::http_get(port, "/run/run.json");
   EXPECT_NE(manifest.find("\"live\": true"), std::string::npos) << manifest;
-  const std::string events = http_get(port, "/events");
+  const std::string events = test::http_get(port, "/events", 60000);
   int status = 0;
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::read_text(err_file);

@@ -18,6 +18,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/view/run_server.hpp"
+#include "support/raw_http.hpp"
 
 namespace starnav {
 namespace {
@@ -50,35 +51,8 @@ struct TempTree {
   }
 };
 
-// One raw HTTP exchange: the bytes sent as given, everything the server answers until it closes
-// (or `timeout_ms` passes).
-std::string raw_request(int port, const std::string& request, int timeout_ms = 3000) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<std::uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    return "connect failed";
-  }
-  timeval tv{timeout_ms / 1000, (timeout_ms % 1000) * 1000};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  (void)::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
-  std::string out;
-  char buffer[65536];
-  for (;;) {
-    const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
-    if (n <= 0) break;
-    out.append(buffer, static_cast<std::size_t>(n));
-  }
-  ::close(fd);
-  return out;
-}
-
-std::string get(int port, const std::string& target) {
-  return raw_request(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
-}
+using test::http_get;
+using test::raw_http_request;
 
 int status_of(const std::string& response) {
   if (response.rfind("HTTP/1.1 ", 0) != 0) return -1;
@@ -105,28 +79,28 @@ TEST(RunServer, ServesTheViewerAndTheRunsFiles) {
   server.start();
   ASSERT_GT(server.port(), 0);
   EXPECT_EQ(server.url(), "http://127.0.0.1:" + std::to_string(server.port()) + "/");
-  const std::string index = get(server.port(), "/");
+  const std::string index = http_get(server.port(), "/");
   EXPECT_EQ(status_of(index), 200);
   EXPECT_NE(index.find("<html>viewer</html>"), std::string::npos);
   EXPECT_NE(index.find("text/html"), std::string::npos);
-  const std::string js = get(server.port(), "/viewer.js");
+  const std::string js = http_get(server.port(), "/viewer.js");
   EXPECT_EQ(status_of(js), 200);
   EXPECT_NE(js.find("text/javascript"), std::string::npos);
-  const std::string world = get(server.port(), "/run/world.json");
+  const std::string world = http_get(server.port(), "/run/world.json");
   EXPECT_EQ(status_of(world), 200);
   EXPECT_NE(world.find("{\"schema\":\"starnav-world\",\"version\":1}"), std::string::npos);
   // A file larger than a read chunk arrives whole.
-  const std::string steps = get(server.port(), "/run/steps.jsonl");
+  const std::string steps = http_get(server.port(), "/run/steps.jsonl");
   EXPECT_EQ(status_of(steps), 200);
   const std::size_t body = steps.find("\r\n\r\n") + 4;
   EXPECT_EQ(steps.substr(body), std::string(300000, 'x') + "\n");
   // HEAD answers without a body.
-  const std::string head = raw_request(server.port(), "HEAD /run/world.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+  const std::string head = raw_http_request(server.port(), "HEAD /run/world.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
   EXPECT_EQ(status_of(head), 200);
   EXPECT_EQ(head.find("starnav-world"), std::string::npos);
   // Memory files are served before (and instead of) the folder's.
   server.set_memory_file("world.json", "{\"live\":true}");
-  EXPECT_NE(get(server.port(), "/run/world.json").find("{\"live\":true}"), std::string::npos);
+  EXPECT_NE(http_get(server.port(), "/run/world.json").find("{\"live\":true}"), std::string::npos);
 }
 
 TEST(RunServer, RefusesPathTraversalAndHiddenOrLinkedFiles) {
@@ -137,7 +111,7 @@ TEST(RunServer, RefusesPathTraversalAndHiddenOrLinkedFiles) {
        {"/run/../secret.txt", "/run/..%2Fsecret.txt", "/run/%2e%2e%2fsecret.txt", "/run/%2E%2E/secret.txt", "/../secret.txt",
         "/run/..", "/run/.hidden", "/run/link.txt", "/run/run/world.json", "/run/", "/secret.txt", "/run/world.json%00.png",
         "/run//etc/passwd", "/run/%2Fetc%2Fpasswd", "/viewer/index.html", "/index.html/.."}) {
-    const std::string r = get(server.port(), target);
+    const std::string r = http_get(server.port(), target);
     EXPECT_EQ(r.find("outside the run folder"), std::string::npos) << target;
     EXPECT_EQ(r.find("hidden"), std::string::npos) << target;
     EXPECT_GE(status_of(r), 400) << target;
@@ -150,23 +124,23 @@ TEST(RunServer, AnswersBadRequestsWith4xx) {
   RunServer server(options_for(t));
   server.start();
   const int port = server.port();
-  EXPECT_EQ(status_of(raw_request(port, "POST /run/world.json HTTP/1.1\r\nHost: x\r\nContent-Length: 2\r\nConnection: close\r\n\r\nab")), 405);
-  EXPECT_EQ(status_of(raw_request(port, "DELETE /run/world.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")), 405);
-  EXPECT_EQ(status_of(get(port, "/nothing-here")), 404);
-  EXPECT_EQ(status_of(get(port, "/events")), 404);  // not a live server
+  EXPECT_EQ(status_of(raw_http_request(port, "POST /run/world.json HTTP/1.1\r\nHost: x\r\nContent-Length: 2\r\nConnection: close\r\n\r\nab")), 405);
+  EXPECT_EQ(status_of(raw_http_request(port, "DELETE /run/world.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")), 405);
+  EXPECT_EQ(status_of(http_get(port, "/nothing-here")), 404);
+  EXPECT_EQ(status_of(http_get(port, "/events")), 404);  // not a live server
   // (cpp-httplib answers these at once, then waits out its read timeout before closing: 1 s is enough.)
-  const int garbage = status_of(raw_request(port, "THIS IS NOT HTTP\r\n\r\n", 1000));
+  const int garbage = status_of(raw_http_request(port, "THIS IS NOT HTTP\r\n\r\n", 1000));
   EXPECT_GE(garbage, 400);
   EXPECT_LT(garbage, 500);
   const std::string huge_header = "GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + std::string(100000, 'a') + "\r\nConnection: close\r\n\r\n";
-  const int big = status_of(raw_request(port, huge_header, 1000));
+  const int big = status_of(raw_http_request(port, huge_header, 1000));
   EXPECT_TRUE(big == -1 || (big >= 400 && big < 500)) << big;  // refused or the connection closed
   // A body over the 64 KiB limit: 413 once it has been read.
   const std::string big_body = "POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 200000\r\nConnection: close\r\n\r\n" + std::string(200000, 'b');
-  const int body = status_of(raw_request(port, big_body));
+  const int body = status_of(raw_http_request(port, big_body));
   EXPECT_EQ(body, 413);
   // Still serving after all that.
-  EXPECT_EQ(status_of(get(port, "/run/world.json")), 200);
+  EXPECT_EQ(status_of(http_get(port, "/run/world.json")), 200);
 }
 
 // A client that never reads: the publisher never waits for it, the other clients get everything,
@@ -192,7 +166,7 @@ TEST(RunServer, AStalledLiveClientHoldsBackNeitherThePublisherNorTheOthers) {
   while (server.live_clients() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(5));
 
   std::string reader_got;
-  std::thread reader([&] { reader_got = get(port, "/events"); });
+  std::thread reader([&] { reader_got = http_get(port, "/events"); });
   while (server.live_clients() < 2) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   // 20 MB of steps: far more than any socket buffer holds.
   const std::string line = "{\"t_s\":1.0,\"hits\":\"" + std::string(10000, 'h') + "\"}";
@@ -218,10 +192,10 @@ TEST(RunServer, TwentyLiveClientsEachGetEveryStep) {
   constexpr int kClients = 20;
   std::vector<std::string> got(kClients);
   std::vector<std::thread> clients;
-  for (int i = 0; i < kClients; ++i) clients.emplace_back([&, i] { got[static_cast<std::size_t>(i)] = get(port, "/events"); });
+  for (int i = 0; i < kClients; ++i) clients.emplace_back([&, i] { got[static_cast<std::size_t>(i)] = http_get(port, "/events"); });
   while (server.live_clients() < static_cast<std::size_t>(kClients)) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   // Files are still served while every live stream holds a thread.
-  EXPECT_EQ(status_of(get(port, "/run/world.json")), 200);
+  EXPECT_EQ(status_of(http_get(port, "/run/world.json")), 200);
   for (int i = 0; i < 500; ++i) server.publish("step", "{\"i\":" + std::to_string(i) + "}");
   server.end_live();
   EXPECT_TRUE(server.wait_drained(30.0));
@@ -241,9 +215,9 @@ TEST(RunServer, RefusesLiveClientsBeyondItsLimitWith503) {
   server.start();
   const int port = server.port();
   std::vector<std::thread> clients;
-  for (int i = 0; i < 2; ++i) clients.emplace_back([port] { get(port, "/events"); });
+  for (int i = 0; i < 2; ++i) clients.emplace_back([port] { http_get(port, "/events"); });
   while (server.live_clients() < 2) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  EXPECT_EQ(status_of(get(port, "/events")), 503);
+  EXPECT_EQ(status_of(http_get(port, "/events")), 503);
   server.end_live();
   for (std::thread& c : clients) c.join();
 }

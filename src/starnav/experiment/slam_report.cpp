@@ -19,7 +19,7 @@
 #include "starnav/logs/log_file.hpp"
 #include "starnav/registry/components.hpp"
 #include "starnav/slam/graph_slam.hpp"
-#include "starnav/robot/robot_model.hpp"
+#include "starnav/harness/run_record.hpp"
 #include "starnav/view/run_folder.hpp"
 #include "starnav/viz/map_picture.hpp"
 
@@ -250,25 +250,7 @@ std::string slam_steps_jsonl(const SlamRunResult& r) {
 }
 
 std::string slam_world_json(const SlamRunResult& r) {
-  const GridGeometry& g = r.map.geometry();
-  nlohmann::ordered_json j;
-  j["schema"] = "starnav-world";
-  j["version"] = kRunRecordVersion;
-  j["obstacles"] = nlohmann::ordered_json::array();
-  const RobotConfig robot;  // a log knows nothing of the body: the default robot's, for scale
-  j["robot"] = {{"drive", drive_kind_name(robot.drive)},       {"body_length_m", robot.body_length_m},
-                {"body_width_m", robot.body_width_m},         {"body_height_m", robot.body_height_m},
-                {"ground_clearance_m", robot.ground_clearance_m}, {"wheel_radius_m", robot.wheel_radius_m},
-                {"half_track_m", robot.half_track_m},         {"half_wheelbase_m", robot.half_wheelbase_m},
-                {"body_center_x_m", 0.0}};
-  const Pose2 start = r.trajectory.empty() ? Pose2() : r.trajectory.front().pose;
-  j["start"] = {slam_mm(start.x), slam_mm(start.y), slam_mm(start.yaw)};
-  j["nav_map"] = {{"width", g.width},
-                  {"height", g.height},
-                  {"resolution_m", g.resolution},
-                  {"origin", {slam_mm(g.origin.x), slam_mm(g.origin.y), slam_mm(g.origin.yaw)}},
-                  {"initial", {-1, g.cell_count()}}};
-  return j.dump() + "\n";
+  return map_world_json(r.map.geometry(), r.trajectory.empty() ? Pose2() : r.trajectory.front().pose);
 }
 
 void write_slam_outputs(const SlamRunResult& r, const std::string& dir) {

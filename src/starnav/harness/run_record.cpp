@@ -94,6 +94,18 @@ Json terrain_json(const ElevationMap& map) {
   return j;
 }
 
+Json robot_json(const RobotConfig& r) {
+  return Json{{"drive", drive_kind_name(r.drive)},
+              {"body_length_m", r.body_length_m},
+              {"body_width_m", r.body_width_m},
+              {"body_height_m", r.body_height_m},
+              {"ground_clearance_m", r.ground_clearance_m},
+              {"wheel_radius_m", r.wheel_radius_m},
+              {"half_track_m", r.half_track_m},
+              {"half_wheelbase_m", r.half_wheelbase_m},
+              {"body_center_x_m", r.drive == DriveKind::Ackermann ? r.half_wheelbase_m : 0.0}};
+}
+
 // Run-length pairs [value, count, value, count, ...] of a row-major grid.
 Json run_lengths_json(const std::vector<std::int8_t>& cells) {
   Json out = Json::array();
@@ -118,16 +130,7 @@ std::string world_json(const Simulation& sim, const NavigationRun* navigation) {
   Json obstacles = Json::array();
   for (const Obstacle& o : sim.world().obstacles()) obstacles.push_back(obstacle_json(o));
   j["obstacles"] = std::move(obstacles);
-  const RobotConfig& r = spec.vehicle.robot;
-  j["robot"] = {{"drive", drive_kind_name(r.drive)},
-                {"body_length_m", r.body_length_m},
-                {"body_width_m", r.body_width_m},
-                {"body_height_m", r.body_height_m},
-                {"ground_clearance_m", r.ground_clearance_m},
-                {"wheel_radius_m", r.wheel_radius_m},
-                {"half_track_m", r.half_track_m},
-                {"half_wheelbase_m", r.half_wheelbase_m},
-                {"body_center_x_m", r.drive == DriveKind::Ackermann ? r.half_wheelbase_m : 0.0}};
+  j["robot"] = robot_json(spec.vehicle.robot);
   j["start"] = pose2_json(spec.start);
   if (!spec.reference_line.empty()) {
     Json line = Json::array();
@@ -162,6 +165,19 @@ Json run_about(const Simulation& sim, bool live) {
 }
 
 }  // namespace
+
+std::string map_world_json(const GridGeometry& map, const Pose2& start) {
+  Json j;
+  j["schema"] = "starnav-world";
+  j["version"] = kRunRecordVersion;
+  j["obstacles"] = Json::array();
+  j["robot"] = robot_json(RobotConfig{});
+  j["start"] = pose2_json(start);
+  Json m = geometry_json(map);
+  m["initial"] = {-1, map.cell_count()};
+  j["nav_map"] = std::move(m);
+  return j.dump() + "\n";
+}
 
 std::string run_about_json(const Simulation& sim, bool live) { return run_about(sim, live).dump(); }
 

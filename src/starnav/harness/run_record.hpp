@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
+#include "starnav/core/grid_geometry.hpp"
 
 namespace starnav {
 
@@ -18,6 +19,10 @@ inline constexpr int kWorldTerrainMaxSide = 512;
 
 // world.json of a run (deterministic; heights to the millimetre).
 std::string world_json(const Simulation& sim, const NavigationRun* navigation = nullptr);
+
+// world.json of a run over a robot log (SLAM): no terrain, no obstacles, the default robot's
+// body for scale, the start, and `map`'s grid as nav_map, all unknown at first.
+std::string map_world_json(const GridGeometry& map, const Pose2& start);
 
 // What run.json says of a simulated run besides its schema, kind and files: the scenario's name
 // and file (without folders), seed, step and duration; `live`: the scenario's duration and
