@@ -268,15 +268,22 @@ void run_sim(const SimOptions& o, Context& ctx) {
   std::unique_ptr<RouteDrive> route;
   if (spec.route) route = make_route_drive(sim);
 
+  // With a LiDAR: a step per scan (pose, returns, the localization chain's estimate and particles).
+  std::optional<ScanStepRecorder> steps;
+  if (spec.lidar) steps.emplace(sim, chain ? &*chain : nullptr);
 #if STARNAV_HAVE_HTTP
-  // Live: the true pose ten times a simulated second, as steps without sensor layers.
+  // Live: the steps as they are recorded, or without a LiDAR the true pose ten times a simulated second.
   std::unique_ptr<RunServer> live;
   if (o.live) {
     live = start_live_server(sim, nullptr, o);
-    const std::int64_t every = std::max<std::int64_t>(1, std::llround(0.1 / spec.dt_s));
-    sim.on_step = [&sim, &live, every] {
-      if (sim.step_count() % every == 0) live->publish("step", pose_step_json_line(sim.time(), sim.vehicle().state().pose));
-    };
+    if (steps) {
+      steps->on_line = [&live](const std::string& line) { live->publish("step", line); };
+    } else {
+      const std::int64_t every = std::max<std::int64_t>(1, std::llround(0.1 / spec.dt_s));
+      sim.on_step = [&sim, &live, every] {
+        if (sim.step_count() % every == 0) live->publish("step", pose_step_json_line(sim.time(), sim.vehicle().state().pose));
+      };
+    }
   }
 #endif
   SimProgress bar(o.quiet, spec.duration_s);
@@ -290,6 +297,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   if (recorder) write_text_file((dir / "log.clf").string(), carmen_log_text(recorder->log()), "--out");
   if (lidar_frames) lidar_frames->finish();
   if (chain) write_text_file((dir / "estimate.csv").string(), estimate_csv(chain->records()), "--out");
+  if (steps) write_text_file((dir / "steps.jsonl").string(), steps->steps_jsonl(), "--out");
   const SimulationMetrics m = sim.metrics();
   SimulationTiming timing;
   timing.wall_s = wall_s;
@@ -315,8 +323,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
     if (m.has_reference)
       std::printf("deviation from the reference line: mean %.4f m, max %.4f m\n", m.deviation_mean_m, m.deviation_max_m);
     std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, world.json, run.json, scene.svg, height_trace.svg, "
-                "track.svg%s%s}\n",
-                o.out.c_str(), recorder ? ", log.clf" : "", chain ? ", estimate.csv" : "");
+                "track.svg%s%s%s}\n",
+                o.out.c_str(), steps ? ", steps.jsonl" : "", recorder ? ", log.clf" : "", chain ? ", estimate.csv" : "");
   }
   ctx.exit_code = 0;
 }

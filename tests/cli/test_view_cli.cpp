@@ -1,7 +1,8 @@
 // starnav view and sim --live from the command line: one error line for a folder that is not a
 // run record, --export written and refused over an existing file, the live flags only with --live,
-// and a live scripted run streamed to a client over a real socket: the pose ten times a second,
-// equal to trajectory.csv's, and the records the same bytes as without --live.
+// and live scripted runs streamed to a client over a real socket: each scan's step, the lines of
+// steps.jsonl, or without a LiDAR the pose ten times a second, equal to trajectory.csv's; the
+// records the same bytes as without --live.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
@@ -10,7 +11,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
@@ -74,25 +77,21 @@ TEST(CliSim, TheLiveFlagsNeedLive) {
 }
 
 #if STARNAV_HAVE_HTTP
-TEST(CliSim, ALiveScriptedRunStreamsItsPoseAndWritesTheSameBytes) {
-  if (!fs::exists(fs::path(STARNAV_CLI_PATH).parent_path().parent_path() / "viewer" / "viewer.js"))
-    GTEST_SKIP() << "the viewer is not bundled in this build (no npm)";
-  const test::ScratchDir dir;
-  const std::string scenario = test::scenario_path("e1_terrain_platform.yaml");
-  ASSERT_EQ(test::run_cli({"sim", scenario, "--out", dir.file("plain"), "--quiet", "--duration", "3"}).exit_code, 0);
-  // The live run waits for its viewer (this test) before it starts.
-  const std::string err_file = dir.file("live.err");
+// Runs `starnav sim ... --live --live-wait --port 0` in the background, reads its event stream
+// as a viewer would, and returns the data of its step events once the run has exited 0.
+std::vector<std::string> live_step_events(const std::vector<std::string>& sim_args, const std::string& err_file) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 2, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  std::vector<std::string> args = {STARNAV_CLI_PATH, "sim", scenario, "--out", dir.file("live"), "--quiet", "--duration", "3",
-                                   "--live", "--live-wait", "--port", "0"};
+  std::vector<std::string> args = {STARNAV_CLI_PATH, "sim"};
+  args.insert(args.end(), sim_args.begin(), sim_args.end());
+  for (const char* a : {"--quiet", "--live", "--live-wait", "--port", "0"}) args.emplace_back(a);
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, STARNAV_CLI_PATH, &actions, nullptr, argv.data(), environ), 0);
+  if (posix_spawn(&pid, STARNAV_CLI_PATH, &actions, nullptr, argv.data(), environ) != 0) return {};
   posix_spawn_file_actions_destroy(&actions);
   int port = 0;
   const std::regex url(R"(http://127\.0\.0\.1:(\d+)/)");
@@ -102,45 +101,79 @@ TEST(CliSim, ALiveScriptedRunStreamsItsPoseAndWritesTheSameBytes) {
     if (std::regex_search(err, m, url)) port = std::stoi(m[1]);
     else std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  ASSERT_GT(port, 0) << test::read_text(err_file);
+  EXPECT_GT(port, 0) << test::read_text(err_file);
+  if (port == 0) {
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+    return {};
+  }
   const std::string manifest = test::http_get(port, "/run/run.json");
   EXPECT_NE(manifest.find("\"live\": true"), std::string::npos) << manifest;
   const std::string events = test::http_get(port, "/events", 60000);
   int status = 0;
-  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  EXPECT_EQ(waitpid(pid, &status, 0), pid);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << test::read_text(err_file);
-
-  // Every 0.1 s of the 3 s run (from the first step after 0 to the end), its pose as trajectory.csv has it.
-  std::vector<std::vector<double>> poses;
-  std::istringstream in(events);
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("data: {\"t_s\"", 0) != 0) continue;
-    const auto j = nlohmann::json::parse(line.substr(6));
-    poses.push_back({j["t_s"].get<double>(), j["pose"][0].get<double>(), j["pose"][1].get<double>()});
-  }
-  ASSERT_EQ(poses.size(), 30u) << events.substr(0, 500);
   EXPECT_NE(events.find("event: end"), std::string::npos);
-  std::istringstream trajectory(test::read_text(dir.file("live/trajectory.csv")));
-  std::string row;
-  std::getline(trajectory, row);
-  std::size_t matched = 0;
-  while (std::getline(trajectory, row)) {
-    double t = 0, x = 0, y = 0;
-    char c = 0;
-    std::istringstream(row) >> t >> c >> x >> c >> y;
-    for (const auto& p : poses)
-      if (std::abs(p[0] - t) < 1e-6) {
-        EXPECT_NEAR(p[1], x, 5e-4) << t;
-        EXPECT_NEAR(p[2], y, 5e-4) << t;
-        ++matched;
-      }
+  std::vector<std::string> steps;
+  std::istringstream in(events);
+  for (std::string line, event; std::getline(in, line);) {
+    if (line.rfind("event: ", 0) == 0) event = line.substr(7);
+    if (event == "step" && line.rfind("data: ", 0) == 0) steps.push_back(line.substr(6));
   }
-  EXPECT_EQ(matched, poses.size());
-  // The same records as the run without --live (timing.json aside).
+  return steps;
+}
+
+// A scripted run with a LiDAR streams each scan's step, the very lines of its steps.jsonl, and
+// writes the same records as without --live.
+TEST(CliSim, ALiveScriptedRunStreamsItsStepsAndWritesTheSameBytes) {
+  if (!fs::exists(fs::path(STARNAV_CLI_PATH).parent_path().parent_path() / "viewer" / "viewer.js"))
+    GTEST_SKIP() << "the viewer is not bundled in this build (no npm)";
+  const test::ScratchDir dir;
+  const std::string scenario = test::scenario_path("e1_terrain_platform.yaml");
+  ASSERT_EQ(test::run_cli({"sim", scenario, "--out", dir.file("plain"), "--quiet", "--duration", "3"}).exit_code, 0);
+  const std::vector<std::string> steps =
+      live_step_events({scenario, "--out", dir.file("live"), "--duration", "3"}, dir.file("live.err"));
+  std::vector<std::string> written;
+  std::istringstream in(test::read_text(dir.file("live/steps.jsonl")));
+  for (std::string line; std::getline(in, line);) written.push_back(line);
+  EXPECT_GE(written.size(), 30u);  // 10 Hz for 3 s
+  EXPECT_EQ(steps, written);
   for (const auto& e : fs::directory_iterator(dir.file("plain"))) {
     const std::string name = e.path().filename().string();
     if (name == "timing.json" || name[0] == '.') continue;
     EXPECT_EQ(test::read_text(e.path().string()), test::read_text(dir.file("live/" + name))) << name;
+  }
+}
+
+// Without a LiDAR: the true pose ten times a simulated second, equal to trajectory.csv's rows.
+TEST(CliSim, ALiveRunWithoutALidarStreamsItsPose) {
+  if (!fs::exists(fs::path(STARNAV_CLI_PATH).parent_path().parent_path() / "viewer" / "viewer.js"))
+    GTEST_SKIP() << "the viewer is not bundled in this build (no npm)";
+  const test::ScratchDir dir;
+  test::write_text(dir.file("drive.yaml"), R"(name: drive
+world: {obstacles: [{name: box, kind: box, position_m: [3.0, 0.0], size_m: [0.5, 0.5, 0.5]}]}
+robot: {start: {x_m: 0.0, y_m: 0.0, yaw_deg: 0.0}}
+sim: {dt_s: 0.01, duration_s: 2.0}
+commands: [{duration_s: 2.0, vx_mps: 0.3, wz_radps: 0.2}]
+)");
+  const std::vector<std::string> steps = live_step_events({dir.file("drive.yaml"), "--out", dir.file("live")}, dir.file("live.err"));
+  ASSERT_EQ(steps.size(), 20u);
+  std::map<long, std::pair<double, double>> rows;  // by t in ms
+  std::istringstream trajectory(test::read_text(dir.file("live/trajectory.csv")));
+  std::string row;
+  std::getline(trajectory, row);
+  while (std::getline(trajectory, row)) {
+    double t = 0, x = 0, y = 0;
+    char c = 0;
+    std::istringstream(row) >> t >> c >> x >> c >> y;
+    rows[std::lround(t * 1000)] = {x, y};
+  }
+  for (const std::string& s : steps) {
+    const auto j = nlohmann::json::parse(s);
+    const auto it = rows.find(std::lround(j["t_s"].get<double>() * 1000));
+    ASSERT_NE(it, rows.end()) << s;
+    EXPECT_NEAR(j["pose"][0].get<double>(), it->second.first, 5e-4) << s;
+    EXPECT_NEAR(j["pose"][1].get<double>(), it->second.second, 5e-4) << s;
   }
 }
 #endif

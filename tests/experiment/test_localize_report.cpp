@@ -10,6 +10,8 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -222,6 +224,43 @@ TEST(LocalizeReport, ConvergesInARoomAndItsErrorStatisticsAreTheMatchedScansErro
   EXPECT_EQ(j["amcl"]["robot_model_type"], "differential");
   EXPECT_EQ(j["overrides"]["amcl.sigma_hit_m"], 0.1);
   EXPECT_TRUE(std::filesystem::file_size(dir.file("out/map.png")) > 1000);
+
+  // The run record: a step per filter update (and the first scan), each with the estimate the
+  // trajectory has at that scan, at most 200 particles, and the true pose where the reference has
+  // the scan; the known map from the start; run.json of kind localization.
+  std::vector<nlohmann::json> steps;
+  {
+    std::istringstream in(test::read_text(dir.file("out/steps.jsonl")));
+    for (std::string line; std::getline(in, line);) steps.push_back(nlohmann::json::parse(line));
+  }
+  std::size_t updates_seen = 0, references = 0;
+  for (const LocalizePose& p : r.trajectory) updates_seen += p.updated ? 1 : 0;
+  EXPECT_EQ(steps.size(), updates_seen + (r.trajectory.front().updated ? 0 : 1));
+  std::size_t k = 0;
+  for (const LocalizePose& p : r.trajectory) {
+    if (k >= steps.size() || !(p.updated || k == 0)) continue;
+    const auto& s = steps[k++];
+    EXPECT_NEAR(s["t_s"].get<double>(), static_cast<double>(p.stamp_us) * 1e-6, 5e-4);
+    EXPECT_NEAR(s["estimate"][0].get<double>(), p.pose.x, 5e-4);
+    EXPECT_NEAR(s["estimate"][1].get<double>(), p.pose.y, 5e-4);
+    EXPECT_LE(s["particles"].size(), 200u);
+    EXPECT_GE(s["particles"].size(), 1u);
+    if (s.contains("reference")) {
+      ++references;
+      EXPECT_NEAR(s["reference"][0].get<double>(), d.truth[p.scan].x, 5e-4);
+      EXPECT_NEAR(s["reference"][1].get<double>(), d.truth[p.scan].y, 5e-4);
+    }
+  }
+  EXPECT_GT(references, 5u);
+  const auto world = nlohmann::json::parse(test::read_text(dir.file("out/world.json")));
+  std::vector<int> cells;
+  for (std::size_t i = 0; i + 1 < world["nav_map"]["initial"].size(); i += 2)
+    cells.insert(cells.end(), world["nav_map"]["initial"][i + 1].get<std::size_t>(), world["nav_map"]["initial"][i].get<int>());
+  ASSERT_EQ(cells.size(), grid.cell_count());
+  for (std::size_t i = 0; i < cells.size(); ++i) ASSERT_EQ(cells[i], grid[i]) << i;
+  const auto manifest = nlohmann::json::parse(test::read_text(dir.file("out/run.json")));
+  EXPECT_EQ(manifest["kind"], "localization");
+  EXPECT_EQ(manifest["log"]["name"], "room.clf");
 }
 
 TEST(LocalizeReport, FirstStartsAtTheFirstMatchedScanFromItsReferencePose) {

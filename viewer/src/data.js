@@ -123,6 +123,8 @@ export class Steps {
     this.changed = new Pool(Int32Array, 1 << 14);
     this.estimate = new Pool(Float32Array);
     this.hasEstimate = false;
+    this.reference = new Pool(Float32Array); // a log's corrected pose (localization on logs)
+    this.hasReference = false;
     this.particleStart = new Pool(Uint32Array);
     this.particles = new Pool(Float32Array, 1 << 14);
     this.paths = []; // {id, t, points: Float32Array}
@@ -158,6 +160,11 @@ export class Steps {
     this.estimate.push(e ? e[0] : NaN);
     this.estimate.push(e ? e[1] : NaN);
     this.estimate.push(e ? e[2] : NaN);
+    const ref = s.reference;
+    if (ref) this.hasReference = true;
+    this.reference.push(ref ? ref[0] : NaN);
+    this.reference.push(ref ? ref[1] : NaN);
+    this.reference.push(ref ? ref[2] : NaN);
     this.particleStart.push(this.particles.length);
     const particles = s.particles || [];
     this.particles.reserve(particles.length * 3);

@@ -161,6 +161,10 @@ class Viewer {
       this.estimateArrow = poseArrow(0x1f77b4);
       this.layers.estimate.add(this.estimateArrow);
     }
+    if (this.steps.hasReference && !this.referenceArrow) {
+      this.referenceArrow = poseArrow(0xff7f0e);
+      this.layers.estimate.add(this.referenceArrow);
+    }
     if (this.occupancy) this.occupancy.checkpoint();
     state.pathCount = this.pathLines.length;
     state.stepsLoaded = this.steps.count;
@@ -191,22 +195,27 @@ class Viewer {
     this.loopCount = loops.length;
   }
 
-  // Without trajectory.csv (a live run): the executed path from the steps' poses.
+  // Without trajectory.csv (a live run): the executed path from the steps' poses, appended as
+  // they arrive into a buffer that doubles when full (a live run adds one step at a time).
   buildStepTrajectory() {
     const n = this.steps.count;
-    const pts = new Float32Array(n * 2);
-    const zs = new Float32Array(n);
-    for (let i = 0; i < n; ++i) {
-      pts[2 * i] = this.steps.pose.data[6 * i];
-      pts[2 * i + 1] = this.steps.pose.data[6 * i + 1];
-      zs[i] = this.steps.pose.data[6 * i + 2];
+    if (!this.trajLine || this.trajCapacity < n) {
+      this.trajCapacity = Math.max(1024, 2 * n);
+      this.trajFilled = 0;
+      if (this.trajLine) this.layers.trajectory.remove(this.trajLine);
+      const geo = new THREE.BufferGeometry();
+      geo.setAttribute('position', new THREE.BufferAttribute(new Float32Array(this.trajCapacity * 3), 3));
+      this.trajLine = new THREE.Line(geo, new THREE.LineBasicMaterial({ color: 0x111111 }));
+      this.trajLine.name = 'trajectory';
+      this.trajLine.frustumCulled = false;
+      this.trajFromSteps = true;
+      this.layers.trajectory.add(this.trajLine);
     }
-    let k = 0;
-    if (this.trajLine) this.layers.trajectory.remove(this.trajLine);
-    this.trajLine = lineOf(pts, () => zs[k++] + 0.03, 0x111111, 2);
-    this.trajLine.name = 'trajectory';
-    this.trajFromSteps = true;
-    this.layers.trajectory.add(this.trajLine);
+    const attr = this.trajLine.geometry.getAttribute('position');
+    const p = this.steps.pose.data;
+    for (let i = this.trajFilled; i < n; ++i) attr.setXYZ(i, p[6 * i], p[6 * i + 1], p[6 * i + 2] + 0.03);
+    this.trajFilled = n;
+    attr.needsUpdate = true;
   }
 
   groundZ(x, y) {
@@ -356,6 +365,15 @@ class Viewer {
         state.estimate = { x: e[0], y: e[1], yaw: e[2] };
       }
     }
+    if (this.referenceArrow && k >= 0) {
+      const e = this.steps.reference.data.subarray(3 * k, 3 * k + 3);
+      this.referenceArrow.visible = Number.isFinite(e[0]);
+      state.reference = this.referenceArrow.visible ? { x: e[0], y: e[1], yaw: e[2] } : null;
+      if (this.referenceArrow.visible) {
+        this.referenceArrow.position.set(e[0], e[1], this.groundZ(e[0], e[1]) + 0.5);
+        this.referenceArrow.rotation.z = e[2];
+      }
+    }
     // Paths planned so far; the current one bold, the earlier ones faded.
     const current = k >= 0 ? this.steps.pathId.data[k] : 0;
     let shown = 0;
@@ -407,7 +425,9 @@ class Viewer {
       ['step', `${state.stepIndex + 1} / ${this.steps ? this.steps.count : 0}`],
       ['path', state.currentPath ? `P${state.currentPath} (${state.pathsShown} of ${state.pathCount} planned)` : '-'],
     ];
-    if (state.estimate && r) rows.push(['estimate error', `${fmt(Math.hypot(state.estimate.x - r.x, state.estimate.y - r.y), 3)} m`]);
+    // Against the truth: the simulator's pose, or on a log the corrected pose where there is one.
+    const truth = this.steps && this.steps.hasReference ? state.reference : r;
+    if (state.estimate && truth) rows.push(['estimate error', `${fmt(Math.hypot(state.estimate.x - truth.x, state.estimate.y - truth.y), 3)} m`]);
     if (m.outcome !== undefined) rows.push(['outcome', `${m.outcome}, ${fmt(m.distance_m)} m, ${m.plans} plans, ${m.collisions} collisions`]);
     if (this.steps && this.steps.loops.length) rows.push(['loop closures', `${state.loopsShown || 0} of ${this.steps.loops.length}`]);
     if (state.live) rows.push(['live', `${state.liveSteps} steps received${state.liveEnded ? ' (ended)' : ''}`]);

@@ -3,7 +3,7 @@
 // on a known map, its estimate at every scan, and its error against a reference log of corrected
 // poses (a corrected CARMEN log: the laser poses its lines carry). The raw and the corrected
 // scans are paired by identical ranges (readings at 1 cm), never by stamps, and only unique
-// pairs count. Outputs: trajectory.csv, errors.csv, summary.json, map.png.
+// pairs count. Outputs: trajectory.csv, errors.csv, summary.json, map.png, and a run record.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -41,6 +41,7 @@ struct LocalizeRunRequest {
   LocalizeInitial initial;
   std::vector<ParamSetting> settings;  // the amcl localizer's parameters, keys relative to its section ("alpha1")
   std::uint64_t seed = 1;
+  bool record_steps = true;            // the viewer's steps (steps.jsonl): one per filter update
 };
 
 // The estimate at one scan (the base pose: map <- odom of the last filter update applied to the
@@ -100,6 +101,7 @@ struct LocalizeRunResult {
   std::vector<std::pair<std::string, std::string>> amcl;       // every amcl parameter as used (initial aside)
   std::vector<std::pair<std::string, std::string>> overrides;  // the settings given
   OccupancyGrid grid;                    // the map (for the picture)
+  std::vector<std::string> step_lines;   // with record_steps: steps.jsonl's lines (docs/run-records.md)
   double cpu_per_update_ms() const { return updates > 0 ? 1e3 * update_cpu_s / updates : 0.0; }
 };
 
@@ -120,7 +122,8 @@ std::string localize_trajectory_csv(const LocalizeRunResult& r);
 std::string localize_errors_csv(const LocalizeRunResult& r);
 // The map with the estimated trajectory (blue) and the reference poses (orange).
 void write_localize_picture(const LocalizeRunResult& r, const std::string& path);
-// trajectory.csv, errors.csv, summary.json, map.png.
+// trajectory.csv, errors.csv, summary.json, map.png, and the run record the viewer reads
+// (steps.jsonl, world.json, run.json; kind "localization").
 const std::vector<std::string>& localize_output_files();
 // Every output into `dir` (created).
 void write_localize_outputs(const LocalizeRunResult& r, const std::string& dir);

@@ -250,7 +250,7 @@ std::string slam_steps_jsonl(const SlamRunResult& r) {
 }
 
 std::string slam_world_json(const SlamRunResult& r) {
-  return map_world_json(r.map.geometry(), r.trajectory.empty() ? Pose2() : r.trajectory.front().pose);
+  return map_world_json(r.map, false, r.trajectory.empty() ? Pose2() : r.trajectory.front().pose);
 }
 
 void write_slam_outputs(const SlamRunResult& r, const std::string& dir) {

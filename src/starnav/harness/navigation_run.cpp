@@ -709,6 +709,12 @@ std::string steps_jsonl(const NavigationRun& run) {
 }  // namespace
 
 std::string step_json_line(const NavigationRun& run, const NavStepRecord& r) {
+  const std::vector<Vec2>* path = nullptr;
+  if (r.new_path && r.path_id > 0) path = &run.navigator().plans()[static_cast<std::size_t>(r.path_id - 1)].points;
+  return step_record_json(r, path);
+}
+
+std::string step_record_json(const NavStepRecord& r, const std::vector<Vec2>* new_path) {
   nlohmann::ordered_json j;
   j["t_s"] = mm(r.t_s);
   const Vec3 rpy = r.pose.rpy();
@@ -722,10 +728,9 @@ std::string step_json_line(const NavigationRun& run, const NavStepRecord& r) {
   for (const auto& [c, v] : r.changed) changed.push_back({c.x, c.y, static_cast<int>(v)});
   j["changed"] = std::move(changed);
   j["path_id"] = r.path_id;
-  if (r.new_path && r.path_id > 0) {
-    const auto& plans = run.navigator().plans();
+  if (new_path) {
     nlohmann::ordered_json path = nlohmann::ordered_json::array();
-    for (const Vec2& v : plans[static_cast<std::size_t>(r.path_id - 1)].points) path.push_back({mm(v.x()), mm(v.y())});
+    for (const Vec2& v : *new_path) path.push_back({mm(v.x()), mm(v.y())});
     j["path"] = std::move(path);
   }
   if (r.estimate) j["estimate"] = {mm(r.estimate->x), mm(r.estimate->y), mm(wrap_angle(r.estimate->yaw))};
@@ -734,6 +739,7 @@ std::string step_json_line(const NavigationRun& run, const NavStepRecord& r) {
     for (const Pose2& p : r.particles) particles.push_back({cm(p.x), cm(p.y), cm(wrap_angle(p.yaw))});
     j["particles"] = std::move(particles);
   }
+  if (r.reference) j["reference"] = {mm(r.reference->x), mm(r.reference->y), mm(wrap_angle(r.reference->yaw))};
   return j.dump();
 }
 

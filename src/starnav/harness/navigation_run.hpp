@@ -21,6 +21,7 @@
 #include "starnav/harness/command_arbiter.hpp"
 #include "starnav/harness/local_planning_pictures.hpp"
 #include "starnav/harness/localization_chain.hpp"
+#include "starnav/harness/run_record.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "starnav/sim/simulation.hpp"
@@ -34,7 +35,7 @@ struct NavigationOptions {
   bool compare_astar = false;              // incremental planners: A* from scratch beside every plan
   bool record_steps = true;                // keep the per-cycle records for steps.jsonl
   bool step_all_hits = false;              // steps.jsonl: every return, not only the obstacle hits
-  std::size_t step_particles = 200;        // steps.jsonl: at most this many particles per cycle
+  std::size_t step_particles = kStepParticles;  // steps.jsonl: at most this many particles per cycle
   // Called with each cycle's steps.jsonl line as it is recorded (a live viewer's feed); the run
   // never waits on it beyond the call.
   std::function<void(const std::string&)> on_step_line;
@@ -90,6 +91,7 @@ struct NavStepRecord {
   bool new_path = false;                          // planned in this cycle
   std::optional<Pose2> estimate;                  // the localization chain's pose (scenarios with one)
   std::vector<Pose2> particles;                   // a subsample of its belief (particle filters)
+  std::optional<Pose2> reference;                 // localization on a log: the corrected pose, where there is one
 };
 
 // One arrival at a goal: the true pose once the robot has come to rest there.
@@ -201,5 +203,7 @@ std::string navigation_metrics_json(const NavigationRun& run);
 std::string paths_csv(const NavigationRun& run);
 // One line of steps.jsonl (without its newline; docs/run-records.md).
 std::string step_json_line(const NavigationRun& run, const NavStepRecord& record);
+// The same for any run: `new_path` is the plan the cycle made, when it made one.
+std::string step_record_json(const NavStepRecord& record, const std::vector<Vec2>* new_path = nullptr);
 
 }  // namespace starnav

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <variant>
 
@@ -166,15 +167,19 @@ Json run_about(const Simulation& sim, bool live) {
 
 }  // namespace
 
-std::string map_world_json(const GridGeometry& map, const Pose2& start) {
+std::string map_world_json(const OccupancyGrid& map, bool known, const Pose2& start) {
   Json j;
   j["schema"] = "starnav-world";
   j["version"] = kRunRecordVersion;
   j["obstacles"] = Json::array();
   j["robot"] = robot_json(RobotConfig{});
   j["start"] = pose2_json(start);
-  Json m = geometry_json(map);
-  m["initial"] = {-1, map.cell_count()};
+  Json m = geometry_json(map.geometry());
+  if (known) {
+    m["initial"] = run_lengths_json(std::vector<std::int8_t>(map.data().begin(), map.data().end()));
+  } else {
+    m["initial"] = {-1, map.cell_count()};
+  }
   j["nav_map"] = std::move(m);
   return j.dump() + "\n";
 }
@@ -199,6 +204,30 @@ std::string pose_step_json_line(double t_s, const Pose3& pose) {
   j["pose"] = {to_mm(pose.position.x()), to_mm(pose.position.y()), to_mm(pose.position.z()),
                to_mm(rpy.x()),           to_mm(rpy.y()),           to_mm(rpy.z())};
   return j.dump();
+}
+
+ScanStepRecorder::ScanStepRecorder(Simulation& sim, const LocalizationChain* chain, std::size_t max_particles) {
+  sim.on_scan = [this, before = sim.on_scan, &sim, chain, max_particles](const LidarScan& scan) {
+    if (before) before(scan);  // the localizer sees the scan first: its estimate includes it
+    NavStepRecord r;
+    r.t_s = scan.time;
+    r.pose = sim.vehicle().state().pose;
+    r.returns = scan.points_world.size();
+    const std::size_t every = std::max<std::size_t>(1, (scan.points_world.size() + kScriptedStepHits - 1) / kScriptedStepHits);
+    for (std::size_t i = 0; i < scan.points_world.size(); i += every) r.hits.push_back(scan.points_world[i]);
+    if (chain) {
+      r.estimate = chain->localizer().estimate().pose;
+      r.particles = chain->localizer().belief_samples(max_particles);
+    }
+    lines_.push_back(step_record_json(r));
+    if (on_line) on_line(lines_.back());
+  };
+}
+
+std::string ScanStepRecorder::steps_jsonl() const {
+  std::string out;
+  for (const std::string& l : lines_) out += l + '\n';
+  return out;
 }
 
 void write_run_record(const Simulation& sim, const NavigationRun* navigation, const std::string& dir) {
