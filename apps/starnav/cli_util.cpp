@@ -199,6 +199,11 @@ OutputFolder check_out_dir(const std::string& dir, bool force) {
   return OutputFolder(dir, "--out");
 }
 
+void warn_if_served_beyond_loopback(const std::string& bind) {
+  if (bind != "127.0.0.1" && bind != "localhost" && bind != "::1")
+    std::fprintf(stderr, "starnav: warning: --bind %s: the run is served to every machine that can reach this address\n", bind.c_str());
+}
+
 std::string executable_path() {
   std::error_code ec;
   const std::filesystem::path p = std::filesystem::read_symlink("/proc/self/exe", ec);

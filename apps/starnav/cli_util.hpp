@@ -53,6 +53,9 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
 // are registered.
 void apply_number_rules(CLI::App& app);
 
+// The one warning for a server told to listen beyond this machine (--bind other than loopback).
+void warn_if_served_beyond_loopback(const std::string& bind);
+
 // This program's own path (/proc/self/exe; "" when unknown): files installed beside it are found from it.
 std::string executable_path();
 

@@ -105,9 +105,7 @@ std::unique_ptr<RunServer> start_live_server(const Simulation& sim, const Naviga
   options.host = o.bind;
   options.port = o.port;
   options.live = true;
-  if (o.bind != "127.0.0.1" && o.bind != "localhost" && o.bind != "::1")
-    std::fprintf(stderr, "starnav: warning: --bind %s: the run is served to every machine that can reach this address\n",
-                 o.bind.c_str());
+  warn_if_served_beyond_loopback(o.bind);
   auto server = std::make_unique<RunServer>(options);
   server->set_memory_file("world.json", world_json(sim, navigation));
   server->set_memory_file("run.json", live_run_manifest_json(sim, navigation ? "navigation" : "simulation"));

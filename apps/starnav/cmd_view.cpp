@@ -39,9 +39,7 @@ void run_view(const ViewOptions& o, Context& ctx) {
     return;
   }
 #if STARNAV_HAVE_HTTP
-  if (o.bind != "127.0.0.1" && o.bind != "localhost" && o.bind != "::1")
-    std::fprintf(stderr, "starnav: warning: --bind %s: the run is served to every machine that can reach this address\n",
-                 o.bind.c_str());
+  warn_if_served_beyond_loopback(o.bind);
   // Ctrl-C and SIGTERM are taken by this thread (sigwait), not by the server's threads.
   sigset_t signals;
   sigemptyset(&signals);

@@ -48,4 +48,9 @@ inline std::string csv_field(const std::string& s) {
 // -0.0 prints as "-0.0" in JSON; the same quantity should read the same whichever side it came from.
 inline double unsigned_zero(double v) { return v == 0.0 ? 0.0 : v; }
 
+// Rounded to the millimetre (poses, paths) or the centimetre (LiDAR hits, particles), the
+// precision of the run records a viewer reads (docs/run-records.md).
+inline double round_mm(double v) { return unsigned_zero(std::round(v * 1000.0) / 1000.0); }
+inline double round_cm(double v) { return unsigned_zero(std::round(v * 100.0) / 100.0); }
+
 }  // namespace starnav

@@ -309,4 +309,13 @@ void Amcl::refresh_estimate() {
   estimate_ = e;
 }
 
+std::vector<Pose2> Amcl::particle_sample(std::size_t max) const {
+  const std::span<const Pose2> all = particles();
+  const std::size_t n = std::min(max, all.size());
+  std::vector<Pose2> out;
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) out.push_back(all[i * all.size() / n]);
+  return out;
+}
+
 }  // namespace starnav

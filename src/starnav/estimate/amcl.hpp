@@ -190,6 +190,9 @@ class Amcl {
   const std::vector<ParticleCluster>& clusters() const { return clusters_; }
 
   std::span<const Pose2> particles() const { return filter_.poses(); }
+  // At most `max` particles taken evenly over the set (a viewer's sample: after resampling the
+  // set is in no particular order).
+  std::vector<Pose2> particle_sample(std::size_t max) const;
   std::span<const double> weights() const { return filter_.weights(); }
   const ParticleFilter& filter() const { return filter_; }
   const AmclCounters& counters() const { return counters_; }

@@ -177,14 +177,7 @@ class AmclLocalizer final : public Localizer {
     return e;
   }
   std::vector<Pose2> belief_samples(std::size_t max) const override {
-    std::vector<Pose2> out;
-    if (!amcl_ || max == 0) return out;
-    const std::span<const Pose2> all = amcl_->particles();
-    const std::size_t n = std::min(max, all.size());
-    out.reserve(n);
-    // Evenly strided over the set: the particles are in no particular order after resampling.
-    for (std::size_t i = 0; i < n; ++i) out.push_back(all[i * all.size() / n]);
-    return out;
+    return amcl_ ? amcl_->particle_sample(max) : std::vector<Pose2>{};
   }
 
  private:

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <span>
 #include <sstream>
 #include <unordered_map>
 
@@ -22,7 +21,6 @@
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/registry/components.hpp"
-#include "starnav/view/run_folder.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav {
@@ -240,18 +238,9 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
       step.t_s = static_cast<double>(s.stamp_us) * 1e-6;
       step.pose = Pose3::from_rpy(Vec3(p.pose.x, p.pose.y, 0.0), 0.0, 0.0, p.pose.yaw);
       step.estimate = p.pose;
-      const Pose2 laser = p.pose.compose(r.laser_in_base);
-      const std::size_t every = std::max<std::size_t>(1, (s.ranges_m.size() + kScriptedStepHits - 1) / kScriptedStepHits);
-      for (std::size_t k = 0; k < s.ranges_m.size(); k += every) {
-        const double d = s.ranges_m[k];
-        if (!(d >= s.range_min_m && d < s.range_max_m && d > 0.0)) continue;
-        const double angle = laser.yaw + s.angle(k);
-        step.hits.push_back(Vec3(laser.x + d * std::cos(angle), laser.y + d * std::sin(angle), 0.0));
-      }
+      for (const Vec2& h : s.end_points(p.pose.compose(r.laser_in_base), kStepHits)) step.hits.push_back(Vec3(h.x(), h.y(), 0.0));
       step.returns = s.ranges_m.size();
-      const std::span<const Pose2> all = amcl.particles();
-      const std::size_t n = std::min<std::size_t>(kStepParticles, all.size());
-      for (std::size_t k = 0; k < n; ++k) step.particles.push_back(all[k * all.size() / n]);
+      step.particles = amcl.particle_sample(kStepParticles);
       if (twins[i]) step.reference = reference->scans[*twins[i]].laser_pose->compose(r.laser_in_base.inverse());
       r.step_lines.push_back(step_record_json(step));
     }
@@ -441,15 +430,9 @@ void write_localize_outputs(const LocalizeRunResult& r, const std::string& dir) 
   if (!r.step_lines.empty()) {
     std::string steps;
     for (const std::string& l : r.step_lines) steps += l + '\n';
-    write_file_bytes((d / "steps.jsonl").string(), steps);
     // The map is known: the viewer shows it from the start.
-    write_file_bytes((d / "world.json").string(), map_world_json(r.grid, true, r.trajectory.front().pose));
-    nlohmann::ordered_json about;
-    about["log"] = {{"name", fs::path(r.log).filename().string()}, {"method", "amcl"}};
-    const double t0 = static_cast<double>(r.trajectory.front().stamp_us) * 1e-6;
-    about["start_s"] = std::round(t0 * 1000.0) / 1000.0;
-    about["duration_s"] = static_cast<double>(r.trajectory.back().stamp_us - r.trajectory.front().stamp_us) * 1e-6;
-    write_run_manifest(dir, "localization", about.dump());
+    write_log_run_record(dir, "localization", r.log, "amcl", r.trajectory.front().stamp_us, r.trajectory.back().stamp_us, steps,
+                         map_world_json(r.grid, true, r.trajectory.front().pose));
   }
 }
 

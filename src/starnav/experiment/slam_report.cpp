@@ -20,7 +20,6 @@
 #include "starnav/registry/components.hpp"
 #include "starnav/slam/graph_slam.hpp"
 #include "starnav/harness/run_record.hpp"
-#include "starnav/view/run_folder.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav {
@@ -86,13 +85,7 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
       step.stamp_us = scan.stamp_us;
       step.base = base;
       step.changes = changes;
-      const std::size_t every = std::max<std::size_t>(1, (scan.ranges_m.size() + kSlamStepHits - 1) / kSlamStepHits);
-      for (std::size_t i = 0; i < scan.ranges_m.size(); i += every) {
-        const double d = scan.ranges_m[i];
-        if (!(d >= scan.range_min_m && d < scan.range_max_m && d > 0.0)) continue;
-        const double a = sensor.yaw + scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
-        step.hits.push_back(sensor.translation() + d * Vec2(std::cos(a), std::sin(a)));
-      }
+      step.hits = scan.end_points(sensor, kStepHits);
       r.steps.push_back(std::move(step));
     };
   r.map = map_log(log, r.trajectory, q.mapping, observer).grid;
@@ -207,13 +200,6 @@ const std::vector<std::string>& slam_output_files() {
   return files;
 }
 
-namespace {
-
-double slam_mm(double v) { return unsigned_zero(std::round(v * 1000.0) / 1000.0); }
-double slam_cm(double v) { return unsigned_zero(std::round(v * 100.0) / 100.0); }
-
-}  // namespace
-
 std::string slam_steps_jsonl(const SlamRunResult& r) {
   if (r.steps.empty()) return {};
   const GridGeometry& g = r.map.geometry();
@@ -230,10 +216,10 @@ std::string slam_steps_jsonl(const SlamRunResult& r) {
   std::string out;
   for (const SlamViewStep& s : r.steps) {
     nlohmann::ordered_json j;
-    j["t_s"] = slam_mm(static_cast<double>(s.stamp_us) * 1e-6);  // the log's clock, as trajectory.csv
-    j["pose"] = {slam_mm(s.base.x), slam_mm(s.base.y), 0.0, 0.0, 0.0, slam_mm(wrap_angle(s.base.yaw))};
+    j["t_s"] = round_mm(static_cast<double>(s.stamp_us) * 1e-6);  // the log's clock, as trajectory.csv
+    j["pose"] = {round_mm(s.base.x), round_mm(s.base.y), 0.0, 0.0, 0.0, round_mm(wrap_angle(s.base.yaw))};
     nlohmann::ordered_json hits = nlohmann::ordered_json::array();
-    for (const Vec2& h : s.hits) hits.push_back({slam_cm(h.x()), slam_cm(h.y()), 0.0});
+    for (const Vec2& h : s.hits) hits.push_back({round_cm(h.x()), round_cm(h.y()), 0.0});
     j["hits"] = std::move(hits);
     nlohmann::ordered_json changed = nlohmann::ordered_json::array();
     for (const MapCellChange& c : s.changes)
@@ -241,7 +227,7 @@ std::string slam_steps_jsonl(const SlamRunResult& r) {
     j["changed"] = std::move(changed);
     if (const auto it = closures_at.find(s.stamp_us); it != closures_at.end()) {
       nlohmann::ordered_json loops = nlohmann::ordered_json::array();
-      for (const auto& [a, b] : it->second) loops.push_back({slam_mm(a.x()), slam_mm(a.y()), slam_mm(b.x()), slam_mm(b.y())});
+      for (const auto& [a, b] : it->second) loops.push_back({round_mm(a.x()), round_mm(a.y()), round_mm(b.x()), round_mm(b.y())});
       j["loop_closures"] = std::move(loops);
     }
     out += j.dump() + '\n';
@@ -262,16 +248,9 @@ void write_slam_outputs(const SlamRunResult& r, const std::string& dir) {
   write_file_bytes((d / "pose_graph.json").string(), pose_graph_json(r.graph));
   write_slam_picture(r, (d / "map.png").string());
   write_file_bytes((d / "summary.json").string(), slam_summary_json(r).dump(1) + "\n");
-  if (!r.steps.empty()) {
-    write_file_bytes((d / "steps.jsonl").string(), slam_steps_jsonl(r));
-    write_file_bytes((d / "world.json").string(), slam_world_json(r));
-    nlohmann::ordered_json about;
-    about["log"] = {{"name", fs::path(r.log).filename().string()}, {"method", r.method}};
-    // Times are the log's: the run starts at its first mapped scan.
-    about["start_s"] = slam_mm(static_cast<double>(r.steps.front().stamp_us) * 1e-6);
-    about["duration_s"] = static_cast<double>(r.steps.back().stamp_us - r.steps.front().stamp_us) * 1e-6;
-    write_run_manifest(dir, "slam", about.dump());
-  }
+  if (!r.steps.empty())
+    write_log_run_record(dir, "slam", r.log, r.method, r.steps.front().stamp_us, r.steps.back().stamp_us, slam_steps_jsonl(r),
+                         slam_world_json(r));
 }
 
 }  // namespace starnav

@@ -34,14 +34,13 @@ struct SlamRunRequest {
 };
 
 // One mapped scan as the viewer replays it: the base pose, the scan's end points (world frame,
-// every k-th beam: at most kSlamStepHits) and the map cells it changed (lattice indices).
+// every k-th beam: at most kStepHits) and the map cells it changed (lattice indices).
 struct SlamViewStep {
   std::int64_t stamp_us = 0;
   Pose2 base;
   std::vector<Vec2> hits;
   std::vector<MapCellChange> changes;
 };
-inline constexpr std::size_t kSlamStepHits = 180;
 
 struct SlamRunResult {
   std::string log;

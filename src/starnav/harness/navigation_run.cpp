@@ -695,10 +695,6 @@ std::string replans_csv(const NavigationRun& run) {
   return out;
 }
 
-// Millimetres for poses and paths, centimetres for LiDAR hits (the map's cells are 5-10 cm):
-// enough for a viewer, a fraction of the bytes of six decimals.
-double mm(double v) { return unsigned_zero(std::round(v * 1000.0) / 1000.0); }
-double cm(double v) { return unsigned_zero(std::round(v * 100.0) / 100.0); }
 
 std::string steps_jsonl(const NavigationRun& run) {
   std::string out;
@@ -716,13 +712,13 @@ std::string step_json_line(const NavigationRun& run, const NavStepRecord& r) {
 
 std::string step_record_json(const NavStepRecord& r, const std::vector<Vec2>* new_path) {
   nlohmann::ordered_json j;
-  j["t_s"] = mm(r.t_s);
+  j["t_s"] = round_mm(r.t_s);
   const Vec3 rpy = r.pose.rpy();
-  j["pose"] = {mm(r.pose.position.x()), mm(r.pose.position.y()), mm(r.pose.position.z()),
-               mm(rpy.x()),             mm(rpy.y()),             mm(rpy.z())};
+  j["pose"] = {round_mm(r.pose.position.x()), round_mm(r.pose.position.y()), round_mm(r.pose.position.z()),
+               round_mm(rpy.x()),             round_mm(rpy.y()),             round_mm(rpy.z())};
   j["returns"] = r.returns;
   nlohmann::ordered_json hits = nlohmann::ordered_json::array();
-  for (const Vec3& p : r.hits) hits.push_back({cm(p.x()), cm(p.y()), cm(p.z())});
+  for (const Vec3& p : r.hits) hits.push_back({round_cm(p.x()), round_cm(p.y()), round_cm(p.z())});
   j["hits"] = std::move(hits);
   nlohmann::ordered_json changed = nlohmann::ordered_json::array();
   for (const auto& [c, v] : r.changed) changed.push_back({c.x, c.y, static_cast<int>(v)});
@@ -730,16 +726,16 @@ std::string step_record_json(const NavStepRecord& r, const std::vector<Vec2>* ne
   j["path_id"] = r.path_id;
   if (new_path) {
     nlohmann::ordered_json path = nlohmann::ordered_json::array();
-    for (const Vec2& v : *new_path) path.push_back({mm(v.x()), mm(v.y())});
+    for (const Vec2& v : *new_path) path.push_back({round_mm(v.x()), round_mm(v.y())});
     j["path"] = std::move(path);
   }
-  if (r.estimate) j["estimate"] = {mm(r.estimate->x), mm(r.estimate->y), mm(wrap_angle(r.estimate->yaw))};
+  if (r.estimate) j["estimate"] = {round_mm(r.estimate->x), round_mm(r.estimate->y), round_mm(wrap_angle(r.estimate->yaw))};
   if (!r.particles.empty()) {
     nlohmann::ordered_json particles = nlohmann::ordered_json::array();
-    for (const Pose2& p : r.particles) particles.push_back({cm(p.x), cm(p.y), cm(wrap_angle(p.yaw))});
+    for (const Pose2& p : r.particles) particles.push_back({round_cm(p.x), round_cm(p.y), round_cm(wrap_angle(p.yaw))});
     j["particles"] = std::move(particles);
   }
-  if (r.reference) j["reference"] = {mm(r.reference->x), mm(r.reference->y), mm(wrap_angle(r.reference->yaw))};
+  if (r.reference) j["reference"] = {round_mm(r.reference->x), round_mm(r.reference->y), round_mm(wrap_angle(r.reference->yaw))};
   return j.dump();
 }
 

@@ -19,15 +19,13 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// Millimetres: a viewer needs no more, and the bytes stay a fraction of six decimals'.
-double to_mm(double v) { return unsigned_zero(std::round(v * 1000.0) / 1000.0); }
 
-Json vec3_json(const Vec3& v) { return Json::array({to_mm(v.x()), to_mm(v.y()), to_mm(v.z())}); }
+Json vec3_json(const Vec3& v) { return Json::array({round_mm(v.x()), round_mm(v.y()), round_mm(v.z())}); }
 
 // A time that may be infinite (an obstacle that never disappears): null.
-Json time_json(double t) { return std::isfinite(t) ? Json(to_mm(t)) : Json(nullptr); }
+Json time_json(double t) { return std::isfinite(t) ? Json(round_mm(t)) : Json(nullptr); }
 
-Json pose2_json(const Pose2& p) { return Json::array({to_mm(p.x), to_mm(p.y), to_mm(p.yaw)}); }
+Json pose2_json(const Pose2& p) { return Json::array({round_mm(p.x), round_mm(p.y), round_mm(p.yaw)}); }
 
 // One part: its kind and its numbers in a fixed order (docs/run-records.md).
 Json part_json(const Primitive& part) {
@@ -35,16 +33,16 @@ Json part_json(const Primitive& part) {
       [](const auto& p) -> Json {
         using T = std::decay_t<decltype(p)>;
         if constexpr (std::is_same_v<T, Box>) {
-          return Json::array({"box", to_mm(p.center.x()), to_mm(p.center.y()), to_mm(p.center.z()), to_mm(p.size.x()),
-                              to_mm(p.size.y()), to_mm(p.size.z()), to_mm(p.roll), to_mm(p.pitch), to_mm(p.yaw)});
+          return Json::array({"box", round_mm(p.center.x()), round_mm(p.center.y()), round_mm(p.center.z()), round_mm(p.size.x()),
+                              round_mm(p.size.y()), round_mm(p.size.z()), round_mm(p.roll), round_mm(p.pitch), round_mm(p.yaw)});
         } else if constexpr (std::is_same_v<T, Cylinder>) {
-          return Json::array({"cylinder", to_mm(p.base.x()), to_mm(p.base.y()), to_mm(p.base.z()), to_mm(p.radius),
-                              to_mm(p.height)});
+          return Json::array({"cylinder", round_mm(p.base.x()), round_mm(p.base.y()), round_mm(p.base.z()), round_mm(p.radius),
+                              round_mm(p.height)});
         } else if constexpr (std::is_same_v<T, Prism>) {
-          return Json::array({"prism", to_mm(p.base.x()), to_mm(p.base.y()), to_mm(p.base.z()), to_mm(p.yaw),
-                              to_mm(p.base_width), to_mm(p.height), to_mm(p.apex_offset), to_mm(p.length)});
+          return Json::array({"prism", round_mm(p.base.x()), round_mm(p.base.y()), round_mm(p.base.z()), round_mm(p.yaw),
+                              round_mm(p.base_width), round_mm(p.height), round_mm(p.apex_offset), round_mm(p.length)});
         } else {
-          return Json::array({"sphere", to_mm(p.center.x()), to_mm(p.center.y()), to_mm(p.center.z()), to_mm(p.radius)});
+          return Json::array({"sphere", round_mm(p.center.x()), round_mm(p.center.y()), round_mm(p.center.z()), round_mm(p.radius)});
         }
       },
       part);
@@ -59,7 +57,7 @@ Json obstacle_json(const Obstacle& o) {
   if (o.velocity != Vec3::Zero()) j["velocity"] = vec3_json(o.velocity);
   if (!o.waypoints.empty()) {
     Json w = Json::array();
-    for (const Waypoint& p : o.waypoints) w.push_back({to_mm(p.time), to_mm(p.position.x()), to_mm(p.position.y()), to_mm(p.position.z())});
+    for (const Waypoint& p : o.waypoints) w.push_back({round_mm(p.time), round_mm(p.position.x()), round_mm(p.position.y()), round_mm(p.position.z())});
     j["waypoints"] = std::move(w);
   }
   Json parts = Json::array();
@@ -87,7 +85,7 @@ Json terrain_json(const ElevationMap& map) {
     for (int sx = 0; sx < w; ++sx) {
       const int ix = sx * stride, iy = sy * stride;
       if (map.observed_at(ix, iy) && std::isfinite(map.height_at(ix, iy)))
-        heights.push_back(to_mm(map.height_at(ix, iy)));
+        heights.push_back(round_mm(map.height_at(ix, iy)));
       else
         heights.push_back(nullptr);
     }
@@ -135,13 +133,13 @@ std::string world_json(const Simulation& sim, const NavigationRun* navigation) {
   j["start"] = pose2_json(spec.start);
   if (!spec.reference_line.empty()) {
     Json line = Json::array();
-    for (const Vec2& p : spec.reference_line) line.push_back({to_mm(p.x()), to_mm(p.y())});
+    for (const Vec2& p : spec.reference_line) line.push_back({round_mm(p.x()), round_mm(p.y())});
     j["reference_line"] = std::move(line);
   }
   if (spec.navigation) {
     Json goals = Json::array();
     for (const ScenarioGoal& g : spec.navigation->goals)
-      goals.push_back({to_mm(g.position.x()), to_mm(g.position.y()), g.yaw_rad ? Json(to_mm(*g.yaw_rad)) : Json(nullptr)});
+      goals.push_back({round_mm(g.position.x()), round_mm(g.position.y()), g.yaw_rad ? Json(round_mm(*g.yaw_rad)) : Json(nullptr)});
     j["goals"] = std::move(goals);
   }
   if (navigation) {
@@ -184,6 +182,19 @@ std::string map_world_json(const OccupancyGrid& map, bool known, const Pose2& st
   return j.dump() + "\n";
 }
 
+void write_log_run_record(const std::string& dir, const std::string& kind, const std::string& log, const std::string& method,
+                          std::int64_t first_us, std::int64_t last_us, const std::string& steps_jsonl,
+                          const std::string& world_json) {
+  const std::filesystem::path d(dir);
+  write_file_bytes((d / "steps.jsonl").string(), steps_jsonl);
+  write_file_bytes((d / "world.json").string(), world_json);
+  Json about;
+  about["log"] = {{"name", std::filesystem::path(log).filename().string()}, {"method", method}};
+  about["start_s"] = round_mm(static_cast<double>(first_us) * 1e-6);
+  about["duration_s"] = static_cast<double>(last_us - first_us) * 1e-6;
+  write_run_manifest(dir, kind, about.dump());
+}
+
 std::string run_about_json(const Simulation& sim, bool live) { return run_about(sim, live).dump(); }
 
 std::string live_run_manifest_json(const Simulation& sim, const std::string& kind) {
@@ -200,9 +211,9 @@ std::string live_run_manifest_json(const Simulation& sim, const std::string& kin
 std::string pose_step_json_line(double t_s, const Pose3& pose) {
   const Vec3 rpy = pose.rpy();
   Json j;
-  j["t_s"] = to_mm(t_s);
-  j["pose"] = {to_mm(pose.position.x()), to_mm(pose.position.y()), to_mm(pose.position.z()),
-               to_mm(rpy.x()),           to_mm(rpy.y()),           to_mm(rpy.z())};
+  j["t_s"] = round_mm(t_s);
+  j["pose"] = {round_mm(pose.position.x()), round_mm(pose.position.y()), round_mm(pose.position.z()),
+               round_mm(rpy.x()),           round_mm(rpy.y()),           round_mm(rpy.z())};
   return j.dump();
 }
 
@@ -213,7 +224,7 @@ ScanStepRecorder::ScanStepRecorder(Simulation& sim, const LocalizationChain* cha
     r.t_s = scan.time;
     r.pose = sim.vehicle().state().pose;
     r.returns = scan.points_world.size();
-    const std::size_t every = std::max<std::size_t>(1, (scan.points_world.size() + kScriptedStepHits - 1) / kScriptedStepHits);
+    const std::size_t every = std::max<std::size_t>(1, (scan.points_world.size() + kStepHits - 1) / kStepHits);
     for (std::size_t i = 0; i < scan.points_world.size(); i += every) r.hits.push_back(scan.points_world[i]);
     if (chain) {
       r.estimate = chain->localizer().estimate().pose;

@@ -3,6 +3,7 @@
 // holds; world.json is the simulated world (terrain, obstacles with their lifetimes and motions,
 // the robot's body, the start, the goals and, for navigation, the navigator's grid and its prior
 // occupancy). steps.jsonl (navigation_run.hpp) and trajectory.csv carry the run over time.
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -29,6 +30,13 @@ std::string world_json(const Simulation& sim, const NavigationRun* navigation = 
 // (localization), all unknown at first when the run builds it (SLAM).
 std::string map_world_json(const OccupancyGrid& map, bool known, const Pose2& start);
 
+// The run record of a run over a robot log (SLAM, localization): steps.jsonl, world.json, then
+// run.json of `kind` with the log's file name and the method, on the log's clock (start_s, the
+// first step's stamp; duration_s to the last's).
+void write_log_run_record(const std::string& dir, const std::string& kind, const std::string& log, const std::string& method,
+                          std::int64_t first_us, std::int64_t last_us, const std::string& steps_jsonl,
+                          const std::string& world_json);
+
 // What run.json says of a simulated run besides its schema, kind and files: the scenario's name
 // and file (without folders), seed, step and duration; `live`: the scenario's duration and
 // "live": true, for the manifest a live server hands out before the run has written anything.
@@ -40,10 +48,11 @@ std::string live_run_manifest_json(const Simulation& sim, const std::string& kin
 std::string pose_step_json_line(double t_s, const Pose3& pose);
 
 // The steps.jsonl of a scripted run with a LiDAR (docs/run-records.md): per scan the true pose,
-// the returns (at most kScriptedStepHits, every k-th) and, with a localization chain, its estimate
+// the returns (at most kStepHits, every k-th) and, with a localization chain, its estimate
 // and at most `max_particles` of its belief. Chains onto sim.on_scan: make it after the chain
 // and the other recorders, and keep it alive while the simulation runs.
-inline constexpr std::size_t kScriptedStepHits = 180;
+// The most returns a step carries in runs that keep no obstacle cells (scripted runs, logs).
+inline constexpr std::size_t kStepHits = 180;
 class ScanStepRecorder {
  public:
   ScanStepRecorder(Simulation& sim, const LocalizationChain* chain, std::size_t max_particles = kStepParticles);

@@ -1,6 +1,7 @@
 #include "starnav/logs/robot_log.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -11,6 +12,19 @@
 #include "starnav/core/record_format.hpp"
 
 namespace starnav {
+
+std::vector<Vec2> LogScan::end_points(const Pose2& sensor, std::size_t max) const {
+  std::vector<Vec2> out;
+  if (max == 0) return out;
+  const std::size_t every = std::max<std::size_t>(1, (ranges_m.size() + max - 1) / max);
+  for (std::size_t i = 0; i < ranges_m.size(); i += every) {
+    const double d = ranges_m[i];
+    if (!returned(i) || !(d > 0.0)) continue;
+    const double a = sensor.yaw + angle(i);
+    out.push_back(sensor.translation() + d * Vec2(std::cos(a), std::sin(a)));
+  }
+  return out;
+}
 
 bool parse_stamp_us(std::string_view text, std::int64_t& us) {
   // Decimal arithmetic, never through a double: mantissa digits (at most 18 kept, the first

@@ -36,6 +36,9 @@ struct LogScan {
     const double r = ranges_m[i];
     return r >= range_min_m && r < range_max_m;  // NaN fails both
   }
+  // The end points (map frame) of the returned beams with a positive range, seen from `sensor`,
+  // taking every k-th beam so that at most `max` beams are visited (a viewer's thinned scan).
+  std::vector<Vec2> end_points(const Pose2& sensor, std::size_t max) const;
 };
 
 struct LogOdometry {
