@@ -57,11 +57,11 @@ fuzz:
 fuzz-replay: san-build
 	@FUZZ_BUILD_DIR=$(SAN_BUILD) scripts/fuzz.sh replay
 
-# Without GDAL (docs/ci.md, "The no-GDAL stage"): configured with -DSTARNAV_WITH_GDAL=OFF (no
-# plugin, GeoTIFF refused with one error line), the library, the CLI and the two test executables
-# that read map files (test_io: every reader and load_map; test_cli: the CLI on every map format,
-# GeoTIFF included) built at -O1 and run. Nothing else in starnav touches GDAL. PCL is off too:
-# nothing there uses it.
+# Without GDAL (docs/ci.md, "The build without GDAL"; CI checks it in make asan, whose tree has no
+# GDAL): configured with -DSTARNAV_WITH_GDAL=OFF (no plugin, GeoTIFF refused with one error line),
+# the library, the CLI and the two test executables that read map files (test_io: every reader and
+# load_map; test_cli: the CLI on every map format, GeoTIFF included) built at -O1 and run. Nothing
+# else in starnav touches GDAL. PCL is off too: nothing there uses it.
 nogdal-check:
 	@STARNAV_WITH_GDAL=OFF STARNAV_WITH_PCL=OFF scripts/install-deps.sh core
 	@$(CMAKE_BUILD) $(NOGDAL_BUILD) "-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 -DSTARNAV_WITH_GDAL=OFF \
