@@ -289,10 +289,55 @@ TEST(AmclScenario, RecoveryDrawsFromTheScanProposal) {
     if (recovery) {
       EXPECT_GE(amcl.counters().proposals, injecting_updates);
       EXPECT_GT(amcl.counters().proposal_candidates, 0);
+      EXPECT_GT(amcl.counters().scan_injections, 0);
     } else {
       EXPECT_EQ(amcl.counters().proposals, 0);
+      EXPECT_EQ(amcl.counters().scan_injections, 0);
     }
   }
+}
+
+// The recovery draws from the scan only when the scan's best candidate fits injection_margin
+// times better than the set's best particle. After the kidnap no particle fits, so the default
+// margin lets the scan's poses in, and the filter is back within a few updates; no candidate
+// fits a million times better, so with that margin every injected pose is uniform again (and
+// the same kidnap is not undone within the same number of updates).
+TEST(AmclScenario, RecoveryDrawsFromTheScanOnlyWhenItFitsClearlyBetter) {
+  std::vector<int> back_after;
+  for (const double margin : {2.0, 1e6}) {
+    const Room room = amcl_test::make_room();
+    AmclTestDrive drive(room, 5);
+    AmclConfig c = amcl_test_config();
+    c.max_particles = 2000;
+    c.recovery_alpha_slow = 0.001;
+    c.recovery_alpha_fast = 0.1;
+    c.scan_proposal = true;
+    c.proposal.recovery = true;
+    c.proposal.injection_margin = margin;
+    Amcl amcl(room.grid, {}, c, kAmclTestMount, 31);
+    amcl.initialize(drive.truth(), Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+    int kidnapped_at = -1, back = -1;
+    for (int k = 0; k < 400 && amcl.estimate().updates < 60 && back < 0; ++k) {
+      if (kidnapped_at < 0 && amcl.estimate().updates == 15) {
+        EXPECT_EQ(amcl.counters().scan_injections, 0) << margin;  // tracking: nothing to recover from
+        drive.teleport_to_waypoint(4);
+        kidnapped_at = amcl.estimate().updates;
+      }
+      if (amcl.update(drive.odom(), drive.scan(kAmclTestMount)) && kidnapped_at >= 0 && amcl.estimate().converged &&
+          amcl_position_error(amcl.estimate().pose, drive.truth()) < 0.1)
+        back = amcl.estimate().updates - kidnapped_at;
+      drive.step(0.1);
+    }
+    EXPECT_GT(amcl.counters().injected, 0) << margin;
+    if (margin == 2.0) {
+      EXPECT_GT(amcl.counters().scan_injections, 0);
+      EXPECT_GT(back, 0);
+    } else {
+      EXPECT_EQ(amcl.counters().scan_injections, 0);
+    }
+    back_after.push_back(back < 0 ? 1000 : back);
+  }
+  EXPECT_LT(back_after[0], back_after[1]);
 }
 
 TEST(AmclUpdate, FirstScanUpdatesThenOnlyAfterMotion) {

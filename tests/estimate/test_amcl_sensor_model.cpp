@@ -203,6 +203,74 @@ TEST(LikelihoodField, WeightOfOneParticleByHand) {
   EXPECT_EQ(field.weight(pose, mount, std::vector<ModelBeam>{{4.0, 0.0}}), 1.0);
 }
 
+TEST(LikelihoodField, TemperedProductOfOneParticleByHand) {
+  const OccupancyGrid grid = amcl_sensor_test_grid(37, 23, 0.1, 0.03, 3);
+  const OccupancyThresholds t;
+  LikelihoodFieldConfig c;
+  c.max_dist_m = 0.6;
+  c.sigma_hit_m = 0.15;
+  c.z_hit = 0.7;
+  c.z_rand = 0.3;
+  c.range_max_m = 4.0;
+  c.independent_beams = 3.0;
+  const LikelihoodField field(grid, t, c);
+  const Pose2 pose(2.3, -0.4, 2.1);
+  const Pose2 mount(0.12, -0.03, 0.3);
+  const std::vector<ModelBeam> beams = {{0.8, 0.0}, {1.7, 1.2}, {4.0, 0.5} /* non-return */, {2.9, -2.5}, {0.3, 3.0},
+                                        {5.0, -1.0}};
+  const auto pz_of = [&](double d) {
+    return c.z_hit * std::exp(-d * d / (2 * c.sigma_hit_m * c.sigma_hit_m)) + c.z_rand / c.range_max_m;
+  };
+  // (prod pz / pz(0))^(k / n) over the n returning beams, multiplied out.
+  double product = 1.0;
+  int returning = 0;
+  const Pose2 laser = pose.compose(mount);
+  for (const ModelBeam& b : beams) {
+    if (b.range_m >= c.range_max_m) continue;
+    const Vec2 hit(laser.x + b.range_m * std::cos(laser.yaw + b.bearing_rad),
+                   laser.y + b.range_m * std::sin(laser.yaw + b.bearing_rad));
+    const auto cell = grid.geometry().world_to_cell(hit);
+    const double d = cell ? std::min(brute_obstacle_distance(grid, t, grid.geometry().cell_center(*cell), true), c.max_dist_m)
+                          : c.max_dist_m;
+    product *= pz_of(d) / pz_of(0.0);
+    ++returning;
+  }
+  ASSERT_EQ(returning, 4);  // 4.0 and 5.0 reach range_max: non-returns
+  const double expected = std::pow(product, c.independent_beams / returning);
+  EXPECT_NEAR(field.weight(pose, mount, beams), expected, 1e-5 * expected);
+  EXPECT_LE(field.weight(pose, mount, beams), 1.0);  // a perfect fit weighs 1
+  // Counting every beam twice is the same scan: the weight depends on k, not on the beam count.
+  std::vector<ModelBeam> doubled = beams;
+  doubled.insert(doubled.end(), beams.begin(), beams.end());
+  EXPECT_NEAR(field.weight(pose, mount, doubled), expected, 1e-5 * expected);
+  // No usable beam: p = 1.
+  EXPECT_EQ(field.weight(pose, mount, std::vector<ModelBeam>{{4.0, 0.0}}), 1.0);
+  // k is the exponent: twice k squares the weight.
+  LikelihoodFieldConfig c6 = c;
+  c6.independent_beams = 6.0;
+  const LikelihoodField field6(grid, t, c6);
+  EXPECT_NEAR(field6.weight(pose, mount, beams), expected * expected, 1e-5 * expected * expected);
+}
+
+TEST(LikelihoodField, TemperedProductRejectsImpossibleParameters) {
+  const OccupancyGrid grid = amcl_sensor_test_grid(5, 5, 0.1, 0.1, 2);
+  for (const double k : {-1.0, kMaxIndependentBeams + 1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    LikelihoodFieldConfig c;
+    c.independent_beams = k;
+    try {
+      LikelihoodField f(grid, {}, c);
+      FAIL() << "independent_beams " << k << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), "amcl.search_independent_beams");
+    }
+  }
+  LikelihoodFieldConfig c;
+  c.independent_beams = 3.0;
+  c.z_hit = 0.0;
+  c.z_rand = 0.0;
+  EXPECT_THROW(LikelihoodField(grid, {}, c), Error);
+}
+
 TEST(LikelihoodField, RangeMaxChangesOnlyTheRandomTerm) {
   const OccupancyGrid grid = amcl_sensor_test_grid(20, 20, 0.1, 0.05, 4);
   LikelihoodFieldConfig c;

@@ -57,6 +57,10 @@ void AmclConfig::validate() const {
   require(search_z_hit + search_z_rand > 0.0, "amcl.search_z_hit", "search_z_hit and search_z_rand are both 0");
   require_positive(search_sigma_hit_m, "amcl.search_sigma_hit_m");
   require_positive(search_end_sigma_m, "amcl.search_end_sigma_m");
+  require(search_ramp_updates >= 0, "amcl.search_ramp_updates", "must be >= 0");
+  require(std::isfinite(search_independent_beams) && search_independent_beams >= 0.0 &&
+              search_independent_beams <= kMaxIndependentBeams,
+          "amcl.search_independent_beams", "must lie in [0, 100]");
   if (scan_proposal) {
     proposal.validate();
     require(laser_model == LaserModelType::LikelihoodField, "amcl.scan_proposal",
@@ -114,10 +118,11 @@ Amcl::Amcl(const OccupancyGrid& map, const OccupancyThresholds& thresholds, cons
     f.reference = config_.field_reference;
     field_.emplace(map, thresholds, f);
     if (config_.search_phase && (config_.search_z_hit != f.z_hit || config_.search_z_rand != f.z_rand ||
-                                 config_.search_sigma_hit_m != f.sigma_hit_m)) {
+                                 config_.search_sigma_hit_m != f.sigma_hit_m || config_.search_independent_beams > 0.0)) {
       f.z_hit = config_.search_z_hit;
       f.z_rand = config_.search_z_rand;
       f.sigma_hit_m = config_.search_sigma_hit_m;
+      f.independent_beams = config_.search_independent_beams;
       search_field_.emplace(map, thresholds, f);
     }
   } else {
@@ -166,6 +171,7 @@ void Amcl::initialize_global() {
   initialized_ = true;
   have_odom_reference_ = false;
   searching_ = config_.search_phase;
+  search_updates_ = 0;
   global_proposal_pending_ = proposal_.has_value();
   refresh_estimate();
 }
@@ -224,6 +230,16 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
       field->weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
     else
       beam_model_->weigh(filter_.poses(), laser_in_base_, beams, range_max, likelihoods_);
+    if (searching_ && tempered_search()) {
+      // The ramp: (prod pz / pz(0))^(k r / n) with r rising to 1. The first updates of a search
+      // compare modes whose particles the proposal's lattice or the random poses put a little
+      // off their places: at full k that luck, not the scans, chose between look-alikes (the
+      // symmetric corridors: the mirrored corridor claimed in 2 of 20 runs, none with the ramp).
+      ++search_updates_;
+      const double r = std::min(1.0, static_cast<double>(search_updates_) / std::max(1, config_.search_ramp_updates));
+      if (r < 1.0)
+        for (double& l : likelihoods_) l = std::pow(l, r);
+    }
     filter_.weigh(likelihoods_);
 
     // The search ends once the weighed set (the posterior, before any recovery poses join it)
@@ -244,15 +260,16 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
       if (proposal_ && config_.proposal.recovery && filter_.injection_probability() > 0.0) {
         pool = proposed_poses(*field, beams, static_cast<std::size_t>(config_.proposal.injection_pool),
                               static_cast<std::size_t>(config_.proposal.injection_candidates));
+        if (!pool.empty() && !scan_explained_better(pool.front(), beams, range_max)) pool.clear();
         if (!pool.empty())
           random_pose = [&pool](Rng& r) {
             return pool[static_cast<std::size_t>(r.uniform_int(0, static_cast<std::int64_t>(pool.size()) - 1))];
           };
-      } else if (!free_cells_.empty()) {
-        random_pose = [this](Rng& r) { return random_free_pose(r); };
       }
+      if (!random_pose && !free_cells_.empty()) random_pose = [this](Rng& r) { return random_free_pose(r); };
       const ResampleResult r = filter_.resample(rng_, random_pose, searching_ && config_.search_holds_particles ? config_.max_particles : 0);
       ++counters_.resamples;
+      if (r.injected > 0 && !pool.empty()) ++counters_.scan_injections;
       counters_.injected += r.injected;
       counters_.last_injected = r.injected;
       counters_.last_w_diff = r.w_diff;
@@ -264,9 +281,15 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
   // Random poses start a search, unless the set still holds one tight cluster after them (a
   // few poses injected beside a converged set when the likelihood dips are weeded out by the
   // tracking models).
-  if (injected_now && config_.search_phase) searching_ = true;
-  if (searching_ && (search_over || amcl_concentrated(clusters_, config_.converged_weight, config_.search_end_sigma_m)))
-    searching_ = false;
+  const bool concentrated = amcl_concentrated(clusters_, config_.converged_weight, config_.search_end_sigma_m);
+  if (injected_now && config_.search_phase && !searching_ && !concentrated) {
+    searching_ = true;
+    search_updates_ = 0;
+  }
+  // A tempered search ends only at full strength: before it, one cluster's share says more about
+  // how the particles happened to lie than about the scans.
+  const bool ramped = !tempered_search() || search_updates_ >= config_.search_ramp_updates;
+  if (searching_ && ramped && (search_over || concentrated)) searching_ = false;
   estimate_.searching = searching_;
   map_to_odom_ = estimate_.pose.compose(odom_pose.inverse());
   return true;
@@ -286,6 +309,19 @@ std::vector<Pose2> Amcl::proposed_poses(const LikelihoodField& field, std::span<
   std::vector<Pose2> poses(best.size());
   for (std::size_t k = 0; k < best.size(); ++k) poses[k] = best[k].pose;
   return poses;
+}
+
+bool Amcl::tempered_search() const { return search_field_ && search_field_->config().independent_beams > 0.0; }
+
+bool Amcl::scan_explained_better(const Pose2& candidate, std::span<const ModelBeam> beams, double range_max) {
+  // The set's best particle under the model that weighed it this update, then both under the
+  // tracking field: one scale whatever phase the filter is in.
+  const std::size_t best =
+      static_cast<std::size_t>(std::max_element(likelihoods_.begin(), likelihoods_.end()) - likelihoods_.begin());
+  if (best >= filter_.size()) return true;
+  field_->set_range_max(range_max);
+  const double particle = field_->weight(filter_.poses()[best], laser_in_base_, beams);
+  return field_->weight(candidate, laser_in_base_, beams) >= config_.proposal.injection_margin * particle;
 }
 
 Pose2 Amcl::pose_at(const Pose2& odom) const {

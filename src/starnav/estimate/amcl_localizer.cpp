@@ -90,6 +90,10 @@ const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
     t.real("search_z_hit", f(&AmclConfig::search_z_hit), closed(0.0, 1.0), "-", "search phase: z_hit");
     t.real("search_z_rand", f(&AmclConfig::search_z_rand), closed(0.0, 1.0), "-", "search phase: z_rand");
     t.real("search_sigma_hit_m", f(&AmclConfig::search_sigma_hit_m), closed(1e-4, 10.0), "m", "search phase: sigma_hit");
+    t.real("search_independent_beams", f(&AmclConfig::search_independent_beams), closed(0.0, kMaxIndependentBeams), "-",
+           "search phase: the scan counts as this many independent beams (tempered product of the beams); 0: Nav2's 1 + sum pz^3");
+    t.integer("search_ramp_updates", i(&AmclConfig::search_ramp_updates), closed(0, 1000), "-",
+              "search phase: the tempered product reaches full strength over this many updates, and the search lasts at least as long");
     t.boolean("search_holds_particles", [](C& c) -> bool& { return c.filter.search_holds_particles; },
               "search phase: the set keeps max_particles (KLD sizes it after the search)");
     t.real("search_end_sigma_m", f(&AmclConfig::search_end_sigma_m), closed(1e-3, 100.0), "m",
@@ -114,6 +118,8 @@ const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
               "scan proposal: the recovery draws from the scan too (default false: uniform free poses, as Nav2; docs/localization.md)");
     t.integer("proposal_injection_pool", pi(&ScanProposalConfig::injection_pool), closed(1, 1000000), "-",
               "scan proposal: the recovery draws from this many best candidates");
+    t.real("proposal_injection_margin", pf(&ScanProposalConfig::injection_margin), closed(0.0, 1e6), "-",
+           "scan proposal: the recovery draws from the scan only when its best candidate fits this many times better than the best particle");
     t.real("converged_weight", f(&AmclConfig::converged_weight), closed(0.0, 1.0), "-",
            "converged: the best cluster holds at least this share of the weight ...");
     t.real("converged_sigma_m", f(&AmclConfig::converged_sigma_m), closed(0.0, 100.0), "m",

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/map/distance_transform.hpp"
 
 namespace starnav {
@@ -124,6 +125,11 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& grid, const OccupancyThres
   require_positive(config.range_max_m, "amcl.laser_max_range_m");
   amcl_require_weight(config.z_hit, "amcl.z_hit");
   amcl_require_weight(config.z_rand, "amcl.z_rand");
+  require(std::isfinite(config.independent_beams) && config.independent_beams >= 0.0 &&
+              config.independent_beams <= kMaxIndependentBeams,
+          "amcl.search_independent_beams", "must lie in [0, " + format_number(kMaxIndependentBeams) + "]");
+  if (config.independent_beams > 0.0)
+    require(config.z_hit + config.z_rand > 0.0, "amcl.search_z_hit", "z_hit and z_rand are both 0: the tempered product is undefined");
   validate_geometry(grid.geometry(), "map");
   width_ = grid.width();
   height_ = grid.height();
@@ -152,9 +158,12 @@ void LikelihoodField::set_range_max(double range_max_m) {
 }
 
 double LikelihoodField::term_at_distance(double d_m) const {
-  const double d = std::min(d_m, config_.max_dist_m);
-  const double pz = config_.z_hit * std::exp(-(d * d) / (2.0 * config_.sigma_hit_m * config_.sigma_hit_m)) +
-                    config_.z_rand / config_.range_max_m;
+  const auto pz_at = [this](double d) {
+    return config_.z_hit * std::exp(-(d * d) / (2.0 * config_.sigma_hit_m * config_.sigma_hit_m)) +
+           config_.z_rand / config_.range_max_m;
+  };
+  const double pz = pz_at(std::min(d_m, config_.max_dist_m));
+  if (config_.independent_beams > 0.0) return std::log(pz / pz_at(0.0));
   return pz * pz * pz;
 }
 
@@ -197,6 +206,8 @@ void LikelihoodField::weigh(std::span<const Pose2> poses, const Pose2& laser_in_
     beam_y_.push_back(b.range_m * std::sin(b.bearing_rad) * inv_resolution_);
   }
   const std::size_t nb = beam_x_.size();
+  const bool product = config_.independent_beams > 0.0;
+  const double k_per_beam = nb ? config_.independent_beams / static_cast<double>(nb) : 0.0;
   const double* bx = beam_x_.data();
   const double* by = beam_y_.data();
   const float* term = term_.data();
@@ -227,7 +238,7 @@ void LikelihoodField::weigh(std::span<const Pose2> poses, const Pose2& laser_in_
       else
         sum += far;
     }
-    out[n] = 1.0 + sum;
+    out[n] = product ? (nb ? std::exp(k_per_beam * sum) : 1.0) : 1.0 + sum;
   }
 }
 

@@ -54,12 +54,20 @@ struct LikelihoodFieldConfig {
   double z_rand = 0.5;
   double range_max_m = 30.0;  // enters through z_rand / range_max
   FieldReference reference = FieldReference::Surface;
+  // How the beams' pz combine into one weight. 0: Nav2's p = 1 + sum pz^3. k > 0: the tempered
+  // product p = exp(k mean ln(pz / pz(0))), i.e. (prod pz / pz(0))^(k / n) over the n returning
+  // beams: the scan counts as k independent beams, whatever the beam count.
+  double independent_beams = 0.0;
 };
+// The largest independent_beams accepted (a scan counted as 100 independent beams is already
+// sharper than any map is true).
+inline constexpr double kMaxIndependentBeams = 100.0;
 
 // The likelihood field: per cell the clamped distance d from its centre to the nearest occupied
 // cell (per the thresholds; unknown cells are not obstacles, as in Nav2) and the final per-beam
-// term pz^3, pz = z_hit exp(-d^2 / (2 sigma^2)) + z_rand / range_max. A beam end point takes the
-// value of the cell that contains it (nearest-cell lookup, as Nav2); off the map d = max_dist.
+// term: pz^3 (Nav2's sum) or ln(pz / pz(0)) (the tempered product), pz = z_hit exp(-d^2 /
+// (2 sigma^2)) + z_rand / range_max. A beam end point takes the value of the cell that contains
+// it (nearest-cell lookup, as Nav2); off the map d = max_dist.
 //
 // weight() and weigh() use a scratch buffer of the object: one field per thread.
 //
@@ -80,11 +88,12 @@ class LikelihoodField {
   // The clamped distance and the term of the cell containing a world point (max_dist off the map).
   double distance_m(const Vec2& world) const;
   double term(const Vec2& world) const;
-  // The term for a distance: pz^3 with d clamped to max_dist.
+  // The term for a distance (d clamped to max_dist): pz^3, or ln(pz / pz(0)) for the tempered product.
   double term_at_distance(double d_m) const;
 
-  // p = 1 + sum over the beams with range < range_max of the term at the beam's end point, for
-  // a robot at `pose` with the laser at `laser_in_base`.
+  // For a robot at `pose` with the laser at `laser_in_base`, over the beams with range <
+  // range_max: p = 1 + sum of the terms at the beams' end points, or exp(k / n sum) for the
+  // tempered product (1 when no beam returns).
   double weight(const Pose2& pose, const Pose2& laser_in_base, std::span<const ModelBeam> beams) const;
   // The same for every pose into `out` (same size as `poses`).
   void weigh(std::span<const Pose2> poses, const Pose2& laser_in_base, std::span<const ModelBeam> beams,
@@ -99,7 +108,7 @@ class LikelihoodField {
   double inv_resolution_ = 1.0;
   Pose2 origin_;
   std::vector<float> distance_;  // clamped, m
-  std::vector<float> term_;      // pz^3
+  std::vector<float> term_;      // per cell: pz^3, or ln(pz / pz(0))
   double far_term_ = 0.0;        // the term at max_dist (off the map)
   mutable std::vector<double> beam_x_, beam_y_;  // scratch of weigh(): end points in the laser frame, in cells
 };

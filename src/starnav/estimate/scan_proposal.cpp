@@ -54,6 +54,7 @@ void ScanProposalConfig::validate() const {
   require(max_candidates >= 1, "amcl.proposal_max_candidates", "must be >= 1");
   require(injection_candidates >= 1, "amcl.proposal_injection_candidates", "must be >= 1");
   require(injection_pool >= 1, "amcl.proposal_injection_pool", "must be >= 1");
+  require(std::isfinite(injection_margin) && injection_margin >= 0.0, "amcl.proposal_injection_margin", "must be >= 0");
 }
 
 ScanProposal::ScanProposal(const GridGeometry& geometry, std::span<const std::int32_t> free_cells,

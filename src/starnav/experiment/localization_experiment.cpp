@@ -319,7 +319,13 @@ std::vector<ScenarioOverride> amcl_case_overrides(const std::string& case_name) 
                                                   {"localization.amcl.recovery_alpha_slow", "0.001"},
                                                   {"localization.amcl.recovery_alpha_fast", "0.1"}};
   if (case_name == "tracking") return {};
-  if (case_name == "kidnap") return recovery;
+  if (case_name == "kidnap") {
+    // The recovery draws from the scan where it fits clearly better than every particle.
+    std::vector<ScenarioOverride> o = recovery;
+    o.push_back({"localization.amcl.scan_proposal", "true"});
+    o.push_back({"localization.amcl.proposal_recovery", "true"});
+    return o;
+  }
   if (case_name == "global") {
     std::vector<ScenarioOverride> o = recovery;
     o.push_back({"localization.amcl.initial", "global"});
