@@ -264,20 +264,27 @@ TEST(AmclScenario, KidnappedRobotRecoversWithRecoveryOn) {
   EXPECT_EQ(none, 0);
 }
 
+// The test room's filter with recovery on and the scan proposal, tracking from a tight start.
+Amcl amcl_with_scan_recovery(const Room& room, const AmclTestDrive& drive, bool recovery, double margin) {
+  AmclConfig c = amcl_test_config();
+  c.max_particles = 2000;
+  c.recovery_alpha_slow = 0.001;
+  c.recovery_alpha_fast = 0.1;
+  c.scan_proposal = true;
+  c.proposal.recovery = recovery;
+  c.proposal.injection_margin = margin;
+  Amcl amcl(room.grid, {}, c, kAmclTestMount, 31);
+  amcl.initialize(drive.truth(), Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+  return amcl;
+}
+
 // With the scan proposal the recovery's poses come from the scan (a proposal per injecting
 // update), and only from it; with proposal.recovery off they are uniform again.
 TEST(AmclScenario, RecoveryDrawsFromTheScanProposal) {
   for (const bool recovery : {true, false}) {
     const Room room = amcl_test::make_room();
     AmclTestDrive drive(room, 5);
-    AmclConfig c = amcl_test_config();
-    c.max_particles = 2000;
-    c.recovery_alpha_slow = 0.001;
-    c.recovery_alpha_fast = 0.1;
-    c.scan_proposal = true;
-    c.proposal.recovery = recovery;
-    Amcl amcl(room.grid, {}, c, kAmclTestMount, 31);
-    amcl.initialize(drive.truth(), Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+    Amcl amcl = amcl_with_scan_recovery(room, drive, recovery, ScanProposalConfig{}.injection_margin);
     int injecting_updates = 0;
     for (int k = 0; k < 400 && amcl.estimate().updates < 60; ++k) {
       if (amcl.estimate().updates == 15) drive.teleport_to_waypoint(4);
@@ -307,15 +314,7 @@ TEST(AmclScenario, RecoveryDrawsFromTheScanOnlyWhenItFitsClearlyBetter) {
   for (const double margin : {2.0, 1e6}) {
     const Room room = amcl_test::make_room();
     AmclTestDrive drive(room, 5);
-    AmclConfig c = amcl_test_config();
-    c.max_particles = 2000;
-    c.recovery_alpha_slow = 0.001;
-    c.recovery_alpha_fast = 0.1;
-    c.scan_proposal = true;
-    c.proposal.recovery = true;
-    c.proposal.injection_margin = margin;
-    Amcl amcl(room.grid, {}, c, kAmclTestMount, 31);
-    amcl.initialize(drive.truth(), Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+    Amcl amcl = amcl_with_scan_recovery(room, drive, true, margin);
     int kidnapped_at = -1, back = -1;
     for (int k = 0; k < 400 && amcl.estimate().updates < 60 && back < 0; ++k) {
       if (kidnapped_at < 0 && amcl.estimate().updates == 15) {

@@ -164,92 +164,86 @@ TEST(LikelihoodField, ModelBeamsSubsampleAsNav2) {
   EXPECT_THROW(model_beams(s, 1, 0.1, 10.0), Error);
 }
 
-TEST(LikelihoodField, WeightOfOneParticleByHand) {
-  const OccupancyGrid grid = amcl_sensor_test_grid(37, 23, 0.1, 0.03, 3);
-  const OccupancyThresholds t;
-  LikelihoodFieldConfig c;
-  c.max_dist_m = 0.6;
-  c.sigma_hit_m = 0.15;
-  c.z_hit = 0.7;
-  c.z_rand = 0.3;
-  c.range_max_m = 4.0;
-  c.reference = FieldReference::Surface;
-  const LikelihoodField field(grid, t, c);
-  const Pose2 pose(2.3, -0.4, 2.1);
-  const Pose2 mount(0.12, -0.03, 0.3);
-  std::vector<ModelBeam> beams = {{0.8, 0.0}, {1.7, 1.2}, {4.0, 0.5} /* non-return */, {2.9, -2.5}, {0.3, 3.0},
-                                  {5.0, -1.0} /* off the map */};
-  double expected = 1.0;
-  const Pose2 laser = pose.compose(mount);
-  for (const ModelBeam& b : beams) {
-    if (b.range_m >= c.range_max_m) continue;
-    const Vec2 hit(laser.x + b.range_m * std::cos(laser.yaw + b.bearing_rad),
-                   laser.y + b.range_m * std::sin(laser.yaw + b.bearing_rad));
-    const auto cell = grid.geometry().world_to_cell(hit);
-    const double d = cell ? std::min(brute_obstacle_distance(grid, t, grid.geometry().cell_center(*cell), true), c.max_dist_m)
-                          : c.max_dist_m;
-    const double pz = c.z_hit * std::exp(-d * d / (2 * c.sigma_hit_m * c.sigma_hit_m)) + c.z_rand / c.range_max_m;
-    expected += pz * pz * pz;
+// One particle weighed by hand: a robot pose, a laser mount and beams (two reach range_max: 4.0
+// and 5.0 are non-returns), the field's settings, and per returning beam its pz from the brute-
+// force distance of the end point's cell.
+struct HandWeighing {
+  OccupancyGrid grid = amcl_sensor_test_grid(37, 23, 0.1, 0.03, 3);
+  OccupancyThresholds thresholds;
+  LikelihoodFieldConfig config;
+  Pose2 pose{2.3, -0.4, 2.1};
+  Pose2 mount{0.12, -0.03, 0.3};
+  std::vector<ModelBeam> beams = {{0.8, 0.0}, {1.7, 1.2}, {4.0, 0.5}, {2.9, -2.5}, {0.3, 3.0}, {5.0, -1.0}};
+
+  HandWeighing() {
+    config.max_dist_m = 0.6;
+    config.sigma_hit_m = 0.15;
+    config.z_hit = 0.7;
+    config.z_rand = 0.3;
+    config.range_max_m = 4.0;
+    config.reference = FieldReference::Surface;
   }
-  EXPECT_NEAR(field.weight(pose, mount, beams), expected, 1e-6);
+  double pz_of(double d) const {
+    return config.z_hit * std::exp(-d * d / (2 * config.sigma_hit_m * config.sigma_hit_m)) +
+           config.z_rand / config.range_max_m;
+  }
+  std::vector<double> returning_pz() const {
+    std::vector<double> pz;
+    const Pose2 laser = pose.compose(mount);
+    for (const ModelBeam& b : beams) {
+      if (b.range_m >= config.range_max_m) continue;
+      const Vec2 hit(laser.x + b.range_m * std::cos(laser.yaw + b.bearing_rad),
+                     laser.y + b.range_m * std::sin(laser.yaw + b.bearing_rad));
+      const auto cell = grid.geometry().world_to_cell(hit);
+      const double d =
+          cell ? std::min(brute_obstacle_distance(grid, thresholds, grid.geometry().cell_center(*cell), true), config.max_dist_m)
+               : config.max_dist_m;
+      pz.push_back(pz_of(d));
+    }
+    return pz;
+  }
+};
+
+TEST(LikelihoodField, WeightOfOneParticleByHand) {
+  const HandWeighing h;
+  const LikelihoodField field(h.grid, h.thresholds, h.config);
+  double expected = 1.0;
+  for (const double pz : h.returning_pz()) expected += pz * pz * pz;
+  EXPECT_NEAR(field.weight(h.pose, h.mount, h.beams), expected, 1e-6);
   // The batch form gives the same numbers.
-  std::vector<Pose2> poses = {pose, Pose2(1.0, 1.0, -0.5), pose};
+  std::vector<Pose2> poses = {h.pose, Pose2(1.0, 1.0, -0.5), h.pose};
   std::vector<double> out(3);
-  field.weigh(poses, mount, beams, out);
-  EXPECT_EQ(out[0], field.weight(pose, mount, beams));
+  field.weigh(poses, h.mount, h.beams, out);
+  EXPECT_EQ(out[0], field.weight(h.pose, h.mount, h.beams));
   EXPECT_EQ(out[2], out[0]);
-  EXPECT_EQ(out[1], field.weight(poses[1], mount, beams));
+  EXPECT_EQ(out[1], field.weight(poses[1], h.mount, h.beams));
   // No usable beam: p = 1.
-  EXPECT_EQ(field.weight(pose, mount, std::vector<ModelBeam>{{4.0, 0.0}}), 1.0);
+  EXPECT_EQ(field.weight(h.pose, h.mount, std::vector<ModelBeam>{{4.0, 0.0}}), 1.0);
 }
 
 TEST(LikelihoodField, TemperedProductOfOneParticleByHand) {
-  const OccupancyGrid grid = amcl_sensor_test_grid(37, 23, 0.1, 0.03, 3);
-  const OccupancyThresholds t;
-  LikelihoodFieldConfig c;
-  c.max_dist_m = 0.6;
-  c.sigma_hit_m = 0.15;
-  c.z_hit = 0.7;
-  c.z_rand = 0.3;
-  c.range_max_m = 4.0;
-  c.independent_beams = 3.0;
-  const LikelihoodField field(grid, t, c);
-  const Pose2 pose(2.3, -0.4, 2.1);
-  const Pose2 mount(0.12, -0.03, 0.3);
-  const std::vector<ModelBeam> beams = {{0.8, 0.0}, {1.7, 1.2}, {4.0, 0.5} /* non-return */, {2.9, -2.5}, {0.3, 3.0},
-                                        {5.0, -1.0}};
-  const auto pz_of = [&](double d) {
-    return c.z_hit * std::exp(-d * d / (2 * c.sigma_hit_m * c.sigma_hit_m)) + c.z_rand / c.range_max_m;
-  };
+  HandWeighing h;
+  h.config.independent_beams = 3.0;
+  const LikelihoodField field(h.grid, h.thresholds, h.config);
   // (prod pz / pz(0))^(k / n) over the n returning beams, multiplied out.
+  const std::vector<double> pz = h.returning_pz();
+  ASSERT_EQ(pz.size(), 4u);
   double product = 1.0;
-  int returning = 0;
-  const Pose2 laser = pose.compose(mount);
-  for (const ModelBeam& b : beams) {
-    if (b.range_m >= c.range_max_m) continue;
-    const Vec2 hit(laser.x + b.range_m * std::cos(laser.yaw + b.bearing_rad),
-                   laser.y + b.range_m * std::sin(laser.yaw + b.bearing_rad));
-    const auto cell = grid.geometry().world_to_cell(hit);
-    const double d = cell ? std::min(brute_obstacle_distance(grid, t, grid.geometry().cell_center(*cell), true), c.max_dist_m)
-                          : c.max_dist_m;
-    product *= pz_of(d) / pz_of(0.0);
-    ++returning;
-  }
-  ASSERT_EQ(returning, 4);  // 4.0 and 5.0 reach range_max: non-returns
-  const double expected = std::pow(product, c.independent_beams / returning);
-  EXPECT_NEAR(field.weight(pose, mount, beams), expected, 1e-5 * expected);
-  EXPECT_LE(field.weight(pose, mount, beams), 1.0);  // a perfect fit weighs 1
+  for (const double p : pz) product *= p / h.pz_of(0.0);
+  const double expected = std::pow(product, h.config.independent_beams / static_cast<double>(pz.size()));
+  EXPECT_NEAR(field.weight(h.pose, h.mount, h.beams), expected, 1e-5 * expected);
+  EXPECT_LE(field.weight(h.pose, h.mount, h.beams), 1.0);  // a perfect fit weighs 1
   // Counting every beam twice is the same scan: the weight depends on k, not on the beam count.
-  std::vector<ModelBeam> doubled = beams;
-  doubled.insert(doubled.end(), beams.begin(), beams.end());
-  EXPECT_NEAR(field.weight(pose, mount, doubled), expected, 1e-5 * expected);
+  std::vector<ModelBeam> doubled = h.beams;
+  doubled.insert(doubled.end(), h.beams.begin(), h.beams.end());
+  EXPECT_NEAR(field.weight(h.pose, h.mount, doubled), expected, 1e-5 * expected);
   // No usable beam: p = 1.
-  EXPECT_EQ(field.weight(pose, mount, std::vector<ModelBeam>{{4.0, 0.0}}), 1.0);
+  EXPECT_EQ(field.weight(h.pose, h.mount, std::vector<ModelBeam>{{4.0, 0.0}}), 1.0);
   // k is the exponent: twice k squares the weight.
-  LikelihoodFieldConfig c6 = c;
-  c6.independent_beams = 6.0;
-  const LikelihoodField field6(grid, t, c6);
-  EXPECT_NEAR(field6.weight(pose, mount, beams), expected * expected, 1e-5 * expected * expected);
+  LikelihoodFieldConfig twice = h.config;
+  twice.independent_beams = 6.0;
+  const LikelihoodField field6(h.grid, h.thresholds, twice);
+  EXPECT_NEAR(field6.weight(h.pose, h.mount, h.beams), expected * expected, 1e-5 * expected * expected);
 }
 
 TEST(LikelihoodField, TemperedProductRejectsImpossibleParameters) {
