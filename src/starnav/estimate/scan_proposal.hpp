@@ -77,8 +77,8 @@ class ScanProposal {
                       const std::function<void(std::span<const Pose2>)>& fn) const;
 
   // The `count` best candidates of one call (at most `limit` candidates) for the scan's `beams` (AMCL's model beams), best
-  // first (ties in a random order), scored by `field` weight() (Nav2's 1 + sum pz^3) with
-  // the laser at `laser_in_base`. Fewer when there are fewer candidates; none (and no draw of
+  // first (ties in a random order), scored by `field` weight() (Nav2's sum or the tempered product,
+  // as the field is configured) with the laser at `laser_in_base`. Fewer when there are fewer candidates; none (and no draw of
   // `rng`) when no beam returns: such a scan says nothing about where the robot is.
   std::vector<ScoredPose> best(const LikelihoodField& field, const Pose2& laser_in_base,
                                std::span<const ModelBeam> beams, std::size_t count, std::size_t limit, Rng& rng) const;
