@@ -485,7 +485,8 @@ class Viewer {
     });
   }
 
-  render() {
+  // The camera for the current state: over the robot when following it.
+  updateCamera() {
     if (state.follow && state.robot) {
       const r = state.robot;
       const target = new THREE.Vector3(r.x, r.y, r.z);
@@ -494,6 +495,11 @@ class Viewer {
       this.camera.position.copy(target).add(offset);
     }
     this.controls.update();
+    this.camera.updateMatrixWorld();
+  }
+
+  render() {
+    this.updateCamera();
     const t0 = performance.now();
     this.renderer.render(this.scene, this.camera);
     state.lastFrameMs = performance.now() - t0;
@@ -534,8 +540,10 @@ async function main() {
       viewer.render();
       return performance.now() - t0;
     },
-    // Screen position (CSS pixels) of a world point.
+    // Screen position (CSS pixels) of a world point, seen by the camera the next frame draws with
+    // (not the last frame's: a follow set since then has not moved it yet).
     project: (x, y, z) => {
+      viewer.updateCamera();
       const v = new THREE.Vector3(x, y, z).project(viewer.camera);
       return [((v.x + 1) / 2) * viewer.canvas.clientWidth, ((1 - v.y) / 2) * viewer.canvas.clientHeight];
     },
