@@ -9,11 +9,37 @@
 #include "starnav/cloud/gicp.hpp"
 #include "starnav/cloud/icp.hpp"
 #include "starnav/cloud/ndt.hpp"
+#include "starnav/cloud/registration_solver.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/registry/components.hpp"
 
 namespace starnav {
 namespace {
+
+// The normal equations of one point, written out by blocks, against the dense Jacobian
+// dp/dxi = [-[p]x | I] multiplied out: w J^T S J and w J^T v, S not even symmetric.
+TEST(RegistrationSolver, OnePointsNormalEquationsMatchTheDenseJacobian) {
+  Rng rng(17);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Vec3 p(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5));
+    const Vec3 v(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    Eigen::Matrix3d s;
+    for (int i = 0; i < 9; ++i) s.data()[i] = rng.uniform(-2, 2);
+    const double w = rng.uniform(0.1, 3.0);
+    Eigen::Matrix<double, 3, 6> j;
+    j << 0, p.z(), -p.y(), 1, 0, 0,  //
+        -p.z(), 0, p.x(), 0, 1, 0,   //
+        p.y(), -p.x(), 0, 0, 0, 1;
+    registration_detail::NormalEquations eq;
+    eq.h.setConstant(0.5);  // it adds to what is there
+    eq.g.setConstant(-0.25);
+    registration_detail::add_point(eq, p, s, v, w);
+    const Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Constant(0.5) + w * j.transpose() * s * j;
+    const Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Constant(-0.25) + w * j.transpose() * v;
+    EXPECT_LT((eq.h - h).cwiseAbs().maxCoeff(), 1e-11) << "trial " << trial;
+    EXPECT_LT((eq.g - g).cwiseAbs().maxCoeff(), 1e-12) << "trial " << trial;
+  }
+}
 
 Rigid3 known_motion() {
   return to_rigid(Pose3::from_rpy(Vec3(0.30, -0.20, 0.05), 2.0 * kPi / 180, -1.0 * kPi / 180, 6.0 * kPi / 180));

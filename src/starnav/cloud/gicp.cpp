@@ -74,11 +74,9 @@ CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
           const Vec3 d = p - tree_->points()[nn.index];
           const Eigen::Matrix3d info =
               (reference_covariances_[nn.index] + r * scan_covariances[i] * r.transpose()).inverse();
-          const Jacobian j = point_jacobian(p);
-          const Eigen::Matrix<double, 6, 3> jt_info = j.transpose() * info;
-          eq.h.noalias() += jt_info * j;
-          eq.g.noalias() += jt_info * d;
-          eq.cost += d.dot(info * d);
+          const Vec3 info_d = info * d;
+          add_point(eq, p, info, info_d, 1.0);
+          eq.cost += d.dot(info_d);
           ++eq.count;
         }
       });

@@ -169,10 +169,7 @@ CloudMatch NdtMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
           const double e = std::exp(-0.5 * d2_ * x.dot(sx));
           if (!(e > 1e-12)) continue;
           const double w = -d1_ * d2_ * e;
-          const Jacobian j = point_jacobian(p);
-          const Eigen::Matrix<double, 6, 3> jt_info = j.transpose() * v->inverse_covariance;
-          eq.h.noalias() += w * (jt_info * j);
-          eq.g.noalias() += w * (j.transpose() * sx);
+          add_point(eq, p, v->inverse_covariance, sx, w);
           eq.cost += d1_ * e;
           used = true;
         }
