@@ -88,9 +88,10 @@ namespace {
 // The records of identical runs are identical bytes: wall-clock figures live in timing.json only.
 TEST(BenchNavCli, RecordsAreByteIdenticalAndWallClockGoesToTiming) {
   starnav::test::ScratchDir dir;
-  const std::string scenario = starnav::test::scenario_path("e3_three_obstacles.yaml");
+  const std::string scenario = dir.file("nav.yaml");
+  starnav::test::write_text(scenario, starnav::test::small_nav_scenario(starnav::test::kSmallNavWall));
   for (const char* out : {"a", "b"}) {
-    const CliResult r = run_cli({"bench", "nav", "--scenario", scenario, "--seeds", "1", "--quiet", "--out", dir.file(out)});
+    const CliResult r = run_cli({"bench", "nav", "--scenario", scenario, "--seeds", "2", "--quiet", "--out", dir.file(out)});
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   for (const char* f : {"/summary.json", "/runs.csv"}) {

@@ -17,20 +17,8 @@ using starnav::test::run_cli;
 
 using starnav::test::kE1;
 
-std::string nav_scenario(const std::string& obstacles) {
-  return "name: small_nav\n"
-         "world:\n"
-         "  terrain:\n"
-         "    generate: {kind: flat, size_m: [6.0, 4.0], resolution_m: 0.05}\n" +
-         obstacles +
-         "robot:\n"
-         "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 0.0}\n"
-         "sensors:\n"
-         "  lidar: {}\n"
-         "sim: {dt_s: 0.01, duration_s: 80.0, seed: 2}\n"
-         "navigation:\n"
-         "  goal: {x_m: 5.0, y_m: 1.0}\n";
-}
+using starnav::test::kSmallNavWall;
+using starnav::test::small_nav_scenario;
 
 void expect_one_error_line(const CliResult& r, int code, const std::vector<std::string>& names, const std::string& what) {
   EXPECT_EQ(r.exit_code, code) << what << "\nstdout: " << r.out << "\nstderr: " << r.err;
@@ -42,8 +30,7 @@ void expect_one_error_line(const CliResult& r, int code, const std::vector<std::
 TEST(SimNavCli, ArrivesAndWritesTheNavigationRecords) {
   starnav::test::ScratchDir dir;
   const std::string file = dir.file("nav.yaml");
-  starnav::test::write_text(file, nav_scenario(
-      "  obstacles:\n    - {name: wall, kind: box, position_m: [3.0, 1.0], size_m: [0.2, 2.0, 0.5]}\n"));
+  starnav::test::write_text(file, small_nav_scenario(kSmallNavWall));
   const std::string out = dir.file("out");
   const CliResult r = run_cli({"sim", file, "--out", out, "--quiet", "--json", "--planner", "dstar_lite", "--compare-astar"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -60,7 +47,7 @@ TEST(SimNavCli, ArrivesAndWritesTheNavigationRecords) {
 TEST(SimNavCli, ComponentsAreChosenAndSetFromTheCommandLine) {
   starnav::test::ScratchDir dir;
   const std::string file = dir.file("nav.yaml");
-  starnav::test::write_text(file, nav_scenario(""));
+  starnav::test::write_text(file, small_nav_scenario(""));
   // --help lists every registered controller and planner with their parameter sections.
   const CliResult help = run_cli({"sim", "--help"});
   EXPECT_EQ(help.exit_code, 0);
@@ -88,7 +75,7 @@ TEST(SimNavCli, ComponentsAreChosenAndSetFromTheCommandLine) {
 TEST(SimNavCli, EnclosedGoalExitsOneWithTheReason) {
   starnav::test::ScratchDir dir;
   const std::string file = dir.file("nav.yaml");
-  starnav::test::write_text(file, nav_scenario("  obstacles:\n"
+  starnav::test::write_text(file, small_nav_scenario("  obstacles:\n"
                                                "    - {name: s, kind: box, position_m: [5.0, 0.3], size_m: [1.6, 0.2, 0.5]}\n"
                                                "    - {name: n, kind: box, position_m: [5.0, 1.7], size_m: [1.6, 0.2, 0.5]}\n"
                                                "    - {name: w, kind: box, position_m: [4.3, 0.8], size_m: [0.2, 1.2, 0.5]}\n"
@@ -100,7 +87,7 @@ TEST(SimNavCli, EnclosedGoalExitsOneWithTheReason) {
 TEST(SimNavCli, BadNavigationFlagsNameTheFlag) {
   starnav::test::ScratchDir dir;
   const std::string file = dir.file("nav.yaml");
-  starnav::test::write_text(file, nav_scenario(""));
+  starnav::test::write_text(file, small_nav_scenario(""));
   expect_one_error_line(run_cli({"sim", file, "--out", dir.file("a"), "--motion-mode", "sideways"}), 2, {"--motion-mode"},
                         "unknown mode");
   expect_one_error_line(run_cli({"sim", file, "--out", dir.file("b"), "--planner", "nonesuch"}), 2, {"--planner"},

@@ -42,6 +42,25 @@ inline std::string scenario_path(const std::string& file) {
 }
 inline const std::string kE1 = scenario_path("e1_terrain_platform.yaml");
 
+// A small navigation scenario: a flat 6 x 4 m world with `obstacles` (YAML lines under
+// world.obstacles, or empty), a 2D LiDAR, from (1, 1) to the goal (5, 1).
+inline std::string small_nav_scenario(const std::string& obstacles) {
+  return "name: small_nav\n"
+         "world:\n"
+         "  terrain:\n"
+         "    generate: {kind: flat, size_m: [6.0, 4.0], resolution_m: 0.05}\n" +
+         obstacles +
+         "robot:\n"
+         "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 0.0}\n"
+         "sensors:\n"
+         "  lidar: {}\n"
+         "sim: {dt_s: 0.01, duration_s: 80.0, seed: 2}\n"
+         "navigation:\n"
+         "  goal: {x_m: 5.0, y_m: 1.0}\n";
+}
+inline const std::string kSmallNavWall =
+    "  obstacles:\n    - {name: wall, kind: box, position_m: [3.0, 1.0], size_m: [0.2, 2.0, 0.5]}\n";
+
 // STARNAV_LONG_TESTS=1 runs the randomised property tests on ten times more cases.
 inline bool long_tests() {
   const char* v = std::getenv("STARNAV_LONG_TESTS");
