@@ -76,10 +76,10 @@ TEST(SimNavCli, EnclosedGoalExitsOneWithTheReason) {
   starnav::test::ScratchDir dir;
   const std::string file = dir.file("nav.yaml");
   starnav::test::write_text(file, small_nav_scenario("  obstacles:\n"
-                                               "    - {name: s, kind: box, position_m: [5.0, 0.3], size_m: [1.6, 0.2, 0.5]}\n"
-                                               "    - {name: n, kind: box, position_m: [5.0, 1.7], size_m: [1.6, 0.2, 0.5]}\n"
-                                               "    - {name: w, kind: box, position_m: [4.3, 0.8], size_m: [0.2, 1.2, 0.5]}\n"
-                                               "    - {name: e, kind: box, position_m: [5.7, 0.8], size_m: [0.2, 1.2, 0.5]}\n"));
+                                                     "    - {name: s, kind: box, position_m: [5.0, 0.3], size_m: [1.6, 0.2, 0.5]}\n"
+                                                     "    - {name: n, kind: box, position_m: [5.0, 1.7], size_m: [1.6, 0.2, 0.5]}\n"
+                                                     "    - {name: w, kind: box, position_m: [4.3, 0.8], size_m: [0.2, 1.2, 0.5]}\n"
+                                                     "    - {name: e, kind: box, position_m: [5.7, 0.8], size_m: [0.2, 1.2, 0.5]}\n"));
   const CliResult r = run_cli({"sim", file, "--out", dir.file("out"), "--quiet"});
   expect_one_error_line(r, 1, {"nav.yaml", "navigation", "no path"}, "enclosed goal");
 }

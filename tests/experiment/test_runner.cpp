@@ -151,22 +151,6 @@ TEST(ExperimentMetrics, NamesAreUniqueAndDocsAreCurrent) {
       << "docs/metrics.md is stale: run `build/bin/starnav metrics --markdown > docs/metrics.md`";
 }
 
-
-const char* kSmallNav =
-    "name: small_nav\n"
-    "world:\n"
-    "  terrain:\n"
-    "    generate: {kind: flat, size_m: [6.0, 4.0], resolution_m: 0.05}\n"
-    "  obstacles:\n"
-    "    - {name: wall, kind: box, position_m: [3.0, 1.0], size_m: [0.2, 2.0, 0.5]}\n"
-    "robot:\n"
-    "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 0.0}\n"
-    "sensors:\n"
-    "  lidar: {}\n"
-    "sim: {dt_s: 0.01, duration_s: 80.0, seed: 2}\n"
-    "navigation:\n"
-    "  goal: {x_m: 5.0, y_m: 1.0}\n";
-
 // Drops the wall-clock fields (named in metrics.hpp) from a bench JSON document.
 void drop_wall_clock(nlohmann::ordered_json& j) {
   if (j.is_object()) {
@@ -183,7 +167,7 @@ void drop_wall_clock(nlohmann::ordered_json& j) {
 TEST(NavExperiment, RunsBothPlannersPerSeedDeterministicallyAndNamesEveryMetric) {
   NavExperimentConfig c;
   c.scenario_file = "small_nav.yaml";
-  c.scenario = parse_scenario(kSmallNav, "small_nav.yaml");
+  c.scenario = parse_scenario(test::small_nav_scenario(test::kSmallNavWall), "small_nav.yaml");
   c.seed_base = 3;
   c.seeds = 2;
   const NavExperimentResult a = run_nav_experiment(c);
