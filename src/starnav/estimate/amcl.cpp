@@ -315,13 +315,15 @@ bool Amcl::tempered_search() const { return search_field_ && search_field_->conf
 
 bool Amcl::scan_explained_better(const Pose2& candidate, std::span<const ModelBeam> beams, double range_max) {
   // The set's best particle under the model that weighed it this update, then both under the
-  // tracking field: one scale whatever phase the filter is in.
+  // gate's field: one scale whatever phase the filter is in.
   const std::size_t best =
       static_cast<std::size_t>(std::max_element(likelihoods_.begin(), likelihoods_.end()) - likelihoods_.begin());
   if (best >= filter_.size()) return true;
-  field_->set_range_max(range_max);
-  const double particle = field_->weight(filter_.poses()[best], laser_in_base_, beams);
-  return field_->weight(candidate, laser_in_base_, beams) >= config_.proposal.injection_margin * particle;
+  LikelihoodField& gate =
+      config_.proposal.injection_gate == ScanProposalConfig::Gate::Search && search_field_ ? *search_field_ : *field_;
+  gate.set_range_max(range_max);
+  const double particle = gate.weight(filter_.poses()[best], laser_in_base_, beams);
+  return gate.weight(candidate, laser_in_base_, beams) >= config_.proposal.injection_margin * particle;
 }
 
 Pose2 Amcl::pose_at(const Pose2& odom) const {

@@ -120,6 +120,14 @@ const ParamTable<AmclLocalizerConfig>& amcl_localizer_params() {
               "scan proposal: the recovery draws from this many best candidates");
     t.real("proposal_injection_margin", pf(&ScanProposalConfig::injection_margin), closed(0.0, 1e6), "-",
            "scan proposal: the recovery draws from the scan only when its best candidate fits this many times better than the best particle");
+    t.choice("proposal_injection_gate", {"search", "tracking"},
+             [](C& c, const std::string& v) {
+               c.filter.proposal.injection_gate = v == "tracking" ? ScanProposalConfig::Gate::Tracking : ScanProposalConfig::Gate::Search;
+             },
+             [](const C& c) {
+               return std::string(c.filter.proposal.injection_gate == ScanProposalConfig::Gate::Tracking ? "tracking" : "search");
+             },
+             "scan proposal: the likelihood that margin is measured in: the search phase's (the tempered product) or the tracking field's");
     t.real("converged_weight", f(&AmclConfig::converged_weight), closed(0.0, 1.0), "-",
            "converged: the best cluster holds at least this share of the weight ...");
     t.real("converged_sigma_m", f(&AmclConfig::converged_sigma_m), closed(0.0, 100.0), "m",
