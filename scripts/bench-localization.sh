@@ -11,6 +11,9 @@
 #     updates in at least 18 of 20 seeds on each map, the kidnapped robot back within 50 updates
 #     in at least 18 of 20 on the three ros_maps (the indoor ring is reported: its rooms repeat,
 #     docs/localization.md), and no false convergence in the symmetric-corridor world.
+#   AMCL on the raw intel log (needs ../shared): against the map built from its corrected log, from
+#     the first corrected pose and from a global start; checks the median error after convergence
+#     <= 0.10 m for both.
 #   AMCL cost: the CPU time of one update against particles (500-20,000) and beams (30-360).
 # Results in BUILD/bench/localization/.
 set -euo pipefail
@@ -50,6 +53,28 @@ done < <(jq -r '.runs[] | select(.case == "kidnap" and .scenario != "amcl_indoor
 cat "$out/amcl_symmetric/amcl.md"
 false_runs=$(jq -r '.runs[0].runs_with_false_convergence' "$out/amcl_symmetric/amcl.json")
 [ "$false_runs" -eq 0 ] || { echo "bench-localization: a false convergence in $false_runs symmetric-corridor runs" >&2; failed=1; }
+# The raw intel log against the map of its corrected log (docs/localization.md, "On real data").
+raw="$shared/datasets/carmen_raw/derived_from_bags/intel.odomscan.txt.gz"
+corrected="$shared/datasets/carmen_radish_corrected/intel-corrected.log.gz"
+if [ -f "$raw" ] && [ -f "$corrected" ]; then
+  mkdir -p "$out/intel_map"
+  "$starnav" map build "$corrected" --poses log --out "$out/intel_map/intel.yaml" --force >/dev/null
+  tracking=(--set amcl.update_min_d_m=0 --set amcl.update_min_a_deg=0 --set amcl.max_beams=180 --set amcl.sigma_hit_m=0.1)
+  global=(--set amcl.max_particles=10000 --set amcl.recovery_alpha_slow=0.001 --set amcl.recovery_alpha_fast=0.1
+          --set amcl.scan_proposal=true)
+  for start in first global; do
+    extra=("${tracking[@]}")
+    [ "$start" = global ] && extra+=("${global[@]}")
+    "${pin[@]}" "$starnav" localize "$raw" --map "$out/intel_map/intel.yaml" --reference "$corrected" --initial "$start" \
+      --out "$out/intel_$start" --force --quiet "${extra[@]}" >/dev/null
+    median=$(jq -r '.error_after_convergence.m.median' "$out/intel_$start/summary.json")
+    echo "intel raw log, start $start: median error after convergence $median m"
+    awk -v m="$median" 'BEGIN { exit !(m <= 0.10) }' ||
+      { echo "bench-localization: intel from $start: median error $median m above 0.10 m" >&2; failed=1; }
+  done
+else
+  echo "bench-localization: the intel logs are not in $shared/datasets, no real-data run"
+fi
 # CPU time per update against particles and beams (the plot of the issue).
 "${pin[@]}" "$starnav" bench amcl-cost --map "$here/scenarios/maps/indoor_rooms.yaml" --out "$out/amcl_cost" --force --quiet >/dev/null
 cat "$out/amcl_cost/amcl_cost.md"
