@@ -142,6 +142,35 @@ TEST(OdometryImuEkf, SlipCovarianceMatchesMonteCarloOfTheWheels) {
     for (int j = 0; j < 3; ++j) EXPECT_NEAR(q(i, j), m(i, j), 0.02 * q.diagonal().maxCoeff()) << i << j;
 }
 
+// A still period right after motion may hide up to a tick of each wheel: its covariance is
+// the rounding of every wheel, tick^2 / 6 each, through the forward kinematics (for the yaw of
+// a Mecanum base: 4 (tick^2 / 6) (r / (4 (L1 + L2)))^2); from the third still period on, and
+// before the robot ever moved, nothing.
+TEST(OdometryImuEkf, StillPeriodsAfterMotionCarryTheRoundingThenNothing) {
+  const RobotConfig robot = mecanum();
+  const auto model = make_robot_model(robot);
+  EkfConfig c;
+  c.tick_rad = 2.0 * kPi / 1024.0;
+  OdometryImuEkf ekf(c, *model, {});
+  const Pose2 still;
+  EXPECT_TRUE(ekf.period_covariance(still).isZero());  // at the start: settled
+  const Pose2 moving(0.006, 0.0, 0.0);
+  EXPECT_TRUE(ekf.period_covariance(moving).isApprox(ekf.slip_covariance(moving)));
+  const double k = robot.wheel_radius_m / (4.0 * (robot.half_track_m + robot.half_wheelbase_m));
+  const double yaw_variance = 4.0 * c.tick_rad * c.tick_rad / 6.0 * k * k;
+  for (int period = 1; period <= OdometryImuEkf::kSettlePeriods; ++period) {
+    const Eigen::Matrix3d q = ekf.period_covariance(still);
+    EXPECT_NEAR(q(2, 2), yaw_variance, 1e-12 * yaw_variance) << period;
+    EXPECT_GT(q(0, 0), 0.0);
+    EXPECT_GT(q(1, 1), 0.0);
+    EXPECT_TRUE(ekf.slip_covariance(still).isZero());  // the slip model alone: nothing
+  }
+  EXPECT_TRUE(ekf.period_covariance(still).isZero());
+  EXPECT_TRUE(ekf.period_covariance(still).isZero());
+  EXPECT_FALSE(ekf.period_covariance(moving).isZero());
+  EXPECT_FALSE(ekf.period_covariance(still).isZero());  // settling again
+}
+
 TEST(OdometryImuEkf, GateRejectsAnOutlierAndInnovationsWrapAtPi) {
   const auto model = make_robot_model(mecanum());
   EkfConfig c;

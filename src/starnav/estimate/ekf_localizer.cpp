@@ -78,7 +78,7 @@ class EkfLocalizer final : public Localizer {
   // updates, so that a turning robot's yaw is never compared with a stale prediction.
   void on_odometry(const OdometrySample& o) override {
     const Pose2 increment = last_odometry_.inverse().compose(o.pose);
-    const Eigen::Matrix3d q = ekf_.slip_covariance(increment);
+    const Eigen::Matrix3d q = ekf_.period_covariance(increment);
     const double span = o.t_s - last_odometry_t_s_;
     Pose2 done;
     double f_done = 0.0;

@@ -1,5 +1,6 @@
 #include "starnav/estimate/odometry_imu_ekf.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -60,6 +61,23 @@ Eigen::Matrix3d OdometryImuEkf::slip_covariance(const Pose2& increment) const {
     // A wheel whose count did not change has no rounding error in its increment (at rest: none).
     const double rounding = gamma[i] != 0.0 ? config_.tick_rad * config_.tick_rad / 6.0 : 0.0;
     q += (sigma * sigma + rounding) * column * column.transpose();
+  }
+  return q;
+}
+
+Eigen::Matrix3d OdometryImuEkf::period_covariance(const Pose2& increment) {
+  const bool still = increment.x == 0.0 && increment.y == 0.0 && increment.yaw == 0.0;
+  still_periods_ = still ? std::min(still_periods_ + 1, kSettlePeriods + 1) : 0;
+  if (!still || still_periods_ > kSettlePeriods) return slip_covariance(increment);
+  const int wheels = model_->actuator_count();
+  std::array<double, 8> unit{};
+  Eigen::Matrix3d q = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < wheels; ++i) {
+    unit.fill(0.0);
+    unit[i] = 1.0;
+    const BodyTwist j = model_->forward(std::span<const double>(unit.data(), wheels));
+    const Eigen::Vector3d column(j.vx, j.vy, j.wz);
+    q += config_.tick_rad * config_.tick_rad / 6.0 * column * column.transpose();
   }
   return q;
 }

@@ -14,8 +14,9 @@
 // angle increments (inverse kinematics of the increment) each with standard deviation
 // slip_sigma |d_gamma_i| (the simulator's slip model), through the forward kinematics to the body
 // and rotated into the odom frame, plus the encoders' quantisation (each increment's count off by
-// the difference of two uniform roundings: variance tick^2 / 6 per wheel). A standstill (no tick moved) adds no noise, so the gyro alone
-// then explains the yaw reading's drift: the bias is learnt whenever the robot stands still.
+// the difference of two uniform roundings: variance tick^2 / 6 per wheel). A standstill (no tick
+// moved, once the wheels have settled: period_covariance) adds no noise, so the gyro alone then
+// explains the yaw reading's drift: the bias is learnt whenever the robot stands still.
 //
 // IMU: psi' = psi + b dt with the integration noise (sigma_gyro dt)^2 per sample and a bias
 // random walk; the update z = theta (+ psi) with K = P H^T (H P H^T + R)^-1, the innovation wrapped
@@ -62,6 +63,14 @@ class OdometryImuEkf {
   void predict(const Pose2& increment) { predict(increment, slip_covariance(increment)); }
   // Covariance of an odometry increment under the slip model.
   Eigen::Matrix3d slip_covariance(const Pose2& increment) const;
+  // Covariance of one odometry period's increment, for a caller that hands every period in turn:
+  // the slip model's, except in the first kSettlePeriods still periods after motion. A wheel
+  // that stops turns on by less than a tick after its last count, unseen (up to 1.1 mrad of
+  // yaw for the paper's Mecanum base turning in place); those periods carry the rounding of
+  // every wheel (tick^2 / 6 each) instead of nothing, so the IMU yaw's move in them goes to the
+  // robot's yaw, not to the gyro's drift and bias.
+  Eigen::Matrix3d period_covariance(const Pose2& increment);
+  static constexpr int kSettlePeriods = 2;
 
   // An IMU reading: the gyro model advanced by dt (> 0; bias state only), then the yaw update.
   // Returns false when the gate rejected the reading.
@@ -84,6 +93,7 @@ class OdometryImuEkf {
   Vector x_;
   Matrix P_;
   std::int64_t rejected_ = 0;
+  int still_periods_ = kSettlePeriods;  // still odometry periods in a row (the start counts as settled)
 };
 
 }  // namespace starnav
