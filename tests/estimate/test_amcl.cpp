@@ -264,17 +264,25 @@ TEST(AmclScenario, KidnappedRobotRecoversWithRecoveryOn) {
   EXPECT_EQ(none, 0);
 }
 
-// The test room's filter with recovery on and the scan proposal, tracking from a tight start.
-Amcl amcl_with_scan_recovery(const Room& room, const AmclTestDrive& drive, bool recovery, double margin) {
+// Recovery on (0.001 / 0.1) and the scan proposal, its recovery as asked.
+AmclConfig scan_recovery_config(bool recovery) {
   AmclConfig c = amcl_test_config();
   c.max_particles = 2000;
   c.recovery_alpha_slow = 0.001;
   c.recovery_alpha_fast = 0.1;
   c.scan_proposal = true;
   c.proposal.recovery = recovery;
+  return c;
+}
+
+const Eigen::Matrix3d kTightStart = Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal();
+
+// The test room's filter with recovery on and the scan proposal, tracking from a tight start.
+Amcl amcl_with_scan_recovery(const Room& room, const AmclTestDrive& drive, bool recovery, double margin) {
+  AmclConfig c = scan_recovery_config(recovery);
   c.proposal.injection_margin = margin;
   Amcl amcl(room.grid, {}, c, kAmclTestMount, 31);
-  amcl.initialize(drive.truth(), Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+  amcl.initialize(drive.truth(), kTightStart);
   return amcl;
 }
 
@@ -362,18 +370,13 @@ TEST(AmclScenario, RecoveryGateInTheSearchLikelihoodFindsTheRoomALookAlikeHid) {
   const Pose2 mount(0.0, 0.0, 0.0);
   std::vector<int> back_after;
   for (const ScanProposalConfig::Gate gate : {ScanProposalConfig::Gate::Search, ScanProposalConfig::Gate::Tracking}) {
-    AmclConfig c = amcl_test_config();
-    c.max_particles = 2000;
-    c.recovery_alpha_slow = 0.001;
-    c.recovery_alpha_fast = 0.1;
-    c.scan_proposal = true;
-    c.proposal.recovery = true;
+    AmclConfig c = scan_recovery_config(true);
     c.proposal.injection_gate = gate;
     Amcl amcl(grid, {}, c, mount, 42);
     Rng rng(9);
     Pose2 truth(1.5, 1.5, 0.3);
     Pose2 odom(0.2, -0.4, 1.0);
-    amcl.initialize(truth, Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+    amcl.initialize(truth, kTightStart);
     int kidnapped_at = -1, back = -1;
     // Turning in place: an update every update_min_a.
     for (int k = 0; k < 2000 && amcl.estimate().updates < 70 && back < 0; ++k) {

@@ -44,42 +44,41 @@ OdometryImuEkf::OdometryImuEkf(const EkfConfig& config, const RobotModel& model,
   }
 }
 
-Eigen::Matrix3d OdometryImuEkf::slip_covariance(const Pose2& increment) const {
-  // The kinematics are linear: the increment's wheel angles by the inverse, each wheel's slip
-  // error back to the body by the forward kinematics of a unit increment of that wheel.
+Eigen::Matrix3d OdometryImuEkf::wheel_covariance(std::span<const double> gamma, bool settling) const {
+  // The kinematics are linear: each wheel's error back to the body by the forward kinematics of
+  // a unit increment of that wheel.
   const int wheels = model_->actuator_count();
-  std::array<double, 8> gamma{};
   std::array<double, 8> unit{};
-  model_->inverse({increment.x, increment.y, increment.yaw}, std::span<double>(gamma.data(), wheels));
   Eigen::Matrix3d q = Eigen::Matrix3d::Zero();
   for (int i = 0; i < wheels; ++i) {
     unit.fill(0.0);
     unit[i] = 1.0;
     const BodyTwist j = model_->forward(std::span<const double>(unit.data(), wheels));
     const Eigen::Vector3d column(j.vx, j.vy, j.wz);
-    const double sigma = config_.wheel_slip_sigma * gamma[i];
-    // A wheel whose count did not change has no rounding error in its increment (at rest: none).
-    const double rounding = gamma[i] != 0.0 ? config_.tick_rad * config_.tick_rad / 6.0 : 0.0;
+    const double sigma = config_.wheel_slip_sigma * gamma[static_cast<std::size_t>(i)];
+    // A wheel whose count did not change has no rounding error in its increment (at rest: none),
+    // unless it is settling.
+    const bool rounded = settling || gamma[static_cast<std::size_t>(i)] != 0.0;
+    const double rounding = rounded ? config_.tick_rad * config_.tick_rad / 6.0 : 0.0;
     q += (sigma * sigma + rounding) * column * column.transpose();
   }
   return q;
+}
+
+Eigen::Matrix3d OdometryImuEkf::slip_covariance(const Pose2& increment) const {
+  // The increment's wheel angles by the inverse kinematics.
+  std::array<double, 8> gamma{};
+  const auto wheels = static_cast<std::size_t>(model_->actuator_count());
+  model_->inverse({increment.x, increment.y, increment.yaw}, std::span<double>(gamma.data(), wheels));
+  return wheel_covariance(std::span<const double>(gamma.data(), wheels), false);
 }
 
 Eigen::Matrix3d OdometryImuEkf::period_covariance(const Pose2& increment) {
   const bool still = increment.x == 0.0 && increment.y == 0.0 && increment.yaw == 0.0;
   still_periods_ = still ? std::min(still_periods_ + 1, kSettlePeriods + 1) : 0;
   if (!still || still_periods_ > kSettlePeriods) return slip_covariance(increment);
-  const int wheels = model_->actuator_count();
-  std::array<double, 8> unit{};
-  Eigen::Matrix3d q = Eigen::Matrix3d::Zero();
-  for (int i = 0; i < wheels; ++i) {
-    unit.fill(0.0);
-    unit[i] = 1.0;
-    const BodyTwist j = model_->forward(std::span<const double>(unit.data(), wheels));
-    const Eigen::Vector3d column(j.vx, j.vy, j.wz);
-    q += config_.tick_rad * config_.tick_rad / 6.0 * column * column.transpose();
-  }
-  return q;
+  const std::array<double, 8> none{};
+  return wheel_covariance(std::span<const double>(none.data(), static_cast<std::size_t>(model_->actuator_count())), true);
 }
 
 void OdometryImuEkf::predict(const Pose2& increment, const Eigen::Matrix3d& q) {

@@ -23,6 +23,7 @@
 // to (-pi, pi], the Joseph form for P, and a Mahalanobis gate (d^2 = nu^2 / S above gate_chi2 is
 // an outlier, counted and skipped).
 #include <cstdint>
+#include <span>
 
 #include <Eigen/Core>
 
@@ -92,6 +93,10 @@ class OdometryImuEkf {
   int n_;
   Vector x_;
   Matrix P_;
+  // The covariance of wheel increments gamma (rad) through the kinematics: each wheel's slip and,
+  // where its count moved or `settling`, its rounding.
+  Eigen::Matrix3d wheel_covariance(std::span<const double> gamma, bool settling) const;
+
   std::int64_t rejected_ = 0;
   int still_periods_ = kSettlePeriods;  // still odometry periods in a row (the start counts as settled)
 };
