@@ -218,7 +218,9 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
   ++counters_.updates;
   bool search_over = false;
   bool injected_now = false;
-  if (global_proposal_pending_) {
+  // The proposal exists only with the likelihood field (validate), so `field` is set wherever it
+  // is used.
+  if (global_proposal_pending_ && field) {
     // The first scan of a global start chooses the particles; weighing them by it again would
     // count it twice.
     filter_.set_particles(proposed_poses(*field, beams, static_cast<std::size_t>(config_.max_particles),
@@ -257,7 +259,7 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
     if ((due && filter_.wants_resample()) || filter_.injection_probability() > 0.0) {
       RandomPoseFn random_pose;
       std::vector<Pose2> pool;  // the recovery's poses from the scan (proposal.recovery)
-      if (proposal_ && config_.proposal.recovery && filter_.injection_probability() > 0.0) {
+      if (proposal_ && field && config_.proposal.recovery && filter_.injection_probability() > 0.0) {
         pool = proposed_poses(*field, beams, static_cast<std::size_t>(config_.proposal.injection_pool),
                               static_cast<std::size_t>(config_.proposal.injection_candidates));
         if (!pool.empty() && !scan_explained_better(pool.front(), beams, range_max)) pool.clear();
