@@ -88,15 +88,15 @@ class OdometryImuEkf {
   void set_pose(const Pose2& pose) { x_(0) = pose.x, x_(1) = pose.y, x_(2) = pose.yaw; }
 
  private:
+  // The covariance of wheel increments gamma (rad) through the kinematics: each wheel's slip and,
+  // where its count moved or `settling`, its rounding.
+  Eigen::Matrix3d wheel_covariance(std::span<const double> gamma, bool settling) const;
+
   EkfConfig config_;
   const RobotModel* model_;
   int n_;
   Vector x_;
   Matrix P_;
-  // The covariance of wheel increments gamma (rad) through the kinematics: each wheel's slip and,
-  // where its count moved or `settling`, its rounding.
-  Eigen::Matrix3d wheel_covariance(std::span<const double> gamma, bool settling) const;
-
   std::int64_t rejected_ = 0;
   int still_periods_ = kSettlePeriods;  // still odometry periods in a row (the start counts as settled)
 };

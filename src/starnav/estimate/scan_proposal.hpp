@@ -43,8 +43,8 @@ struct ScanProposalConfig {
   int injection_candidates = 250'000;
   int injection_pool = 50;
   // The recovery draws from the scan only when its best candidate explains the scan at least
-  // this many times better than the set's best particle (both under the tracking likelihood
-  // field); otherwise uniform free poses. After a kidnap no particle fits and the candidates
+  // this many times better than the set's best particle (both under the likelihood
+  // injection_gate names); otherwise uniform free poses. After a kidnap no particle fits and the candidates
   // do; while tracking, a dip leaves the true particles about as good as any look-alike, so a
   // dip no longer fills the set with look-alikes (0.9 m jumps in nav2_warehouse without it).
   double injection_margin = 2.0;
