@@ -58,27 +58,47 @@ Eigen::Matrix3d OdometryImuEkf::wheel_covariance(std::span<const double> gamma, 
     const double sigma = config_.wheel_slip_sigma * gamma[static_cast<std::size_t>(i)];
     // A wheel whose count did not change has no rounding error in its increment (at rest: none),
     // unless it is settling.
-    const bool rounded = settling || gamma[static_cast<std::size_t>(i)] != 0.0;
+    const bool rounded = settling || wheel_moved(gamma[static_cast<std::size_t>(i)]);
     const double rounding = rounded ? config_.tick_rad * config_.tick_rad / 6.0 : 0.0;
     q += (sigma * sigma + rounding) * column * column.transpose();
   }
   return q;
 }
 
-Eigen::Matrix3d OdometryImuEkf::slip_covariance(const Pose2& increment) const {
-  // The increment's wheel angles by the inverse kinematics.
+bool OdometryImuEkf::wheel_moved(double gamma_rad) const {
+  // Counts move by whole ticks, and the body increment's wheel angles are their projection on
+  // what the kinematics can express: at least half a tick on some wheel when the body moved (a
+  // Mecanum base's tick on two opposite wheels). A quarter tick is far above the rounding of
+  // composing two equal odometry poses (1e-16 m) and far below any motion.
+  const double threshold = config_.tick_rad > 0.0 ? 0.25 * config_.tick_rad : kUnquantisedStill_rad;
+  return std::abs(gamma_rad) > threshold;
+}
+
+std::array<double, 8> OdometryImuEkf::wheel_angles(const Pose2& increment) const {
   std::array<double, 8> gamma{};
   const auto wheels = static_cast<std::size_t>(model_->actuator_count());
   model_->inverse({increment.x, increment.y, increment.yaw}, std::span<double>(gamma.data(), wheels));
-  return wheel_covariance(std::span<const double>(gamma.data(), wheels), false);
+  return gamma;
+}
+
+Eigen::Matrix3d OdometryImuEkf::slip_covariance(const Pose2& increment) const {
+  const std::array<double, 8> gamma = wheel_angles(increment);
+  return wheel_covariance(std::span<const double>(gamma.data(), static_cast<std::size_t>(model_->actuator_count())), false);
 }
 
 Eigen::Matrix3d OdometryImuEkf::period_covariance(const Pose2& increment) {
-  const bool still = increment.x == 0.0 && increment.y == 0.0 && increment.yaw == 0.0;
+  // Still when no wheel's count moved. An exact-zero test fails at rest away from the origin: the
+  // increment between two equal poses is 1e-16 m there, and such a period took the rounding
+  // noise of a moving wheel, so the rests at the square's corners taught the bias nothing.
+  const std::array<double, 8> gamma = wheel_angles(increment);
+  const auto wheels = static_cast<std::size_t>(model_->actuator_count());
+  const bool still = std::none_of(gamma.begin(), gamma.begin() + static_cast<std::ptrdiff_t>(wheels),
+                                  [this](double g) { return wheel_moved(g); });
   still_periods_ = still ? std::min(still_periods_ + 1, kSettlePeriods + 1) : 0;
-  if (!still || still_periods_ > kSettlePeriods) return slip_covariance(increment);
+  if (!still) return wheel_covariance(std::span<const double>(gamma.data(), wheels), false);
+  if (still_periods_ > kSettlePeriods) return Eigen::Matrix3d::Zero();
   const std::array<double, 8> none{};
-  return wheel_covariance(std::span<const double>(none.data(), static_cast<std::size_t>(model_->actuator_count())), true);
+  return wheel_covariance(std::span<const double>(none.data(), wheels), true);
 }
 
 void OdometryImuEkf::predict(const Pose2& increment, const Eigen::Matrix3d& q) {

@@ -22,6 +22,7 @@
 // random walk; the update z = theta (+ psi) with K = P H^T (H P H^T + R)^-1, the innovation wrapped
 // to (-pi, pi], the Joseph form for P, and a Mahalanobis gate (d^2 = nu^2 / S above gate_chi2 is
 // an outlier, counted and skipped).
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -91,6 +92,11 @@ class OdometryImuEkf {
   // The covariance of wheel increments gamma (rad) through the kinematics: each wheel's slip and,
   // where its count moved or `settling`, its rounding.
   Eigen::Matrix3d wheel_covariance(std::span<const double> gamma, bool settling) const;
+  // The increment's wheel angles (rad) by the inverse kinematics.
+  std::array<double, 8> wheel_angles(const Pose2& increment) const;
+  // Whether a wheel's count moved: by more than a quarter tick (kUnquantisedStill_rad unquantised).
+  bool wheel_moved(double gamma_rad) const;
+  static constexpr double kUnquantisedStill_rad = 1e-9;
 
   EkfConfig config_;
   const RobotModel* model_;

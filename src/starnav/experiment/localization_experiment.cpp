@@ -146,6 +146,7 @@ EkfSquareResult run_ekf_square(const EkfSquareConfig& config, const ExperimentPr
   const std::vector<std::string>& names = ekf_square_localizer_names();
   result.halves_odometry.assign(names.size(), 0);
   result.halves_odometry_rmse.assign(names.size(), 0);
+  result.heading_under_half_degree.assign(names.size(), 0);
   for (std::size_t l = 0; l < names.size(); ++l) {
     ExperimentGrid g = result.grid;
     g.variants = {{names[l], {}}};
@@ -161,6 +162,7 @@ EkfSquareResult run_ekf_square(const EkfSquareConfig& config, const ExperimentPr
       const EkfSquareErrors& e = t.record.localizers[l];
       if (e.rmse_m <= 0.5 * o.rmse_m && e.end_drift_m <= 0.5 * o.end_drift_m) ++result.halves_odometry[l];
       if (e.rmse_m <= 0.5 * o.rmse_m) ++result.halves_odometry_rmse[l];
+      if (e.final_heading_error_deg < 0.5) ++result.heading_under_half_degree[l];
     }
   }
   // The mean NEES over the seeds at each odometry sample (every seed has the same clock).
@@ -184,10 +186,12 @@ std::string ekf_square_markdown(const EkfSquareResult& r) {
   std::ostringstream out;
   out << "# EKF square: " << r.scenario_name << ", " << r.config.seeds << " seeds from " << r.config.seed_base << "\n\n";
   out << summary_markdown(r.summaries, error_metric_names(), 0) << "\n";
-  out << "| localizer | seeds with RMSE at most half of odometry's | ... and end drift too |\n|---|---|---|\n";
+  out << "| localizer | seeds with RMSE at most half of odometry's | ... and end drift too | seeds with final heading "
+         "error under 0.5 deg |\n|---|---|---|---|\n";
   for (std::size_t l = 0; l < r.summaries.size(); ++l)
     out << "| " << r.summaries[l].variant << " | " << r.halves_odometry_rmse[l] << " of " << r.config.seeds << " | "
-        << r.halves_odometry[l] << " of " << r.config.seeds << " |\n";
+        << r.halves_odometry[l] << " of " << r.config.seeds << " | " << r.heading_under_half_degree[l] << " of "
+        << r.config.seeds << " |\n";
   out << "\nNEES of the bias EKF, mean over the seeds: inside [" << format_fixed(r.nees_low, 2) << ", "
       << format_fixed(r.nees_high, 2) << "] at " << format_fixed(100.0 * r.nees_in_band, 1) << " % of "
       << r.nees_mean.size() << " samples\n";
@@ -226,6 +230,7 @@ std::string ekf_square_json(const EkfSquareResult& r) {
     }
     j["seeds_halving_odometry"] = r.halves_odometry[l];
     j["seeds_halving_odometry_rmse"] = r.halves_odometry_rmse[l];
+    j["seeds_heading_under_half_degree"] = r.heading_under_half_degree[l];
     locs.push_back(j);
   }
   doc["localizers"] = locs;

@@ -54,6 +54,7 @@ struct EkfSquareResult {
   // Per localizer: seeds whose RMSE and end drift are both at most half of dead reckoning's.
   std::vector<int> halves_odometry;
   std::vector<int> halves_odometry_rmse;  // the RMSE alone
+  std::vector<int> heading_under_half_degree;  // seeds whose final heading error is under 0.5 deg
   std::vector<double> nees_mean;  // over the seeds, per odometry sample
   double nees_low = 0.0, nees_high = 0.0;  // the 95 % interval of the mean
   double nees_in_band = 0.0;               // fraction of samples inside it
