@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/rng.hpp"
@@ -143,16 +144,25 @@ TEST(OdometryImuEkf, SlipCovarianceMatchesMonteCarloOfTheWheels) {
     for (int j = 0; j < 3; ++j) EXPECT_NEAR(q(i, j), m(i, j), 0.02 * q.diagonal().maxCoeff()) << i << j;
 }
 
+// The paper's Mecanum base with 1024-tick encoders.
+class QuantisedEkf : public ::testing::Test {
+ protected:
+  static EkfConfig ticked() {
+    EkfConfig c;
+    c.tick_rad = 2.0 * kPi / 1024.0;
+    return c;
+  }
+  const RobotConfig robot = mecanum();
+  const std::unique_ptr<RobotModel> model = make_robot_model(robot);
+  const EkfConfig c = ticked();
+  OdometryImuEkf ekf{c, *model, {}};
+};
+
 // A still period right after motion may hide up to a tick of each wheel: its covariance is
 // the rounding of every wheel, tick^2 / 6 each, through the forward kinematics (for the yaw of
 // a Mecanum base: 4 (tick^2 / 6) (r / (4 (L1 + L2)))^2); from the third still period on, and
 // before the robot ever moved, nothing.
-TEST(OdometryImuEkf, StillPeriodsAfterMotionCarryTheRoundingThenNothing) {
-  const RobotConfig robot = mecanum();
-  const auto model = make_robot_model(robot);
-  EkfConfig c;
-  c.tick_rad = 2.0 * kPi / 1024.0;
-  OdometryImuEkf ekf(c, *model, {});
+TEST_F(QuantisedEkf, StillPeriodsAfterMotionCarryTheRoundingThenNothing) {
   const Pose2 still;
   EXPECT_TRUE(ekf.period_covariance(still).isZero());  // at the start: settled
   const Pose2 moving(0.006, 0.0, 0.0);
@@ -172,14 +182,9 @@ TEST(OdometryImuEkf, StillPeriodsAfterMotionCarryTheRoundingThenNothing) {
   EXPECT_FALSE(ekf.period_covariance(still).isZero());  // settling again
 }
 
-TEST(OdometryImuEkf, AtRestAwayFromTheOriginTheIncrementsRoundingIsStillStill) {
+TEST_F(QuantisedEkf, AtRestAwayFromTheOriginTheIncrementsRoundingIsStillStill) {
   // Between two equal odometry poses away from the origin the composed increment is not exactly
   // zero (1e-16 m): that is rest, and only whole ticks are motion.
-  const RobotConfig robot = mecanum();
-  const auto model = make_robot_model(robot);
-  EkfConfig c;
-  c.tick_rad = 2.0 * kPi / 1024.0;
-  OdometryImuEkf ekf(c, *model, {});
   Pose2 residue;
   for (int k = 1; k < 100 && residue.x == 0.0 && residue.y == 0.0; ++k) {
     const Pose2 corner(0.37 * k, 0.21 * k, 0.1 * k);
