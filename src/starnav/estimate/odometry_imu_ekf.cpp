@@ -44,11 +44,11 @@ OdometryImuEkf::OdometryImuEkf(const EkfConfig& config, const RobotModel& model,
   }
 }
 
-Eigen::Matrix3d OdometryImuEkf::wheel_covariance(std::span<const double> gamma, bool settling) const {
+Eigen::Matrix3d OdometryImuEkf::wheel_covariance(const WheelAngles& gamma, bool settling) const {
   // The kinematics are linear: each wheel's error back to the body by the forward kinematics of
   // a unit increment of that wheel.
   const int wheels = model_->actuator_count();
-  std::array<double, 8> unit{};
+  WheelAngles unit{};
   Eigen::Matrix3d q = Eigen::Matrix3d::Zero();
   for (int i = 0; i < wheels; ++i) {
     unit.fill(0.0);
@@ -74,31 +74,28 @@ bool OdometryImuEkf::wheel_moved(double gamma_rad) const {
   return std::abs(gamma_rad) > threshold;
 }
 
-std::array<double, 8> OdometryImuEkf::wheel_angles(const Pose2& increment) const {
-  std::array<double, 8> gamma{};
+OdometryImuEkf::WheelAngles OdometryImuEkf::wheel_angles(const Pose2& increment) const {
+  WheelAngles gamma{};
   const auto wheels = static_cast<std::size_t>(model_->actuator_count());
   model_->inverse({increment.x, increment.y, increment.yaw}, std::span<double>(gamma.data(), wheels));
   return gamma;
 }
 
 Eigen::Matrix3d OdometryImuEkf::slip_covariance(const Pose2& increment) const {
-  const std::array<double, 8> gamma = wheel_angles(increment);
-  return wheel_covariance(std::span<const double>(gamma.data(), static_cast<std::size_t>(model_->actuator_count())), false);
+  return wheel_covariance(wheel_angles(increment), false);
 }
 
 Eigen::Matrix3d OdometryImuEkf::period_covariance(const Pose2& increment) {
   // Still when no wheel's count moved. An exact-zero test fails at rest away from the origin: the
   // increment between two equal poses is 1e-16 m there, and such a period took the rounding
   // noise of a moving wheel, so the rests at the square's corners taught the bias nothing.
-  const std::array<double, 8> gamma = wheel_angles(increment);
-  const auto wheels = static_cast<std::size_t>(model_->actuator_count());
-  const bool still = std::none_of(gamma.begin(), gamma.begin() + static_cast<std::ptrdiff_t>(wheels),
+  const WheelAngles gamma = wheel_angles(increment);
+  const bool still = std::none_of(gamma.begin(), gamma.begin() + model_->actuator_count(),
                                   [this](double g) { return wheel_moved(g); });
   still_periods_ = still ? std::min(still_periods_ + 1, kSettlePeriods + 1) : 0;
-  if (!still) return wheel_covariance(std::span<const double>(gamma.data(), wheels), false);
+  if (!still) return wheel_covariance(gamma, false);
   if (still_periods_ > kSettlePeriods) return Eigen::Matrix3d::Zero();
-  const std::array<double, 8> none{};
-  return wheel_covariance(std::span<const double>(none.data(), wheels), true);
+  return wheel_covariance(WheelAngles{}, true);
 }
 
 void OdometryImuEkf::predict(const Pose2& increment, const Eigen::Matrix3d& q) {

@@ -91,9 +91,11 @@ class OdometryImuEkf {
  private:
   // The covariance of wheel increments gamma (rad) through the kinematics: each wheel's slip and,
   // where its count moved or `settling`, its rounding.
-  Eigen::Matrix3d wheel_covariance(std::span<const double> gamma, bool settling) const;
-  // The increment's wheel angles (rad) by the inverse kinematics.
-  std::array<double, 8> wheel_angles(const Pose2& increment) const;
+  // Wheel angles (rad), the first model_->actuator_count() used.
+  using WheelAngles = std::array<double, 8>;
+  Eigen::Matrix3d wheel_covariance(const WheelAngles& gamma, bool settling) const;
+  // The increment's wheel angles by the inverse kinematics.
+  WheelAngles wheel_angles(const Pose2& increment) const;
   // Whether a wheel's count moved: by more than a quarter tick (kUnquantisedStill_rad unquantised).
   bool wheel_moved(double gamma_rad) const;
   static constexpr double kUnquantisedStill_rad = 1e-9;
