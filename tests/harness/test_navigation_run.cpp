@@ -5,6 +5,7 @@
 // file, line and field.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "starnav/core/error.hpp"
@@ -12,9 +13,12 @@
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "harness/scenario_errors.hpp"
+#include "support/test_support.hpp"
 
 namespace starnav {
 namespace {
+
+namespace fs = std::filesystem;
 
 const std::string kScenarios = std::string(STARNAV_SOURCE_DIR) + "/scenarios/";
 
@@ -204,6 +208,108 @@ sim: {dt_s: 0.01, duration_s: 30.0}
   // Parsed, refused when the run is set up: the drive cannot do it, the goal is off the map.
   expect_scenario_error(head + "motion_mode: holonomic\nnavigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n", "motion_mode", true);
   expect_scenario_error(head + "navigation:\n  goal: {x_m: 60.0, y_m: 2.4}\n", "navigation.goal", true);
+}
+
+
+// A controller (or planner) chosen on the command line outranks the scenario file: the file's
+// section of the component it swapped out is dropped and said, not an error; a --set of that
+// section is still refused, and so is the same section when the file itself chose another.
+TEST(NavigationRun, AComponentSwappedOnTheCommandLineDropsTheFilesSectionOfTheOldOne) {
+  const std::string yaml = R"(
+world:
+  terrain:
+    generate: {kind: flat, size_m: [8.0, 5.0], resolution_m: 0.05}
+robot:
+  drive: differential
+  start: {x_m: 1.0, y_m: 2.4, yaw_deg: 0.0}
+sensors:
+  lidar: {}
+sim: {dt_s: 0.01, duration_s: 30.0}
+navigation:
+  goal: {x_m: 6.0, y_m: 2.4}
+  follower: {cruise_speed_mps: 0.3}
+  astar: {cost_weight: 2.0}
+)";
+  const ScenarioSpec spec = parse_scenario(yaml, "swap.yaml");
+  NavigationOptions options;
+  options.controller = "dwa";
+  options.planner = "dijkstra";
+  NavigationRun run(spec, options);
+  const std::vector<std::string>& w = run.navigator().warnings();
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0].find("navigation.follower: ignored"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("--controller chose dwa"), std::string::npos) << w[0];
+  EXPECT_NE(w[1].find("navigation.astar: ignored"), std::string::npos) << w[1];
+  EXPECT_NE(w[1].find("--planner chose dijkstra"), std::string::npos) << w[1];
+
+  // The same swap with a --set of the old controller's section: the user's own words, refused.
+  const ScenarioOverride set = parse_scenario_override("navigation.follower.look_ahead_m=0.5");
+  const ScenarioSpec with_set = parse_scenario(yaml, "swap.yaml", std::span<const ScenarioOverride>(&set, 1));
+  try {
+    NavigationRun refused(with_set, options);
+    FAIL() << "a --set of the swapped-out controller was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "navigation.follower.look_ahead_m (--set)") << e.what();
+    EXPECT_NE(std::string(e.what()).find("but navigation.controller is dwa"), std::string::npos) << e.what();
+  }
+}
+
+
+// A navigation scenario on a SLAM-built map: a map_server map whose origin is negative, goals
+// spread over the building. The navigation map covers the world's map and every goal (it used to
+// cover the start, the first goal and each obstacle's anchor only); a goal off a terrain's bounds is
+// refused naming the extent and the setting that changes it.
+TEST(NavigationRun, TheNavigationMapCoversTheWorldsMapAndEveryGoal) {
+  test::ScratchDir dir;
+  fs::copy_file(kScenarios + "maps/indoor_rooms.pgm", dir.file("rooms.pgm"));
+  // 480 x 320 cells of 0.05 m: [-12.5, 11.5] x [-4, 12] m.
+  test::write_text(dir.file("rooms.yaml"), "image: rooms.pgm\nresolution: 0.05\norigin: [-12.5, -4.0, 0.0]\nnegate: 0\n"
+                                           "occupied_thresh: 0.65\nfree_thresh: 0.196\nmode: trinary\n");
+  const std::string yaml = R"(
+world:
+  occupancy_map: {file: rooms.yaml, wall_height_m: 2.0}
+robot:
+  drive: differential
+  start: {x_m: -10.75, y_m: -2.25, yaw_deg: 0.0}
+sensors:
+  lidar: {preset: hokuyo_utm30lx}
+sim: {dt_s: 0.01, duration_s: 30.0}
+navigation:
+  goals:
+    - {x_m: -9.0, y_m: -2.25}
+    - {x_m: 9.5, y_m: 10.0}
+)";
+  test::write_text(dir.file("nav.yaml"), yaml);
+  NavigationRun run(load_scenario(dir.file("nav.yaml")));
+  const GridGeometry& g = run.navigator().map().geometry();
+  const Vec2 lo = g.origin.translation();
+  EXPECT_LE(lo.x(), -12.5);
+  EXPECT_LE(lo.y(), -4.0);
+  EXPECT_GE(lo.x() + g.width_m(), 11.5);
+  EXPECT_GE(lo.y() + g.height_m(), 12.0);
+
+  // On a terrain, the terrain's bounds are the map: a goal beyond them says so.
+  const std::string terrain = R"(
+world:
+  terrain:
+    generate: {kind: flat, size_m: [8.0, 5.0], resolution_m: 0.05}
+robot:
+  drive: differential
+  start: {x_m: 1.0, y_m: 2.4, yaw_deg: 0.0}
+sensors:
+  lidar: {}
+sim: {dt_s: 0.01, duration_s: 30.0}
+navigation:
+  goal: {x_m: 60.0, y_m: 2.4}
+)";
+  try {
+    NavigationRun refused(parse_scenario(terrain, "far.yaml"));
+    FAIL() << "a goal off the terrain was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "navigation.goal") << e.what();
+    EXPECT_NE(std::string(e.what()).find("[0.00, 8.00] x [0.00, 5.00] m (navigation.map.extent world"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -44,12 +44,27 @@ GridGeometry map_geometry(const ScenarioSpec& spec, const WorldDescription& worl
     lo = g.origin.translation();
     hi = lo + Vec2(g.width_m(), g.height_m());
   } else {
-    lo = start.cwiseMin(goal);
-    hi = start.cwiseMax(goal);
+    // Everything the robot may need to plan across: the start, every goal, and every obstacle
+    // whole (a map_server world's walls are one obstacle) wherever it stands during the run.
+    lo = start;
+    hi = start;
+    const auto extend = [&lo, &hi](const Vec2& p) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    };
+    for (const ScenarioGoal& g : spec.navigation->goals) extend(g.position);
     for (const Obstacle& o : world.obstacles) {
-      const Vec2 a = o.anchor_at(o.appear).head<2>();
-      lo = lo.cwiseMin(a);
-      hi = hi.cwiseMax(a);
+      std::vector<Vec3> offsets{o.offset_at(o.appear)};
+      for (const Waypoint& w : o.waypoints) offsets.push_back(o.offset_at(w.time));
+      if (o.velocity != Vec3::Zero() && std::isfinite(o.disappear)) offsets.push_back(o.offset_at(o.disappear));
+      for (const Primitive& part : o.parts) {
+        const Aabb b = bounds(part);
+        if (b.empty()) continue;
+        for (const Vec3& d : offsets) {
+          extend((b.lo + d).head<2>());
+          extend((b.hi + d).head<2>());
+        }
+      }
     }
     lo -= Vec2::Constant(2.0);
     hi += Vec2::Constant(2.0);
@@ -271,6 +286,7 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
     c.warnings.push_back("motion_mode: ignored (it applies to the path_follower controller, not " + cinfo.name + ")");
   }
   std::vector<ParamSetting> own;
+  std::vector<std::string> dropped_sections;
   for (ParamSetting& v : rest) {
     if (navigation_params().has(v.key)) {
       own.push_back(std::move(v));
@@ -280,9 +296,20 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
     for (const ComponentInfo& i : all_components())
       if ((i.role == Role::GlobalPlanner || i.role == Role::LocalController) && i.name != pinfo.name && i.name != cinfo.name)
         others.push_back(i);
-    const bool planner_like = std::any_of(others.begin(), others.end(), [&](const ComponentInfo& i) {
-      return i.role == Role::GlobalPlanner && i.section == v.key.substr(0, v.key.find('.'));
-    });
+    const std::string head = v.key.substr(0, v.key.find('.'));
+    const auto owner = std::find_if(others.begin(), others.end(), [&](const ComponentInfo& i) { return i.section == head; });
+    const bool planner_like = owner != others.end() && owner->role == Role::GlobalPlanner;
+    // The scenario file's section of the component a command-line flag swapped out: the flag
+    // outranks the file, so that section is dropped (and said). A --set for it is still refused.
+    const bool swapped_on_command_line = planner_like ? options.planner.has_value() : options.controller.has_value();
+    if (owner != others.end() && v.key != head && v.line > 0 && swapped_on_command_line) {
+      if (std::find(dropped_sections.begin(), dropped_sections.end(), head) == dropped_sections.end()) {
+        dropped_sections.push_back(head);
+        c.warnings.push_back("navigation." + head + ": ignored (parameters of " + owner->name + "; " +
+                             (planner_like ? "--planner chose " + pinfo.name : "--controller chose " + cinfo.name) + ")");
+      }
+      continue;
+    }
     refuse_leftover(v, navigation_params(), others, planner_like ? "navigation.planner" : "navigation.controller",
                     planner_like ? pinfo.name : cinfo.name);
   }
@@ -324,11 +351,21 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   } catch (const Error& e) {
     rethrow_at_setting(e, own, spec.file);
   }
+  // Only a terrain's bounds or the paper's extent can leave a goal or the start outside.
+  const auto outside = [&](const std::string& what, const Vec2& p) {
+    const GridGeometry& g = c.geometry;
+    const Vec2 lo = g.origin.translation();
+    return what + " (" + format_fixed(p.x(), 2) + ", " + format_fixed(p.y(), 2) + ") m lies outside the navigation map, [" +
+           format_fixed(lo.x(), 2) + ", " + format_fixed(lo.x() + g.width_m(), 2) + "] x [" + format_fixed(lo.y(), 2) + ", " +
+           format_fixed(lo.y() + g.height_m(), 2) + "] m (navigation.map.extent " + s.extent +
+           (s.extent == "paper" ? ": 1.5 x |goal - start| around their midpoint; extent world covers the whole world)"
+                                : ": the world's terrain)");
+  };
   for (const ScenarioGoal& g : n.goals)
-    if (!c.geometry.world_to_cell(g.position)) fail_at(spec, g.source, "the goal lies outside the navigation map");
+    if (!c.geometry.world_to_cell(g.position)) fail_at(spec, g.source, outside("the goal", g.position));
   if (settings_out) *settings_out = s;
   if (!c.geometry.world_to_cell(spec.start.translation()))
-    fail_at(spec, spec.start_source, "the start lies outside the navigation map");
+    fail_at(spec, spec.start_source, outside("the start", spec.start.translation()));
   return c;
 }
 
