@@ -116,7 +116,10 @@ std::vector<ParamSetting> parse_set_options(const std::vector<std::string>& sets
   for (const std::string& s : sets) {
     const std::size_t eq = s.find('=');
     if (eq == std::string::npos || eq == 0) throw Error("expected KEY=VALUE, got '" + printable(s, 60) + "'", {}, 0, "--set");
-    out.push_back({s.substr(0, eq), s.substr(eq + 1), {}, 0, "--set " + s.substr(0, eq)});
+    const std::string key = s.substr(0, eq);
+    for (const ParamSetting& earlier : out)
+      if (earlier.key == key) throw Error("given twice; give each key once", {}, 0, "--set " + key);
+    out.push_back({key, s.substr(eq + 1), {}, 0, "--set " + key});
   }
   return out;
 }

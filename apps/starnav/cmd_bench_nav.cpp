@@ -93,6 +93,13 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
   config.scenario_file = o.scenario;
   std::vector<ScenarioOverride> overrides;
   for (const std::string& text : o.sets) overrides.push_back(parse_scenario_override(text));
+  std::vector<CommandOwnedKey> owned = {{"navigation.planner", "bench nav runs dstar_lite and astar on every seed"},
+                                        {"sim.seed", "--seeds and --seed-base give each run its seed"}};
+  if (!o.motion_mode.empty()) {
+    owned.push_back({"motion_mode", "--motion-mode gives it"});
+    owned.push_back({"navigation.follower.motion_mode", "--motion-mode gives it"});
+  }
+  check_user_overrides(overrides, owned);
   config.scenario = load_scenario(o.scenario, overrides);
   if (!config.scenario.navigation)
     throw Error("not a navigation scenario (no navigation section; see docs/scenarios.md)", o.scenario, 0, "navigation");

@@ -227,6 +227,17 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 void run_sim(const SimOptions& o, Context& ctx) {
   std::vector<ScenarioOverride> overrides;
   for (const std::string& text : o.sets) overrides.push_back(parse_scenario_override(text));
+  std::vector<CommandOwnedKey> owned;
+  if (!o.seed.empty()) owned.push_back({"sim.seed", "--seed gives it"});
+  if (!o.duration.empty()) owned.push_back({"sim.duration_s", "--duration gives it"});
+  if (!o.planner.empty()) owned.push_back({"navigation.planner", "--planner gives it"});
+  if (!o.controller.empty()) owned.push_back({"navigation.controller", "--controller gives it"});
+  if (!o.point_clouds.empty()) owned.push_back({"outputs.point_clouds", "--point-clouds gives it"});
+  if (!o.motion_mode.empty()) {
+    owned.push_back({"motion_mode", "--motion-mode gives it"});
+    owned.push_back({"navigation.follower.motion_mode", "--motion-mode gives it"});
+  }
+  check_user_overrides(overrides, owned);
   ScenarioSpec spec = load_scenario(o.scenario, overrides);
   if (!o.seed.empty()) spec.seed = parse_unsigned(o.seed, "--seed", "a non-negative integer");
   if (!o.duration.empty()) {

@@ -158,5 +158,36 @@ TEST(ErrorLinesCli, RunningOutOfMemoryNamesTheFileBeingRead) {
 #endif
 }
 
+
+// A --set that the command would override, or a key given twice, is refused: no setting is
+// silently ignored.
+TEST(ErrorLinesCli, ASetTheCommandWouldOverrideIsRefused) {
+  test::ScratchDir dir;
+  const std::string scenarios = std::string(STARNAV_SOURCE_DIR) + "/scenarios/";
+  const std::string e1 = scenarios + "e1_terrain_platform.yaml";
+  const std::string e2 = scenarios + "e2_stochastic_pit_mound.yaml";
+  const std::string e3 = scenarios + "e3_three_obstacles.yaml";
+  const std::vector<ErrorLineCase> cases = {
+      {{"bench", "nav", "--scenario", e2, "--seeds", "1", "--set", "navigation.planner=jps"},
+       "navigation.planner (--set): the command sets navigation.planner itself (bench nav runs dstar_lite and astar"},
+      {{"bench", "nav", "--scenario", e2, "--seeds", "1", "--set", "sim.seed=3"}, "sim.seed (--set): the command sets sim.seed"},
+      {{"bench", "nav", "--scenario", e2, "--seeds", "1", "--motion-mode", "holonomic", "--set", "motion_mode=turn_then_drive"},
+       "motion_mode (--set): the command sets motion_mode itself (--motion-mode gives it)"},
+      {{"sim", e1, "--out", dir.file("a"), "--seed", "3", "--set", "sim.seed=4"}, "sim.seed (--set): the command sets sim.seed"},
+      {{"sim", e1, "--out", dir.file("b"), "--duration", "3", "--set", "sim.duration_s=4"}, "sim.duration_s (--set)"},
+      {{"sim", e3, "--out", dir.file("c"), "--planner", "jps", "--set", "navigation.planner=astar"}, "navigation.planner (--set)"},
+      {{"sim", e3, "--out", dir.file("d"), "--controller", "dwa", "--set", "navigation.controller=path_follower"},
+       "navigation.controller (--set)"},
+      {{"sim", e1, "--out", dir.file("e"), "--set", "sim.seed=4", "--set", "sim.seed=5"}, "sim.seed (--set): given twice"},
+      {{"bench", "mapping3d", "--seeds", "1", "--scenario", scenarios + "ou2022_mapping3d.yaml", "--set", "sim.seed=2"},
+       "sim.seed (--set): the command sets sim.seed"},
+      {{"bench", "ekf-square", "--seeds", "1", "--set", "localization.ekf.bias_state=false"},
+       "localization.ekf.bias_state (--set): the command sets"},
+      {{"slam", "run", e1, "--out", dir.file("f"), "--set", "submap_nodes=3", "--set", "submap_nodes=4"},
+       "--set submap_nodes: given twice"},
+  };
+  for (const ErrorLineCase& c : cases) expect_one_error_line(c);
+}
+
 }  // namespace
 }  // namespace starnav

@@ -59,6 +59,8 @@ DwaExperimentResult run_dwa_experiment(const DwaExperimentConfig& config, const 
   config.validate();
   DwaExperimentResult result;
   result.config = config;
+  const CommandOwnedKey owned[] = {{"sim.seed", "--seeds and --seed-base give each run its seed"}};
+  check_user_overrides(config.overrides, owned);
   const ScenarioSpec base = load_scenario(config.scenario_file, config.overrides);
   if (!base.navigation) throw Error("not a navigation scenario (no navigation section)", base.file, 0, "navigation");
   result.scenario_name = base.name;

@@ -92,6 +92,9 @@ EkfSquareResult run_ekf_square(const EkfSquareConfig& config, const ExperimentPr
   if (config.seeds < 1) throw Error("at least one seed", {}, 0, "--seeds");
   EkfSquareResult result;
   result.config = config;
+  const CommandOwnedKey owned[] = {{"sim.seed", "--seeds and --seed-base give each run its seed"},
+                                   {"localization.ekf.bias_state", "the square runs the EKF with and without it"}};
+  check_user_overrides(config.overrides, owned);
   const ScenarioSpec base = load_scenario(config.scenario_file, config.overrides);
   result.scenario_name = base.name;
   if (!base.imu) throw Error("the scenario has no sensors.imu", base.file, 0, "sensors.imu");
@@ -343,6 +346,8 @@ std::vector<ScenarioOverride> amcl_case_overrides(const std::string& case_name) 
 AmclBenchResult run_amcl_bench(const AmclBenchConfig& config, const ExperimentProgress& progress) {
   if (config.seeds < 1) throw Error("at least one seed", {}, 0, "--seeds");
   if (config.scenarios.empty()) throw Error("no scenario", {}, 0, "SCENARIO");
+  const CommandOwnedKey owned[] = {{"sim.seed", "--seeds and --seed-base give each run its seed"}};
+  check_user_overrides(config.overrides, owned);
   AmclBenchResult result;
   result.config = config;
   for (const std::string& c : config.cases) result.grid.variants.push_back({c, {}});

@@ -121,6 +121,8 @@ struct Mapping3dSlot {
 
 Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config, const Mapping3dProgress& progress) {
   config.validate();
+  const CommandOwnedKey owned[] = {{"sim.seed", "--seeds and --seed-base give each run its seed"}};
+  check_user_overrides(config.overrides, owned);
   Mapping3dResult result;
   result.config = config;
   result.variants = config.variants();

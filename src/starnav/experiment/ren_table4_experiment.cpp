@@ -33,6 +33,8 @@ RenTable4Result run_ren_table4(const RenTable4Config& config, const ExperimentPr
   if (config.seeds < 1) throw Error("at least one seed", {}, 0, "--seeds");
   RenTable4Result result;
   result.config = config;
+  const CommandOwnedKey owned[] = {{"sim.seed", "--seeds and --seed-base give each run its seed"}};
+  check_user_overrides(config.overrides, owned);
   const ScenarioSpec base = load_scenario(config.scenario_file, config.overrides);
   if (!base.navigation) throw Error("not a navigation scenario (no navigation section)", base.file, 0, "navigation");
   result.scenario_name = base.name;

@@ -1206,6 +1206,19 @@ ScenarioOverride parse_scenario_override(const std::string& text) {
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
+void check_user_overrides(std::span<const ScenarioOverride> overrides, std::span<const CommandOwnedKey> owned) {
+  const auto under = [](const std::string& key, const std::string& prefix) {
+    return key == prefix || key.rfind(prefix + ".", 0) == 0 || key.rfind(prefix + "[", 0) == 0;
+  };
+  for (std::size_t i = 0; i < overrides.size(); ++i) {
+    const std::string& key = overrides[i].key;
+    for (std::size_t j = 0; j < i; ++j)
+      if (overrides[j].key == key) throw Error("given twice; give each key once", "", 0, key + " (--set)");
+    for (const CommandOwnedKey& o : owned)
+      if (under(key, o.key)) throw Error("the command sets " + o.key + " itself (" + o.why + ")", "", 0, key + " (--set)");
+  }
+}
+
 ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file, std::span<const ScenarioOverride> overrides) {
   YAML::Node root;
   try {

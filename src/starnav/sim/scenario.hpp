@@ -233,6 +233,16 @@ struct ScenarioOverride {
 // "KEY=VALUE"; Error (field "--set") otherwise.
 ScenarioOverride parse_scenario_override(const std::string& text);
 
+// A scenario key that a command sets itself (a seed per run, the planners a bench compares, a
+// flag's value): a --set of it would be overridden, so it is refused, with the reason.
+struct CommandOwnedKey {
+  std::string key;  // dotted; a --set of the key or of any key under it is refused
+  std::string why;  // "bench nav runs dstar_lite and astar itself"
+};
+// Checks the user's --set values before anything is read: each key at most once (a second value
+// would silently replace the first), none of the keys the command owns. Error naming "KEY (--set)".
+void check_user_overrides(std::span<const ScenarioOverride> overrides, std::span<const CommandOwnedKey> owned = {});
+
 // Largest generated terrain (4000 x 4000 cells: 400 m x 400 m at 0.1 m).
 inline constexpr std::size_t kMaxTerrainCells = 16'000'000;
 // Most gravel pieces over all gravel fields of a scenario (ten fields at the largest count): one
