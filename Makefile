@@ -13,7 +13,7 @@ CMAKE_BUILD = JOBS=$(JOBS) scripts/cmake-build.sh
 CTEST = ctest --output-on-failure --progress -j $(JOBS)
 
 .PHONY: all deps build demo test bench bench-full asan san-build fuzz fuzz-replay nogdal-check format \
-  install-check clean
+  install install-check clean
 
 all: build
 
@@ -67,6 +67,12 @@ nogdal-check:
 	@$(CMAKE_BUILD) $(NOGDAL_BUILD) "-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 -DSTARNAV_WITH_GDAL=OFF \
 	  -DSTARNAV_WITH_PCL=OFF -DSTARNAV_BUILD_BENCH=OFF $(CMAKE_FLAGS)" starnav_cli test_io test_cli
 	@cd $(NOGDAL_BUILD) && $(CTEST) --timeout 900 -L '^(io|cli)$$'
+
+# Installs the CLI, the library, its headers, the CMake package, a pkg-config file, the plugins and
+# the viewer's page under PREFIX (default /usr/local; `make install PREFIX=$HOME/.local`).
+PREFIX ?= /usr/local
+install: build
+	@cmake --install $(BUILD) --prefix $(PREFIX)
 
 # Installs into a scratch prefix and builds examples/consumer against the installed package.
 install-check: build

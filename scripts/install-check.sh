@@ -63,6 +63,17 @@ fi
 
 say "running the consumer"
 out=$("$CONSUMER_BUILD/app") || { echo "$out" >&2; die "the consumer exited non-zero"; }
+
+# The same program built with pkg-config instead of CMake, from the installed starnav.pc only.
+pc=$(find "$PREFIX" -name starnav.pc -print -quit)
+[ -n "$pc" ] || die "no starnav.pc under $PREFIX"
+say "building the consumer with pkg-config ($(dirname "$pc"))"
+pc_flags=$(PKG_CONFIG_PATH="$(dirname "$pc")" pkg-config --cflags --libs starnav) || die "pkg-config --cflags --libs starnav"
+# shellcheck disable=SC2086  # the flags are words
+"${compiler:-c++}" -std=c++20 -O1 "$ROOT/examples/consumer/main.cpp" -o "$SCRATCH/app-pkgconfig" $pc_flags \
+  >"$SCRATCH/consumer-pkgconfig.log" 2>&1 || { cat "$SCRATCH/consumer-pkgconfig.log" >&2; die "building with pkg-config"; }
+pc_out=$("$SCRATCH/app-pkgconfig") || { echo "$pc_out" >&2; die "the pkg-config build exited non-zero"; }
+[ "$pc_out" = "$out" ] || { diff <(echo "$out") <(echo "$pc_out") >&2; die "the pkg-config build printed something else"; }
 echo "$out"
 expect=(
   "gdal=$want_gdal"

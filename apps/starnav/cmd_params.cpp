@@ -4,6 +4,8 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "starnav/core/component.hpp"
+#include "starnav/core/error.hpp"
 #include "starnav/experiment/limits_docs.hpp"
 #include "starnav/experiment/metrics.hpp"
 #include "starnav/harness/parameter_docs.hpp"
@@ -31,12 +33,24 @@ void register_params_command(CLI::App& app, Context& ctx) {
   struct Options {
     bool markdown = false;
     bool json = false;
+    std::string role;
   };
   auto o = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("params", "list every component (planners, controllers, localizers) and its declared parameters");
   cmd->add_flag("--markdown", o->markdown, "print docs/parameters.md");
   cmd->add_flag("--json", o->json, "print JSON: one object per component with its parameters");
-  cmd->callback([o, &ctx] {
+  std::string roles;
+  for (Role r : kAllRoles) roles += std::string(roles.empty() ? "" : ", ") + role_name(r);
+  cmd->add_option("--role", o->role, "only the components of this role (" + roles + "): summary, capabilities, parameters");
+  cmd->callback([o, &ctx, roles] {
+    if (!o->role.empty()) {
+      const std::optional<Role> role = role_from_name(o->role);
+      if (!role) throw Error("unknown role '" + o->role + "' (roles: " + roles + ")", {}, 0, "--role");
+      if (o->json || o->markdown) throw Error("--role prints text; --json and --markdown print every component", {}, 0, "--role");
+      std::cout << role_components_text(*role);
+      ctx.exit_code = 0;
+      return;
+    }
     if (o->json) std::cout << parameters_json();
     else if (o->markdown) std::cout << parameters_markdown();
     else std::cout << component_help();

@@ -133,7 +133,7 @@ void register_slam_commands(CLI::App& app, Context& ctx) {
   run->add_option("--set", ro->sets, "a parameter key=value (repeatable; keys in docs/slam.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   run->add_option("--relations", ro->relations, "also evaluate against this benchmark relation file");
-  run->add_option("--method", ro->method, "the SLAM method (starnav components --role slam)")->default_str("graph");
+  run->add_option("--method", ro->method, "the SLAM method (starnav params --role slam)")->default_str("graph");
   run->add_flag("--flaser-angles", ro->flaser_angles, "bags converted from CARMEN FLASER logs: FLASER's beam angles");
   run->add_flag("--json", ro->json, "print the summary as one JSON object");
   run->add_flag("--force", ro->force, "overwrite the outputs in --out");

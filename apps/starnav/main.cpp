@@ -1,4 +1,5 @@
 // starnav: the command-line front end. See `starnav --help`.
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -6,6 +7,7 @@
 #include <iostream>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "cli_util.hpp"
 #include "commands.hpp"
@@ -38,6 +40,63 @@ std::string usage_error_message(const CLI::App& app, const CLI::ParseError& e) {
   return msg;
 }
 
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// A word where a command (or a subcommand) must come that names none: "unknown command 'simulate'
+// (did you mean 'sim'?)". CLI11 would only say that a subcommand is required. Empty when the
+// command line names its commands correctly.
+std::string unknown_command_message(const CLI::App& app, int argc, char** argv) {
+  const CLI::App* current = &app;
+  std::string path = "starnav";
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') return {};
+    const auto subs = current->get_subcommands([](const CLI::App*) { return true; });
+    if (subs.empty() || current->get_require_subcommand_min() == 0) return {};
+    const CLI::App* next = nullptr;
+    std::vector<std::string> names;
+    for (const CLI::App* s : subs) {
+      if (s->check_name(word)) next = s;
+      names.push_back(s->get_name());
+    }
+    if (next) {
+      current = next;
+      path += " " + word;
+      continue;
+    }
+    // The closest names: one is a prefix of the other, or a few letters apart.
+    std::vector<std::string> close;
+    for (const std::string& n : names)
+      if (word.rfind(n, 0) == 0 || n.rfind(word, 0) == 0 || edit_distance(word, n) <= std::max<std::size_t>(1, n.size() / 3))
+        close.push_back("'" + n + "'");
+    std::string msg = "unknown command '" + word + "' for " + path;
+    if (!close.empty()) {
+      msg += " (did you mean ";
+      for (std::size_t k = 0; k < close.size(); ++k) msg += (k == 0 ? "" : k + 1 == close.size() ? " or " : ", ") + close[k];
+      msg += "?)";
+    } else {
+      msg += " (commands:";
+      for (const std::string& n : names) msg += " " + n;
+      msg += ")";
+    }
+    return msg;
+  }
+  return {};
+}
+
 // Names the file whose reading ran out of memory, when a reader was at work.
 std::string out_of_memory_message() {
   const std::string file = starnav::input_file_left_by_exception();
@@ -66,6 +125,10 @@ int main(int argc, char** argv) {
   starnav::cli::register_view_command(app, ctx);
   starnav::cli::apply_number_rules(app);
 
+  if (const std::string unknown = unknown_command_message(app, argc, argv); !unknown.empty()) {
+    std::cerr << "starnav: error: " << starnav::escape_control_characters(unknown) << " (run with --help for usage)\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -44,6 +44,11 @@ TEST(ErrorLinesCli, UsageMistakesAreNamedForWhatTheyAre) {
       // An option given twice, in plain words.
       {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--goal", "2,2"}, "--goal: given 2 times; give it once"},
       {{"sim", ".", "--out", dir.file("o")}, "is a directory"},
+      // A misspelt command is named, with the commands it may have meant.
+      {{"simulate", "scenarios/e1_terrain_platform.yaml"}, "unknown command 'simulate' for starnav (did you mean 'sim'?)"},
+      {{"bench", "navv"}, "unknown command 'navv' for starnav bench (did you mean 'nav'?)"},
+      {{"frobnicate"}, "unknown command 'frobnicate' for starnav (commands: map plan"},
+      {{"params", "--role", "planner"}, "--role: unknown role 'planner' (roles: global_planner, local_controller"},
       {{"sim", dir.file("generated_with_features.yaml"), "--out", dir.file("o2")},
        "world.terrain.features: with 'generate', put 'features' inside 'generate:'"},
   };

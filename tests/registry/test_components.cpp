@@ -103,5 +103,21 @@ TEST(Components, ParametersMarkdownIsCurrent) {
   for (const ParamSpec& p : navigation_params().specs()) EXPECT_NE(md.find("`navigation." + p.key + "`"), std::string::npos);
 }
 
+// `starnav params --role ROLE`: every component of the role and no other, each with every one of
+// its parameters; every role has a name that reads back.
+TEST(Components, EachRoleListsItsComponentsAndTheirParameters) {
+  for (Role role : kAllRoles) {
+    ASSERT_EQ(role_from_name(role_name(role)), role);
+    const std::string text = role_components_text(role);
+    for (const ComponentInfo& c : all_components()) {
+      const bool listed = text.find(c.name + ": " + c.summary + "\n") != std::string::npos;
+      EXPECT_EQ(listed, c.role == role) << role_name(role) << " " << c.name;
+      if (c.role != role) continue;
+      for (const ParamSpec& p : c.params) EXPECT_NE(text.find(p.key + " (" + param_type_name(p.type)), std::string::npos) << p.key;
+    }
+  }
+  EXPECT_FALSE(role_from_name("planner").has_value());
+}
+
 }  // namespace
 }  // namespace starnav

@@ -16,6 +16,12 @@ const char* role_name(Role r) {
   return "unknown";
 }
 
+std::optional<Role> role_from_name(std::string_view name) {
+  for (Role r : kAllRoles)
+    if (name == role_name(r)) return r;
+  return std::nullopt;
+}
+
 bool ComponentInfo::has(const std::string& capability) const {
   return std::find(capabilities.begin(), capabilities.end(), capability) != capabilities.end();
 }

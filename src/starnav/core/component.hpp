@@ -8,8 +8,10 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "starnav/core/params.hpp"
@@ -19,6 +21,10 @@ namespace starnav {
 enum class Role : std::uint8_t { GlobalPlanner, LocalController, Localizer, Slam, ScanMatcher, ScanMatcher3d };
 // "global_planner", "local_controller", "localizer", "slam", "scan_matcher", "scan_matcher_3d"
 const char* role_name(Role r);
+inline constexpr Role kAllRoles[] = {Role::GlobalPlanner, Role::LocalController, Role::Localizer,
+                                     Role::Slam,          Role::ScanMatcher,     Role::ScanMatcher3d};
+// The role named as role_name() spells it; nullopt for anything else.
+std::optional<Role> role_from_name(std::string_view name);
 
 struct ComponentInfo {
   Role role = Role::GlobalPlanner;

@@ -130,6 +130,30 @@ std::string parameters_json() {
   return j.dump(2) + "\n";
 }
 
+std::string role_components_text(Role role) {
+  std::string s;
+  for (const ComponentInfo& c : all_components()) {
+    if (c.role != role) continue;
+    s += c.name + ": " + c.summary + "\n";
+    if (!c.deprecated_aliases.empty()) s += "  also accepted (deprecated): " + join(c.deprecated_aliases) + "\n";
+    if (!c.capabilities.empty()) s += "  capabilities: " + join(c.capabilities) + "\n";
+    // Navigation and localization components are set in a scenario's section; the others by their
+    // command's --set (slam run, slam3d --matcher-set) with the bare key.
+    const bool in_scenario = role == Role::GlobalPlanner || role == Role::LocalController || role == Role::Localizer;
+    const std::string prefix = in_scenario ? scenario_prefix(role) + "." + c.section + "." : "";
+    for (const ParamSpec& p : c.params) {
+      s += "  " + prefix + p.key + " (" + param_type_name(p.type) + ", default " +
+           (p.default_value.empty() ? "(none)" : p.default_value);
+      const std::string range = p.range_text();
+      if (!range.empty()) s += ", " + range;
+      if (!p.unit.empty()) s += ", " + p.unit;
+      s += "): " + p.doc + "\n";
+    }
+  }
+  if (s.empty()) s = std::string("no component plays the role ") + role_name(role) + " yet\n";
+  return s;
+}
+
 std::string component_help() {
   std::string s = "Components (docs/parameters.md; `starnav params` lists every parameter):\n";
   for (Role role : {Role::GlobalPlanner, Role::LocalController, Role::Localizer}) {

@@ -14,5 +14,8 @@ std::string parameters_markdown();
 std::string parameters_json();
 // A few lines for --help: each role's component names and where their parameters go.
 std::string component_help();
+// `starnav params --role ROLE`: each component of the role, its summary, capabilities and
+// parameters (key, type, default, range, unit, meaning), one per line.
+std::string role_components_text(Role role);
 
 }  // namespace starnav
