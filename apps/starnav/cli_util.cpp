@@ -187,6 +187,66 @@ void ProgressBar::finish() {
   if (tty_) std::fprintf(stderr, "\r%-79s\r", "");
 }
 
+namespace {
+
+// Every regular file under `dir` (relative paths, sorted) with its last write time; nothing when
+// the folder does not exist yet.
+std::vector<std::pair<std::string, std::filesystem::file_time_type>> files_under(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::pair<std::string, fs::file_time_type>> out;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return out;
+  for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    if (!it->is_regular_file(ec) || it->path().filename().string().front() == '.') continue;  // the folder's lock
+    out.emplace_back(fs::relative(it->path(), dir, ec).generic_string(), it->last_write_time(ec));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+OutputListing::OutputListing(std::string dir) : dir_(std::move(dir)), before_(files_under(dir_)) {}
+
+std::string OutputListing::wrote_line() const {
+  std::vector<std::string> top;                            // files directly in the folder
+  std::vector<std::pair<std::string, std::size_t>> subs;  // subfolder, files written in it
+  for (const auto& [name, time] : files_under(dir_)) {
+    const auto was = std::lower_bound(before_.begin(), before_.end(), std::make_pair(name, std::filesystem::file_time_type::min()));
+    if (was != before_.end() && was->first == name && was->second == time) continue;  // untouched
+    const std::size_t slash = name.find('/');
+    if (slash == std::string::npos) {
+      top.push_back(name);
+      continue;
+    }
+    const std::string sub = name.substr(0, slash + 1);
+    if (subs.empty() || subs.back().first != sub) subs.emplace_back(sub, 0);
+    ++subs.back().second;
+  }
+  if (top.empty() && subs.empty()) return "wrote nothing in " + dir_;
+  std::string s = "wrote " + dir_ + "/{";
+  bool first = true;
+  for (const std::string& f : top) {
+    s += (first ? "" : ", ") + f;
+    first = false;
+  }
+  for (const auto& [sub, n] : subs) {
+    s += (first ? "" : ", ") + sub + " (" + std::to_string(n) + (n == 1 ? " file)" : " files)");
+    first = false;
+  }
+  return s + "}";
+}
+
+void OutputListing::print(bool stdout_is_a_document, bool quiet) const {
+  if (!stdout_is_a_document) {
+    std::printf("%s\n", wrote_line().c_str());
+  } else if (!quiet) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "%s\n", wrote_line().c_str());
+  }
+}
+
 OutputFolder check_out_dir(const std::string& dir, bool force) {
   namespace fs = std::filesystem;
   if (dir.empty()) throw Error("empty output folder", {}, 0, "--out");

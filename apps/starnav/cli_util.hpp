@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,6 +72,23 @@ MapFormat output_map_format(const std::string& path, bool elevation);
 // True for a .png picture, false for .svg; throws Error naming `flag` for anything else.
 bool picture_is_png(const std::string& path, const std::string& flag);
 
+
+// What a command wrote into its output folder, read off the folder itself so the "wrote" line can
+// never leave a file out: the files new or changed since the listing was made (at the start of the
+// command), those in subfolders counted per subfolder.
+class OutputListing {
+ public:
+  explicit OutputListing(std::string dir);
+  // "wrote DIR/{a.csv, b.json, clouds/ (12 files)}"; "wrote nothing in DIR" when nothing changed.
+  std::string wrote_line() const;
+  // The line on stdout, or on stderr when stdout carries a --json or --csv document (and then not
+  // at all with --quiet).
+  void print(bool stdout_is_a_document, bool quiet) const;
+
+ private:
+  std::string dir_;
+  std::vector<std::pair<std::string, std::filesystem::file_time_type>> before_;  // relative path, time
+};
 
 // conventions.md: an existing non-empty folder is not written into without --force. Checked
 // before any work; the returned claim creates and locks the folder (core/output_file.hpp) and

@@ -51,11 +51,13 @@ void run_bench_ablation(AblationOptions& o) {
   c.random = c.queries.empty() ? static_cast<std::size_t>(o.random) : 0;
   c.exact_variant = !o.no_exact;
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "ablation.json") && !o.force)
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
     out_folder.emplace(o.out, "--out");
+    listing.emplace(o.out);
   }
   if (!o.quiet)
     c.on_table = [](const std::string& table, std::size_t queries) {
@@ -75,7 +77,7 @@ void run_bench_ablation(AblationOptions& o) {
     name << "query_" << std::setw(3) << std::setfill('0') << q << ".svg";
     write_ablation_query_svg(r, q, (fs::path(o.out) / "svg" / name.str()).string());
   }
-  if (!o.quiet) std::cerr << "bench ablation: wrote " << o.out << "/ablation.md, ablation.json, queries.csv, " << svgs << " SVGs\n";
+  listing->print(false, o.quiet);
 }
 
 }  // namespace

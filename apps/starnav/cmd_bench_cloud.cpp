@@ -29,7 +29,9 @@ void run_bench_kitti(KittiOptions& o, Context& ctx) {
   o.config.prefilter.voxel_leaf_m = o.voxel_m;
   o.config.validate();
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   ProgressBar bar("bench kitti", 1, o.quiet);
   const KittiRegistrationResult r = run_kitti_registration(o.config, [&](std::size_t done, std::size_t total, const std::string& what) {
     bar.set_total(total);
@@ -43,7 +45,7 @@ void run_bench_kitti(KittiOptions& o, Context& ctx) {
     write_text_file((d / "kitti.md").string(), kitti_registration_markdown(r), "--out");
     write_text_file((d / "kitti.json").string(), kitti_registration_json(r), "--out");
     write_text_file((d / "pairs.csv").string(), kitti_registration_csv(r), "--out");
-    if (!o.quiet) std::cerr << "bench kitti: wrote " << o.out << "/{kitti.md, kitti.json, pairs.csv}\n";
+    listing->print(o.json, o.quiet);
   }
   ctx.exit_code = 0;
 }
@@ -60,7 +62,9 @@ void run_bench_mapping3d(Mapping3dOptions& o, Context& ctx) {
   o.config.slam = configured(graph_slam_3d_params(), parse_set_options(o.slam_sets), "");
   o.config.validate();
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   ProgressBar bar("bench mapping3d", o.config.seeds, o.quiet);
   const Mapping3dResult r = run_mapping3d_experiment(o.config, [&](std::size_t done, std::size_t, const std::string& what) {
     bar.update(done, what);
@@ -74,8 +78,7 @@ void run_bench_mapping3d(Mapping3dOptions& o, Context& ctx) {
     write_text_file((d / "mapping3d.json").string(), mapping3d_json(r), "--out");
     write_text_file((d / "runs.csv").string(), mapping3d_csv(r), "--out");
     write_mapping3d_figures(r, o.out);
-    if (!o.quiet)
-      std::cerr << "bench mapping3d: wrote " << o.out << "/{mapping3d.md, mapping3d.json, runs.csv, x.svg, y.svg, z.svg, error.svg, filters.svg}\n";
+    listing->print(o.json, o.quiet);
   }
   ctx.exit_code = 0;
 }

@@ -35,7 +35,9 @@ void run_bench_ekf_square(const EkfSquareOptions& o, Context& ctx) {
   c.seed_base = o.seed_base;
   c.plain_imu_yaw_sigma_deg = o.plain_sigma_deg;
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   ProgressBar bar("bench ekf-square", o.seeds, o.quiet);
   const EkfSquareResult r = run_ekf_square(c, [&](std::size_t done, std::size_t, const TrialKey&) { bar.update(done, "seed"); });
   bar.finish();
@@ -48,7 +50,7 @@ void run_bench_ekf_square(const EkfSquareOptions& o, Context& ctx) {
     write_text_file((d / "runs.csv").string(), ekf_square_runs_csv(r), "--out");
     write_text_file((d / "nees.csv").string(), ekf_square_nees_csv(r), "--out");
     write_ekf_square_pictures(r, o.out);
-    if (!o.quiet) std::cerr << "bench ekf-square: wrote " << o.out << "/{ekf_square.md, ekf_square.json, runs.csv, nees.csv, trajectories.svg, nees.svg}\n";
+    listing->print(o.json, o.quiet);
   }
   ctx.exit_code = 0;
 }
@@ -68,7 +70,9 @@ void run_bench_amcl(const AmclBenchOptions& o, Context& ctx) {
   c.seeds = o.seeds;
   c.seed_base = o.seed_base;
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   ProgressBar bar("bench amcl", o.seeds * o.scenarios.size() * o.cases.size(), o.quiet);
   const AmclBenchResult r = run_amcl_bench(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
     bar.update(done, fs::path(o.scenarios[next.instance]).stem().string() + " seed " + std::to_string(next.seed));
@@ -82,7 +86,7 @@ void run_bench_amcl(const AmclBenchOptions& o, Context& ctx) {
     write_text_file((d / "amcl.json").string(), amcl_bench_json(r), "--out");
     write_text_file((d / "runs.csv").string(), amcl_bench_runs_csv(r), "--out");
     write_amcl_bench_pictures(r, o.out);
-    if (!o.quiet) std::cerr << "bench amcl: wrote " << o.out << "/{amcl.md, amcl.json, runs.csv, error_*.svg, particles_*.svg}\n";
+    listing->print(o.json, o.quiet);
   }
   // A run that threw is in the table; the command still failed.
   for (const auto& t : r.trials)
@@ -102,7 +106,9 @@ struct AmclCostOptions {
 void run_bench_amcl_cost(const AmclCostOptions& o, Context& ctx) {
   o.config.validate();
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   ProgressBar bar("bench amcl-cost", o.config.particles.size() * o.config.beams.size(), o.quiet);
   const AmclCostResult r = run_amcl_cost(o.config, [&](std::size_t done, std::size_t) { bar.update(done, "pair"); });
   bar.finish();
@@ -114,9 +120,7 @@ void run_bench_amcl_cost(const AmclCostOptions& o, Context& ctx) {
     write_text_file((d / "amcl_cost.json").string(), amcl_cost_json(r), "--out");
     write_text_file((d / "amcl_cost.csv").string(), amcl_cost_csv(r), "--out");
     write_amcl_cost_pictures(r, o.out);
-    if (!o.quiet)
-      std::cerr << "bench amcl-cost: wrote " << o.out
-                << "/{amcl_cost.md, amcl_cost.json, amcl_cost.csv, cost_vs_particles.svg, cost_vs_beams.svg}\n";
+    listing->print(o.json, o.quiet);
   }
   ctx.exit_code = 0;
 }

@@ -87,7 +87,9 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
   }
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(o.out, "--out");
+  if (out_folder) listing.emplace(o.out);
 
   NavExperimentConfig config;
   config.scenario_file = o.scenario;
@@ -135,7 +137,7 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
     write_text_file((fs::path(o.out) / "runs.csv").string(), csv, "--out");
     write_text_file((fs::path(o.out) / "summary.json").string(), doc, "--out");
     write_text_file((fs::path(o.out) / "timing.json").string(), nav_timing_json(result), "--out");
-    if (!o.quiet) std::cerr << "bench nav: wrote " << o.out << "/runs.csv, summary.json, timing.json\n";
+    listing->print(o.json || o.csv, o.quiet);
   }
 
   std::size_t failed = 0;

@@ -35,7 +35,9 @@ void run_bench_table4(const Table4Options& o, Context& ctx) {
   c.seeds = o.seeds;
   c.seed_base = o.seed_base;
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   ProgressBar bar("bench ren-table4", o.seeds, o.quiet);
   const RenTable4Result r = run_ren_table4(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
     bar.update(done, "seed " + std::to_string(next.seed));
@@ -49,7 +51,7 @@ void run_bench_table4(const Table4Options& o, Context& ctx) {
     write_text_file((d / "table4.json").string(), ren_table4_json(r), "--out");
     write_text_file((d / "runs.csv").string(), ren_table4_runs_csv(r), "--out");
     write_text_file((d / "arrivals.csv").string(), ren_table4_arrivals_csv(r), "--out");
-    if (!o.quiet) std::cerr << "bench ren-table4: wrote " << o.out << "/{table4.md, table4.json, runs.csv, arrivals.csv}\n";
+    listing->print(o.json, o.quiet);
   }
   // A seed that threw, collided or did not arrive is in the table; the command still failed.
   for (const auto& t : r.trials)
@@ -69,7 +71,9 @@ struct Table1Options {
 void run_bench_table1(const Table1Options& o, Context& ctx) {
   o.config.validate();
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   if (!o.quiet) std::cerr << "bench ren-table1: " << o.config.queries << " random queries and " << o.config.repeats
                           << " repeats of the room query per planner\n";
   const RenTable1Result r = run_ren_table1(o.config);
@@ -80,7 +84,7 @@ void run_bench_table1(const Table1Options& o, Context& ctx) {
     write_text_file((d / "table1.md").string(), ren_table1_markdown(r), "--out");
     write_text_file((d / "table1.json").string(), ren_table1_json(r), "--out");
     write_text_file((d / "table1.csv").string(), ren_table1_csv(r), "--out");
-    if (!o.quiet) std::cerr << "bench ren-table1: wrote " << o.out << "/{table1.md, table1.json, table1.csv}\n";
+    listing->print(o.json, o.quiet);
   }
   ctx.exit_code = r.cost_mismatches == 0 ? 0 : 1;
 }
@@ -101,7 +105,9 @@ void run_bench_dwa(const DwaOptions& o, Context& ctx) {
   c.seed_base = o.seed_base;
   c.validate();
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) out_folder.emplace(check_out_dir(o.out, o.force));
+  if (out_folder) listing.emplace(o.out);
   ProgressBar bar("bench dwa", o.seeds, o.quiet);
   const DwaExperimentResult r = run_dwa_experiment(c, [&](std::size_t done, std::size_t, const TrialKey& next) {
     bar.update(done, "seed " + std::to_string(next.seed));
@@ -114,7 +120,7 @@ void run_bench_dwa(const DwaOptions& o, Context& ctx) {
     write_text_file((d / "dwa.md").string(), dwa_experiment_markdown(r), "--out");
     write_text_file((d / "dwa.json").string(), dwa_experiment_json(r), "--out");
     write_text_file((d / "runs.csv").string(), dwa_experiment_csv(r), "--out");
-    if (!o.quiet) std::cerr << "bench dwa: wrote " << o.out << "/{dwa.md, dwa.json, runs.csv}\n";
+    listing->print(o.json, o.quiet);
   }
   for (const auto& t : r.trials)
     if (!t.completed) {

@@ -47,10 +47,12 @@ void run_bench_slam(const SlamBenchOptions& o, Context& ctx) {
     if (!fs::is_directory(d)) throw Error("is not a directory", d, 0, std::string("--") + dir);
   }
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "slam.json") && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
     out_folder.emplace(o.out, "--out");
+    listing.emplace(o.out);
     c.out_dir = o.out;
   }
   ProgressBar bar("bench slam", c.logs.size() * 1000, o.quiet);
@@ -62,7 +64,7 @@ void run_bench_slam(const SlamBenchOptions& o, Context& ctx) {
     fs::create_directories(o.out);
     write_text_file((fs::path(o.out) / "slam.md").string(), slam_benchmark_markdown(r), "--out");
     write_text_file((fs::path(o.out) / "slam.json").string(), slam_benchmark_json(r), "--out");
-    if (!o.quiet) std::cerr << "bench slam: wrote " << o.out << "/slam.md, slam.json and one folder per log\n";
+    listing->print(o.json, o.quiet);
   }
   ctx.exit_code = 0;
 }

@@ -69,11 +69,13 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
   c.options = terrain_planner_options(o.flags, {planners[0], planners[1], planners[2]});
   c.figures = static_cast<std::size_t>(o.svg_limit);
   std::optional<OutputFolder> out_folder;
+  std::optional<OutputListing> listing;
   if (!o.out.empty()) {
     if (fs::exists(o.out) && !fs::is_directory(o.out)) throw Error("is not a directory", o.out, 0, "--out");
     if (fs::exists(fs::path(o.out) / "terrain.json") && !o.force)
       throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
     out_folder.emplace(o.out, "--out");
+    listing.emplace(o.out);
   }
   const std::size_t total = from_map ? 1 : static_cast<std::size_t>(c.generate);
   ProgressBar progress("bench terrain", total, o.quiet);
@@ -92,7 +94,7 @@ void run_bench_terrain(TerrainBenchOptions& o, Context& ctx) {
   write_text_file((fs::path(o.out) / "terrain.md").string(), terrain_full_markdown(r, figures), "--out");
   write_text_file((fs::path(o.out) / "terrain.json").string(), terrain_json(r), "--out");
   write_text_file((fs::path(o.out) / "timing.json").string(), terrain_timing_json(r), "--out");
-  if (!o.quiet) std::cerr << "bench terrain: wrote " << o.out << "/terrain.md, terrain.json, timing.json, " << figures * 4 << " SVGs\n";
+  listing->print(o.json, o.quiet);
 }
 
 }  // namespace

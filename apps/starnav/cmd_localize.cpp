@@ -72,6 +72,7 @@ void run_localize_command(const LocalizeOptions& o, Context& ctx) {
     for (const std::string& f : localize_output_files())
       if (fs::exists(dir / f) && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
   const OutputFolder out_folder(o.out, "--out");
+  const OutputListing listing(o.out);
   ProgressBar bar("localize", 1, o.quiet);
   const LocalizeRunResult r = run_localize_on_file(q, [&](std::size_t done, std::size_t total) {
     bar.set_total(total);
@@ -83,11 +84,8 @@ void run_localize_command(const LocalizeOptions& o, Context& ctx) {
     std::cout << localize_summary_json(r).dump() << "\n";
   } else {
     std::cout << localize_summary_text(r);
-    const std::vector<std::string>& files = localize_output_files();
-    std::cout << "wrote " << (dir / files.front()).string();
-    for (std::size_t i = 1; i < files.size(); ++i) std::cout << ", " << files[i];
-    std::cout << "\n";
   }
+  listing.print(o.json, o.quiet);
   ctx.exit_code = 0;
 }
 

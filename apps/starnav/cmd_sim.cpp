@@ -90,7 +90,14 @@ class SimProgress {
     std::snprintf(what, sizeof what, "(t = %.1f / %.1f s)", fraction * duration_s_, duration_s_);
     bar_.update(static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * 100.0 + 0.5), what);
   }
-  void finish() { bar_.finish(); }
+  // The bar ends at 100 with how the run ended ("arrived at t = 184.0 s of 500.0 s"): a run that
+  // stops before sim.duration_s must not read as one cut short.
+  void finish(const std::string& how, double t_s) {
+    char what[96];
+    std::snprintf(what, sizeof what, "(%s at t = %.1f s of %.1f s)", how.c_str(), t_s, duration_s_);
+    bar_.update(100, what);
+    bar_.finish();
+  }
 
  private:
   ProgressBar bar_;
@@ -152,6 +159,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   if (o.live) live = start_live_server(run.simulation(), &run, o);
 #endif
   for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
+  const OutputListing listing(o.out);
   prepare_out_dir(o.out);
   add_cloud_writer(run.simulation(), spec, o.out);
   std::optional<RobotLogRecorder> recorder;
@@ -162,7 +170,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 
   SimProgress bar(o.quiet, spec.duration_s);
   run.run([&bar](double f) { bar.update(f); });
-  bar.finish();
+  bar.finish(run.metrics().outcome, run.simulation().time());
 
   const fs::path dir(o.out);
   write_navigation_records(run, o.out);
@@ -174,18 +182,14 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     write_navigation_scene(run, (dir / "scene.png").string());
     write_navigation_overlay(run, (dir / "overlay.png").string());
   }
-  std::string dwa_files;
   if (run.navigator().controller_name() == "dwa") {
     speed_profile_plot(run.simulation().trajectory(), spec.name + ": achieved velocities").write_svg((dir / "speed.svg").string());
-    dwa_files = ", speed.svg";
     for (const DwaSnapshot& s : run.dwa_snapshots()) {
       const std::string stem = "dwa_" + format_fixed(s.step.t_s, 2) + "s";
       const viz::MapPicture pic = dwa_step_picture(s, spec.name + ": DWA at t = " + format_fixed(s.step.t_s, 2) + " s");
       pic.write_svg((dir / (stem + ".svg")).string());
-      dwa_files += ", " + stem + ".svg";
       if (o.png) {
         pic.write_png((dir / (stem + ".png")).string());
-        dwa_files += ", " + stem + ".png";
       }
     }
   }
@@ -206,14 +210,8 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
                 static_cast<unsigned long long>(m.expanded_total), static_cast<long long>(m.collisions),
                 m.collisions == 1 ? "" : "s", m.deviation_mean_m, m.deviation_max_m);
     if (m.goals_total > 1) std::printf("%d of %d goals reached\n", m.arrivals, m.goals_total);
-    const bool arrivals = std::filesystem::exists(std::filesystem::path(o.out) / "arrivals.csv");
-    const bool nav_events = std::filesystem::exists(std::filesystem::path(o.out) / "nav_events.csv");
-    std::printf("wrote %s/{trajectory.csv, paths.csv, replans.csv, events.csv, steps.jsonl, map.yaml, map.pgm, "
-                "metrics.json, timing.json, world.json, run.json, scene.svg, overlay.svg%s%s%s%s%s%s}\n",
-                o.out.c_str(), o.png ? ", scene.png, overlay.png" : "", recorder ? ", log.clf" : "",
-                spec.localization ? ", estimate.csv" : "", arrivals ? ", arrivals.csv" : "", nav_events ? ", nav_events.csv" : "",
-                dwa_files.c_str());
   }
+  listing.print(o.json, o.quiet);
   if (m.success) {
     ctx.exit_code = 0;
   } else {
@@ -265,6 +263,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   const auto t_setup = Clock::now();
   Simulation sim(spec);
   const double setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
+  const OutputListing listing(o.out);
   prepare_out_dir(o.out);
   add_cloud_writer(sim, spec, o.out);
   std::optional<RobotLogRecorder> recorder;
@@ -299,7 +298,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
   const auto t_run = Clock::now();
   sim.run([&bar](double f) { bar.update(f); });
   const double wall_s = std::chrono::duration<double>(Clock::now() - t_run).count();
-  bar.finish();
+  bar.finish("ended", sim.time());
 
   const fs::path dir(o.out);
   write_simulation_records(sim, o.out);
@@ -331,10 +330,8 @@ void run_sim(const SimOptions& o, Context& ctx) {
                 static_cast<long long>(m.collisions), m.collisions == 1 ? "" : "s", m.z_min_m, m.z_max_m);
     if (m.has_reference)
       std::printf("deviation from the reference line: mean %.4f m, max %.4f m\n", m.deviation_mean_m, m.deviation_max_m);
-    std::printf("wrote %s/{trajectory.csv, events.csv, metrics.json, timing.json, world.json, run.json, scene.svg, height_trace.svg, "
-                "track.svg%s%s%s}\n",
-                o.out.c_str(), steps ? ", steps.jsonl" : "", recorder ? ", log.clf" : "", chain ? ", estimate.csv" : "");
   }
+  listing.print(o.json, o.quiet);
   ctx.exit_code = 0;
 }
 

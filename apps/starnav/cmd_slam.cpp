@@ -89,6 +89,7 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
     for (const std::string& f : slam_output_files())
       if (fs::exists(dir / f) && !o.force) throw Error("holds results already (use --force to overwrite)", o.out, 0, "--out");
   const OutputFolder out_folder(o.out, "--out");
+  const OutputListing listing(o.out);
   ProgressBar bar("slam", 1, o.quiet);
   const SlamRunResult r = run_slam_on_file(q, [&](std::size_t done, std::size_t total) {
     bar.set_total(total);
@@ -100,11 +101,8 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
     std::cout << slam_summary_json(r).dump() << "\n";
   } else {
     std::cout << slam_summary_text(r);
-    const std::vector<std::string>& files = slam_output_files();
-    std::cout << "wrote " << (dir / files.front()).string();
-    for (std::size_t i = 1; i < files.size(); ++i) std::cout << ", " << files[i];
-    std::cout << "\n";
   }
+  listing.print(o.json, o.quiet);
   ctx.exit_code = 0;
 }
 

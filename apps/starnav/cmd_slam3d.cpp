@@ -63,6 +63,7 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
   }
   if (!(std::isfinite(o.rate_hz) && o.rate_hz > 0 && o.rate_hz <= 10000)) throw Error("must be in (0, 10000] Hz", "", 0, "--rate-hz");
   const OutputFolder out_folder = check_out_dir(o.out, o.force);
+  const OutputListing listing(o.out);
   ProgressBar bar("slam3d", 1, o.quiet);
   const Slam3dRunResult r = run_slam3d(o.input, c, [&](std::size_t done, std::size_t total) {
     bar.set_total(total);
@@ -74,7 +75,6 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
   write_text_file((d / "trajectory.csv").string(), slam3d_trajectory_csv(r), "--out");
   write_text_file((d / "keyframes.csv").string(), slam3d_keyframes_csv(r), "--out");
   write_text_file((d / "summary.json").string(), slam3d_summary_json(r), "--out");
-  std::string map_files;
   std::string plan_line;
   if (!o.no_map) {
     Slam3dMapConfig mc;
@@ -94,26 +94,26 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
         std::string csv = "x_m,y_m\n";
         for (const Vec2& q : path) csv += std::to_string(q.x()) + "," + std::to_string(q.y()) + "\n";
         write_text_file((d / "path.csv").string(), csv, "--out");
-        plan_line = "; improved A* path " + std::to_string(p.metrics.length) + " m";
+        plan_line = "; improved A* path " + format_readable(p.metrics.length) + " m";
       } else {
         plan_line = "; improved A*: no path";
       }
     }
     write_slam3d_picture(r, grid, path, (d / "map.svg").string());
     write_slam3d_picture(r, grid, path, (d / "map.png").string());
-    map_files = ", map.bt, map.yaml, map.pgm, map.svg, map.png" + std::string(path.empty() ? "" : ", path.csv");
   }
   if (o.json) {
     std::cout << slam3d_summary_json(r);
   } else {
     std::cout << "slam3d: " << r.frames.size() << " frames, " << r.keyframes.size() << " key frames, " << r.loops.size()
-              << " loop closures, " << r.plane_edges << " floor edges; mapping " << r.mapping_s << " s for "
-              << r.duration_s << " s of recording";
+              << " loop closures, " << r.plane_edges << " floor edges; mapping " << format_fixed(r.mapping_s, 2) << " s for "
+              << format_fixed(r.duration_s, 1) << " s of recording";
     if (r.has_truth)
-      std::cout << "; ATE " << r.ate_rmse_m << " m over " << r.driven_m << " m, elevation drift " << r.elevation_drift_m << " m";
+      std::cout << "; ATE " << format_fixed(100.0 * r.ate_rmse_m, 2) << " cm over " << format_fixed(r.driven_m, 2)
+                << " m, elevation drift " << format_fixed(100.0 * r.elevation_drift_m, 2) << " cm";
     std::cout << plan_line << "\n";
   }
-  if (!o.quiet) std::cerr << "slam3d: wrote " << o.out << "/{trajectory.csv, keyframes.csv, summary.json" << map_files << "}\n";
+  listing.print(o.json, o.quiet);
   ctx.exit_code = 0;
 }
 

@@ -42,6 +42,15 @@ TEST(SimNavCli, ArrivesAndWritesTheNavigationRecords) {
     EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(out) / f)) << f;
   EXPECT_EQ(starnav::test::read_text(out + "/paths.csv").rfind("plan_id,t_s,x_m,y_m\n", 0), 0u);
   EXPECT_EQ(starnav::test::read_text(out + "/replans.csv").rfind("plan_id,t_s,cause,status,expanded,cost_m,astar_status", 0), 0u);
+
+  // Without --quiet: the progress ends on how the run ended (a robot that arrives early does not
+  // leave the bar part way), and the wrote line names every file in the folder.
+  const CliResult loud = run_cli({"sim", file, "--out", dir.file("loud")});
+  ASSERT_EQ(loud.exit_code, 0) << loud.err;
+  EXPECT_NE(loud.err.find("sim: 100/100 (arrived at t = "), std::string::npos) << loud.err;
+  const std::string wrote = loud.out.substr(loud.out.find("wrote "));
+  for (const auto& entry : std::filesystem::directory_iterator(dir.file("loud")))
+    EXPECT_NE(wrote.find(entry.path().filename().string()), std::string::npos) << entry.path() << " not in: " << wrote;
 }
 
 TEST(SimNavCli, ComponentsAreChosenAndSetFromTheCommandLine) {

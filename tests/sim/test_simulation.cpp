@@ -280,11 +280,23 @@ TEST(SimCli, WritesEveryFileExitsZeroAndRefusesToOverwrite) {
   for (std::string c; std::getline(ss, c, ',');) cols.push_back(c);
   ASSERT_EQ(cols.size(), 9u);
   EXPECT_NE(test::read_text(out + "/clouds/scan_000000.ply").find("element vertex " + cols[5] + "\n"), std::string::npos);
-  // Without a terminal, progress comes as one line per tenth of the run (readable in CI logs), nothing else.
+  // Without a terminal, progress comes as one line per tenth of the run (readable in CI logs), then
+  // (stdout holding the --json document) the files written, every one of them, and nothing else.
   std::istringstream err_lines(r.err);
   int progress_lines = 0;
-  for (std::string line; std::getline(err_lines, line); ++progress_lines)
+  std::string wrote;
+  for (std::string line; std::getline(err_lines, line);) {
+    if (line.rfind("wrote ", 0) == 0 && wrote.empty()) {
+      wrote = line;
+      continue;
+    }
+    EXPECT_TRUE(wrote.empty()) << "after the wrote line: " << line;
     EXPECT_EQ(line.rfind("sim: ", 0), 0u) << "not a progress line: " << line;
+    ++progress_lines;
+  }
+  for (const std::string f : {"trajectory.csv", "events.csv", "lidar.csv", "imu.csv", "encoders.csv", "metrics.json", "run.json",
+                              "world.json", "clouds/ (31 files)"})
+    EXPECT_NE(wrote.find(f), std::string::npos) << f << " missing from: " << wrote;
   EXPECT_GE(progress_lines, 10);
   EXPECT_LE(progress_lines, 12);
   const std::string scene = test::read_text(out + "/scene.svg");

@@ -1,6 +1,7 @@
 #pragma once
 // Number and field formats of the deterministic records (CSV, JSON) the simulator and the
 // navigation stack write: fixed decimals, so the same run gives the same bytes.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -24,6 +25,21 @@ inline std::string format_fixed(double v, int precision) {
   char buf[512];
   const int n = std::snprintf(buf, sizeof buf, "%.*f", precision, v);
   return n > 0 && static_cast<std::size_t>(n) < sizeof buf ? std::string(buf, static_cast<std::size_t>(n)) : std::string("-");
+}
+
+// A number for people to read (titles, one-line summaries): four significant digits, no exponent,
+// trailing zeros dropped ("13.57", "0.004805", "31186", "0.5"); "-" for NaN, "inf" / "-inf".
+inline std::string format_readable(double v, int significant = 4) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "-" : (v > 0 ? "inf" : "-inf");
+  if (v == 0.0) return "0";
+  const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(v))));
+  const int decimals = std::max(0, significant - 1 - magnitude);
+  std::string s = format_fixed(v, std::min(decimals, 20));
+  if (s.find('.') != std::string::npos) {
+    s.erase(s.find_last_not_of('0') + 1);
+    if (s.back() == '.') s.pop_back();
+  }
+  return s == "-0" ? "0" : s;
 }
 
 // Up to 10 significant digits, shortest form ("0.5", "12.25", "inf"): numbers in one-line summaries.

@@ -188,6 +188,11 @@ EkfSquareResult run_ekf_square(const EkfSquareConfig& config, const ExperimentPr
 std::string ekf_square_markdown(const EkfSquareResult& r) {
   std::ostringstream out;
   out << "# EKF square: " << r.scenario_name << ", " << r.config.seeds << " seeds from " << r.config.seed_base << "\n\n";
+  out << "Three localizers on the same runs: `odometry`, dead reckoning from the wheel encoders; `ekf`, the paper's "
+         "three-state EKF (x, y, yaw), which takes the IMU's yaw as it comes and has no model of the gyro's bias, so on a "
+         "gyro with a bias it drifts and is expected to do worse than odometry (ratios above 1); `ekf_bias`, the same EKF "
+         "with the gyro's bias as a fourth state, learnt at rest: the filter to use. Ratios below 1 are better than "
+         "odometry.\n\n";
   out << summary_markdown(r.summaries, error_metric_names(), 0) << "\n";
   out << "| localizer | seeds with RMSE at most half of odometry's | ... and end drift too | seeds with final heading "
          "error under 0.5 deg |\n|---|---|---|---|\n";

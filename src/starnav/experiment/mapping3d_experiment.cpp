@@ -89,6 +89,10 @@ void judge_map(const GraphSlam3d& slam, const Rigid3& to_truth, const World& wor
   run.true_missed = missed;
   const Vec2 start = slam.keyframes().front().pose.translation().head<2>();
   const Vec2 goal = (to_truth.inverse() * Vec3(c.plan_goal.x(), c.plan_goal.y(), 0.0)).head<2>();
+  // A run shorter than the route never sees its end: there is nothing to plan to.
+  const auto goal_cell = g.world_to_cell(goal);
+  run.goal_mapped = goal_cell && observed[g.index(goal_cell->x, goal_cell->y)];
+  if (!run.goal_mapped) return;
   const PlanOutcome p = slam3d_plan(grid, start, goal, c.plan_inflation_m);
   run.path_found = p.result.found();
   if (!run.path_found) return;
@@ -268,18 +272,28 @@ std::string mapping3d_markdown(const Mapping3dResult& r) {
       s += "\nThe " + x.variant + " map's 2D grid against the true occupancy (0.1-0.6 m above the floor, observed cells, one "
            "cell of tolerance): IoU of occupied cells ";
       std::vector<double> iou;
-      int found = 0, clear = 0, mapped = 0;
+      int found = 0, clear = 0, mapped = 0, reached = 0;
       for (const Mapping3dRun& y : r.runs)
-        if (y.mapped) {
+        if (y.mapped && y.variant == x.variant) {
           iou.push_back(y.occupied_iou);
           ++mapped;
+          reached += y.goal_mapped;
           found += y.path_found;
           clear += y.path_found && y.path_collision_free;
         }
       const SampleStats st = sample_stats(iou);
+      const std::string goal = "(" + format_fixed(r.config.plan_goal.x(), 1) + ", " + format_fixed(r.config.plan_goal.y(), 1) + ") m";
       s += format_fixed(st.mean, 3) + " mean, " + format_fixed(st.min, 3) + " worst over " + std::to_string(mapped) +
-           " seeds; the improved A* found a path on " + std::to_string(found) + " and it was collision-free in the true "
-           "world on " + std::to_string(clear) + ".\n";
+           (mapped == 1 ? " seed" : " seeds") + ". ";
+      if (reached == 0) {
+        s += "The map never reached the route's end " + goal + " (the run is shorter than the route), so the improved A* "
+             "was not run.\n";
+      } else {
+        s += "The improved A* to the route's end " + goal + " found a path on " + std::to_string(found) + " of the " +
+             std::to_string(reached) + " maps that reached it, collision-free in the true world on " + std::to_string(clear) +
+             (reached < mapped ? "; " + std::to_string(mapped - reached) + " maps did not reach it (runs shorter than the route)" : "") +
+             ".\n";
+      }
       break;
     }
   s += "\nThe real-time factor is the recording's length over the variant's mapping time (prefilter, "
@@ -313,6 +327,7 @@ std::string mapping3d_json(const Mapping3dResult& r) {
                       {"true_occupied_cells", x.true_occupied_cells},
                       {"occupied_matched", x.occupied_matched},
                       {"true_missed", x.true_missed},
+                      {"goal_mapped", x.goal_mapped},
                       {"path_found", x.path_found},
                       {"path_collision_free", x.path_collision_free},
                       {"path_length_m", x.path_length_m}});

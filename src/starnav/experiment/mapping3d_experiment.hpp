@@ -54,6 +54,7 @@ struct Mapping3dRun {
   double occupied_iou = 0.0;
   std::size_t occupied_cells = 0, true_occupied_cells = 0;
   std::size_t occupied_matched = 0, true_missed = 0;  // within one cell of a true / estimated occupied cell
+  bool goal_mapped = false;  // the map observed the cell of the route's end (plan_goal)
   bool path_found = false, path_collision_free = false;
   double path_length_m = 0.0;
 };

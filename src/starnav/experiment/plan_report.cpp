@@ -99,25 +99,25 @@ std::string plan_text(const PlanOutcome& outcome, const PlanReportContext& c) {
   out << "planner:    " << planner->name() << (planner->admissible() ? "" : " (inadmissible)") << "\n";
   if (r.found()) {
     out << "found:      yes, " << r.path_cells.size() << " points\n";
-    out << "cost:       " << format_number(r.cost) << "\n";
-    out << "length:     " << format_number(r.length) << " " << unit << "\n";
+    out << "cost:       " << format_readable(r.cost) << "\n";
+    out << "length:     " << format_readable(r.length) << " " << unit << "\n";
     if (smoothed)
-      out << "gradient:   " << smoothed->points.size() << " points, " << format_number(metrics.length) << " " << unit
-                << " long, energy " << format_number(smoothed->energy_input) << " -> " << format_number(smoothed->energy_output)
+      out << "gradient:   " << smoothed->points.size() << " points, " << format_readable(metrics.length) << " " << unit
+                << " long, energy " << format_readable(smoothed->energy_input) << " -> " << format_readable(smoothed->energy_output)
                 << " in " << smoothed->iterations << " sweeps\n";
     if (!unsmoothed.empty())
       out << "smoothing:  " << unsmoothed_metrics.vertices << " -> " << metrics.vertices << " vertices, "
                 << unsmoothed_metrics.turning_points << " -> " << metrics.turning_points << " turning points\n";
     else out << "turns:      " << metrics.turning_points << " turning points\n";
-    out << "turning:    " << format_number(metrics.turn_total_rad) << " rad total, " << format_number(metrics.turn_max_rad)
+    out << "turning:    " << format_readable(metrics.turn_total_rad) << " rad total, " << format_readable(metrics.turn_max_rad)
               << " rad max\n";
-    out << "clearance:  " << format_number(metrics.clearance_min) << " min, " << format_number(metrics.clearance_mean)
+    out << "clearance:  " << format_readable(metrics.clearance_min) << " min, " << format_readable(metrics.clearance_mean)
               << " mean (" << unit << ")\n";
   } else {
     out << "found:      no (" << plan_status_reason(r.status) << ")\n";
   }
   out << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
-  out << "time:       " << format_number(r.time_ms) << " ms\n";
+  out << "time:       " << format_readable(r.time_ms) << " ms\n";
   return out.str();
 }
 
@@ -158,7 +158,7 @@ void write_plan_picture(const PlanOutcome& outcome, const PlanReportContext& c, 
   // on index grids).
   viz::PictureOptions picture_options;
   picture_options.title =
-      std::string(planner->name()) + ": " + (r.found() ? "cost " + format_number(r.cost) : plan_status_reason(r.status));
+      std::string(planner->name()) + ": " + (r.found() ? "cost " + format_readable(r.cost) : plan_status_reason(r.status));
   viz::MapPicture picture(*c.grid, picture_options);
   if (options.ou2022.inflation.hard()) {
     // The cells blocked by hard inflation alone.

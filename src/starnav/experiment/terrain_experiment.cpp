@@ -362,7 +362,7 @@ TerrainExperimentResult run_terrain_experiment(const TerrainExperimentConfig& c)
       // A query off the map is the user's mistake, not a row of failed plans.
       for (const auto& [cell, point, flag] : {std::tuple{out.start, start_m, "--start"}, std::tuple{out.goal, goal_m, "--goal"}})
         if (!g.contains(cell))
-          throw Error("(" + format_number(point.x()) + ", " + format_number(point.y()) + ") m is outside the map " + out.name,
+          throw Error("(" + format_readable(point.x(), 6) + ", " + format_readable(point.y(), 6) + ") m is outside the map " + out.name,
                       {}, 0, flag);
     } else {
       auto_endpoints(*analysis, out.start, out.goal);

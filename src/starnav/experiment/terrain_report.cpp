@@ -132,20 +132,20 @@ std::string terrain_plan_text(const TerrainPlanOutcome& o) {
   out << "\n";
   if (r.found()) {
     out << "found:      yes, " << r.path_cells.size() << " points\n";
-    out << "cost:       " << format_number(r.cost) << "\n";
-    out << "length:     " << format_number(r.length) << " m horizontal, lv " << format_number(m.lv_m) << " m\n";
-    out << "terrain:    av " << format_number(m.av_rad) << " rad, hv " << format_number(m.hv_m) << " m, Sv "
-        << format_number(m.sv_m2) << " m^2\n";
-    out << "attitude:   roll " << format_number(m.roll_mean_deg) << " / " << format_number(m.roll_max_deg)
-        << " deg, pitch " << format_number(m.pitch_mean_deg) << " / " << format_number(m.pitch_max_deg)
-        << " deg, tilt " << format_number(m.tilt_mean_deg) << " / " << format_number(m.tilt_max_deg)
+    out << "cost:       " << format_readable(r.cost) << "\n";
+    out << "length:     " << format_readable(r.length) << " m horizontal, lv " << format_readable(m.lv_m) << " m\n";
+    out << "terrain:    av " << format_readable(m.av_rad) << " rad, hv " << format_readable(m.hv_m) << " m, Sv "
+        << format_readable(m.sv_m2) << " m^2\n";
+    out << "attitude:   roll " << format_readable(m.roll_mean_deg) << " / " << format_readable(m.roll_max_deg)
+        << " deg, pitch " << format_readable(m.pitch_mean_deg) << " / " << format_readable(m.pitch_max_deg)
+        << " deg, tilt " << format_readable(m.tilt_mean_deg) << " / " << format_readable(m.tilt_max_deg)
         << " deg (|mean| / max)\n";
   } else {
     out << "found:      no (" << plan_status_reason(r.status) << ")\n";
   }
   out << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
   if (ia && o.reopened > 0) out << "reopened:   " << o.reopened << "\n";
-  out << "time:       " << format_number(r.time_ms) << " ms\n";
+  out << "time:       " << format_readable(r.time_ms) << " ms\n";
   return out.str();
 }
 
@@ -174,7 +174,7 @@ void write_terrain_plan_picture(const TerrainPlanOutcome& o, const ElevationMap&
       if (o.blocked[i]) shaded.push_back(map.geometry().cell_of_index(i));
   }
   const std::string title = o.planner + ": " +
-                            (r.found() ? "lv " + format_number(o.metrics.lv_m) + " m, cost " + format_number(r.cost)
+                            (r.found() ? "lv " + format_readable(o.metrics.lv_m) + " m, cost " + format_readable(r.cost)
                                        : plan_status_reason(r.status));
   // Expanded cells (when asked) take the place of the obstacle band: one translucent layer.
   write_terrain_paths_svg(path, map, title, {{o.planner, r.found() ? &r.path_cells : nullptr}}, shaded,
