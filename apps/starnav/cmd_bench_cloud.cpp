@@ -58,6 +58,7 @@ struct Mapping3dOptions {
 };
 
 void run_bench_mapping3d(Mapping3dOptions& o, Context& ctx) {
+  if (o.config.no_floor_matcher == "none") o.config.no_floor_matcher.clear();
   for (const std::string& s : o.sets) o.config.overrides.push_back(parse_scenario_override(s));
   o.config.slam = configured(graph_slam_3d_params(), parse_set_options(o.slam_sets), "");
   o.config.validate();
@@ -116,7 +117,7 @@ void register_bench_cloud(CLI::App& app, Context& ctx) {
   mc->add_option("--seeds", m->config.seeds, "how many seeds")->default_str("10");
   mc->add_option("--seed-base", m->config.seed_base, "the first seed")->default_str("0");
   mc->add_option("--matchers", m->config.matchers, "3D matchers (comma-separated)")->delimiter(',')->default_str("icp,gicp,ndt,ndt_mt");
-  mc->add_option("--no-floor-matcher", m->config.no_floor_matcher, "the matcher also run without the floor constraint (\"\" for none)")
+  mc->add_option("--no-floor-matcher", m->config.no_floor_matcher, "the matcher also run without the floor constraint (none: no such run)")
       ->default_str("gicp");
   mc->add_option("--set", m->sets, "a scenario key=value (repeatable)")->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   mc->add_option("--slam-set", m->slam_sets, "a 3D SLAM parameter key=value (repeatable)")->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);

@@ -105,7 +105,9 @@ void register_localize_command(CLI::App& app, Context& ctx) {
                   "free space), or first (the corrected pose of the first raw scan with a twin in --reference; the run starts\n"
                   "there; the default with --reference)");
   cmd->add_option("--reference", o->reference, "a log whose scans carry corrected laser poses (e.g. a corrected CARMEN log)");
-  cmd->add_option("--set", o->sets, "an AMCL parameter amcl.KEY=VALUE (repeatable; starnav params lists them)")
+  cmd->add_option("--set", o->sets, "an AMCL parameter amcl.KEY=VALUE (repeatable; starnav params --role localizer lists them). A log's\n"
+                  "defaults differ from Nav2's online ones: every scan, 180 beams, sigma_hit_m 0.1; a global start also\n"
+                  "10000 particles, recovery alphas 0.001 / 0.1 and the scan proposal (docs/localization.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--seed", o->seed, "random seed (default 1)");
   cmd->add_flag("--flaser-angles", o->flaser_angles, "bags converted from CARMEN FLASER logs: FLASER's beam angles");

@@ -6,6 +6,7 @@
 // overwrite rule.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -261,6 +262,48 @@ TEST(LocalizeReport, ConvergesInARoomAndItsErrorStatisticsAreTheMatchedScansErro
   const auto manifest = nlohmann::json::parse(test::read_text(dir.file("out/run.json")));
   EXPECT_EQ(manifest["kind"], "localization");
   EXPECT_EQ(manifest["log"]["name"], "room.clf");
+}
+
+// A log's defaults (every scan, 180 beams, sigma_hit 0.1; more for a global start) are what an
+// explicit --set of the same values gives, byte for byte, and the user's own values win over them.
+TEST(LocalizeReport, TheLogDefaultsEqualTheSameValuesSetByHandAndGiveWayToTheUsers) {
+  const LocDrive d = loc_drive();
+  const OccupancyGrid grid = loc_room_grid();
+  LocalizeRunRequest q;
+  q.log = "room.clf";
+  q.initial.kind = LocalizeStart::Pose;
+  q.initial.pose = Pose2(d.truth[0].x + 0.3, d.truth[0].y - 0.2, deg_to_rad(8.0));
+  const auto poses = [](const LocalizeRunResult& r) {
+    std::vector<std::array<double, 3>> out;
+    for (const LocalizePose& p : r.trajectory) out.push_back({p.pose.x, p.pose.y, p.pose.yaw});
+    return out;
+  };
+  const auto value_of = [](const LocalizeRunResult& r, const std::string& key) {
+    for (const auto& [k, v] : r.amcl)
+      if (k == key) return v;
+    return std::string("(missing)");
+  };
+  const LocalizeRunResult defaults = run_localize(d.raw, grid, OccupancyThresholds{}, &d.reference, q, {});
+  EXPECT_EQ(value_of(defaults, "update_min_d_m"), "0");
+  EXPECT_EQ(value_of(defaults, "max_beams"), "180");
+  EXPECT_EQ(value_of(defaults, "sigma_hit_m"), "0.1");
+  EXPECT_TRUE(defaults.overrides.empty());
+  q.settings = {{"update_min_d_m", "0", "", 0, "--set amcl.update_min_d_m"},
+                {"update_min_a_deg", "0", "", 0, "--set amcl.update_min_a_deg"},
+                {"max_beams", "180", "", 0, "--set amcl.max_beams"},
+                {"sigma_hit_m", "0.1", "", 0, "--set amcl.sigma_hit_m"}};
+  const LocalizeRunResult by_hand = run_localize(d.raw, grid, OccupancyThresholds{}, &d.reference, q, {});
+  EXPECT_EQ(poses(defaults), poses(by_hand));
+  EXPECT_EQ(by_hand.overrides.size(), 4u);
+  q.settings = {{"max_beams", "30", "", 0, "--set amcl.max_beams"}};
+  const LocalizeRunResult users = run_localize(d.raw, grid, OccupancyThresholds{}, &d.reference, q, {});
+  EXPECT_EQ(value_of(users, "max_beams"), "30");
+  EXPECT_EQ(value_of(users, "update_min_d_m"), "0");
+  EXPECT_NE(poses(users), poses(defaults));
+  // A global start adds the search phase's particles and recovery.
+  const std::vector<ParamSetting> global = localize_log_defaults(LocalizeStart::Global);
+  for (const char* key : {"max_particles", "recovery_alpha_slow", "recovery_alpha_fast", "scan_proposal"})
+    EXPECT_TRUE(std::any_of(global.begin(), global.end(), [&](const ParamSetting& s) { return s.key == key; })) << key;
 }
 
 TEST(LocalizeReport, FirstStartsAtTheFirstMatchedScanFromItsReferencePose) {

@@ -126,6 +126,19 @@ std::vector<std::optional<std::size_t>> match_scans_by_ranges(const RobotLog& ra
   return out;
 }
 
+std::vector<ParamSetting> localize_log_defaults(LocalizeStart start) {
+  const auto d = [](const char* key, const char* value) {
+    return ParamSetting{key, value, "", 0, std::string("amcl.") + key + " (the default on a log)"};
+  };
+  std::vector<ParamSetting> out = {d("update_min_d_m", "0"), d("update_min_a_deg", "0"), d("max_beams", "180"),
+                                   d("sigma_hit_m", "0.1")};
+  if (start == LocalizeStart::Global)
+    for (ParamSetting s : {d("max_particles", "10000"), d("recovery_alpha_slow", "0.001"), d("recovery_alpha_fast", "0.1"),
+                           d("scan_proposal", "true")})
+      out.push_back(std::move(s));
+  return out;
+}
+
 LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, const OccupancyThresholds& thresholds,
                                const RobotLog* reference, const LocalizeRunRequest& q,
                                const std::function<void(std::size_t, std::size_t)>& progress) {
@@ -133,7 +146,10 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
     if (s.key == "initial")
       throw Error("the start is chosen with --initial here (x,y,yaw_deg | global | first)", s.file, s.line,
                   s.field.empty() ? "amcl.initial" : s.field);
-  const AmclConfig config = amcl_config_from_settings(q.settings, {});
+  // The log's defaults, then the user's settings (the later value of a key wins).
+  std::vector<ParamSetting> settings = localize_log_defaults(q.initial.kind);
+  settings.insert(settings.end(), q.settings.begin(), q.settings.end());
+  const AmclConfig config = amcl_config_from_settings(settings, {});
 
   LocalizeRunResult r;
   r.log = q.log;
@@ -143,7 +159,7 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
   r.seed = q.seed;
   r.scans = log.scans.size();
   r.laser_in_base = log.laser_in_base.value_or(Pose2());
-  r.amcl = localize_amcl_values(q.settings);
+  r.amcl = localize_amcl_values(settings);
   for (const ParamSetting& s : q.settings) r.overrides.emplace_back("amcl." + s.key, s.value);
   r.grid = map;
   if (!log.scans.empty()) {
