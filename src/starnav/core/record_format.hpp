@@ -27,6 +27,10 @@ inline std::string format_fixed(double v, int precision) {
   return n > 0 && static_cast<std::size_t>(n) < sizeof buf ? std::string(buf, static_cast<std::size_t>(n)) : std::string("-");
 }
 
+// A coordinate in metres for JSON: rounded to the nanometre, so a cell centre computed as
+// (x + 0.5) * resolution prints as 0.85, not 0.8500000000000001 (exact below 9e6 m).
+inline double json_coordinate(double v) { return std::isfinite(v) ? std::round(v * 1e9) / 1e9 : v; }
+
 // A number for people to read (titles, one-line summaries): four significant digits, no exponent,
 // trailing zeros dropped ("13.57", "0.004805", "31186", "0.5"); "-" for NaN, "inf" / "-inf".
 inline std::string format_readable(double v, int significant = 4) {

@@ -45,13 +45,13 @@ std::string plan_json(const PlanOutcome& outcome, const PlanReportContext& c) {
   for (std::size_t i = 0; i < r.path_cells.size(); ++i) {
     path_cells.push_back({r.path_cells[i].x, r.path_cells[i].y});
     if (index_grid) path.push_back({r.path_cells[i].x, r.path_cells[i].y});
-    else path.push_back({r.path_world[i].x(), r.path_world[i].y()});
+    else path.push_back({json_coordinate(r.path_world[i].x()), json_coordinate(r.path_world[i].y())});
   }
   // Smoothed points in the map's units; on index grids in cells, a cell's centre at its indices.
   auto map_units = [&](const Vec2& w) { return index_grid ? Vec2(w - Vec2(0.5, 0.5)) : w; };
   nlohmann::ordered_json smoothed_path = nlohmann::ordered_json::array();
   if (smoothed)
-    for (const Vec2& w : smoothed->points) smoothed_path.push_back({map_units(w).x(), map_units(w).y()});
+    for (const Vec2& w : smoothed->points) smoothed_path.push_back({json_coordinate(map_units(w).x()), json_coordinate(map_units(w).y())});
 
   nlohmann::ordered_json j;
   j["planner"] = std::string(planner->name());

@@ -105,7 +105,7 @@ std::string terrain_plan_json(const TerrainPlanOutcome& o) {
   json path = json::array(), path_cells = json::array();
   for (std::size_t i = 0; i < r.path_cells.size(); ++i) {
     path_cells.push_back({r.path_cells[i].x, r.path_cells[i].y});
-    path.push_back({r.path_world[i].x(), r.path_world[i].y()});
+    path.push_back({json_coordinate(r.path_world[i].x()), json_coordinate(r.path_world[i].y())});
   }
   j["path"] = path;
   j["path_cells"] = path_cells;
