@@ -54,6 +54,13 @@ struct Pose2 {
 };
 
 // A pose in space; attitude as R = Rz(yaw) * Ry(pitch) * Rx(roll) (conventions.md).
+// A planar body velocity in base_link (geometry_msgs/Twist's x, y and angular z).
+struct BodyTwist {
+  double vx = 0.0;  // m/s forward
+  double vy = 0.0;  // m/s left
+  double wz = 0.0;  // rad/s counter-clockwise
+};
+
 struct Pose3 {
   Vec3 position = Vec3::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();

@@ -19,12 +19,6 @@
 
 namespace starnav {
 
-struct BodyTwist {
-  double vx = 0.0;  // m/s forward
-  double vy = 0.0;  // m/s left
-  double wz = 0.0;  // rad/s counter-clockwise
-};
-
 enum class DriveKind : std::uint8_t { Mecanum, Differential, Ackermann };
 
 // "mecanum", "differential", "ackermann".
