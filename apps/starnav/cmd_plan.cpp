@@ -112,7 +112,7 @@ void run_plan(PlanOptions& o, Context& ctx) {
     std::string warning;
     const GlobalPlannerDef& def = find_global_planner(o.request.planner, "--planner", &warning);
     if (!warning.empty()) std::cerr << "starnav: warning: --planner: " << warning << "\n";
-    if (def.info.has("needs_elevation"))
+    if (def.info.has(Capability::NeedsElevation))
       throw Error("'" + o.request.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
   }
   if (o.unknown != "free" && o.unknown != "blocked")
@@ -184,7 +184,7 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   plan->add_option("--goal", o->goal, "goal X,Y (same units as --start)")->required();
   std::string names, elevation_names;
   for (const GlobalPlannerDef& d : global_planners()) {
-    std::string& list = d.info.has("needs_elevation") ? elevation_names : names;
+    std::string& list = d.info.has(Capability::NeedsElevation) ? elevation_names : names;
     list += (list.empty() ? "" : "|") + d.info.name;
   }
   plan->add_option("--planner", o->request.planner,

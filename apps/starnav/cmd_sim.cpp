@@ -182,7 +182,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     write_navigation_scene(run, (dir / "scene.png").string());
     write_navigation_overlay(run, (dir / "overlay.png").string());
   }
-  if (run.navigator().controller_name() == "dwa") {
+  if (run.navigator().controller().name() == "dwa") {
     speed_profile_plot(run.simulation().trajectory(), spec.name + ": achieved velocities").write_svg((dir / "speed.svg").string());
     for (const DwaSnapshot& s : run.dwa_snapshots()) {
       const std::string stem = "dwa_" + format_fixed(s.step.t_s, 2) + "s";

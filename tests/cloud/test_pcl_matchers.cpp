@@ -169,7 +169,7 @@ TEST(PclMatchers, TurnedOffByTheEnvironmentIsAClearError) {
   EXPECT_FALSE(pcl_support().available);
   for (const char* name : {"pcl_icp", "pcl_gicp", "pcl_ndt"}) {
     const ScanMatcher3dDef& def = find_scan_matcher_3d(name);
-    EXPECT_TRUE(def.info.has("plugin")) << name;
+    EXPECT_TRUE(def.info.has(Capability::Plugin)) << name;
     try {
       (void)def.make({}, {});
       FAIL() << name << " was made with STARNAV_PCL_PLUGIN=none";

@@ -151,10 +151,10 @@ OccupancyGrid random_map(Rng& rng, double w, double h, double density) {
   return m;
 }
 
-TEST(DwaLocalMap, ClearanceIsTheDistanceToTheNearestObstacleCentre) {
+TEST(ClearanceWindow, ClearanceIsTheDistanceToTheNearestObstacleCentre) {
   Rng rng(3);
   const OccupancyGrid m = random_map(rng, 6.0, 5.0, 0.01);
-  DwaLocalMap local;
+  ClearanceWindow local;
   local.build(m, {2.0, 2.5}, 1.0, 0.5);
   ASSERT_GE(local.width(), 41);
   std::vector<Vec2> obstacles;
@@ -172,17 +172,17 @@ TEST(DwaLocalMap, ClearanceIsTheDistanceToTheNearestObstacleCentre) {
     }
 }
 
-TEST(DwaLocalMap, CellsBeyondTheMapAreObstacles) {
+TEST(ClearanceWindow, CellsBeyondTheMapAreObstacles) {
   const OccupancyGrid m = empty_map(4.0, 4.0);
-  DwaLocalMap local;
+  ClearanceWindow local;
   local.build(m, {0.3, 2.0}, 1.0, 0.5);
   const Cell c = local.cell_of({0.325, 2.025});
   EXPECT_NEAR(local.clearance_m(local.index(c.x, c.y)), 0.35, 1e-9);  // to the centre of the cell at x = -0.025
 }
 
-TEST(DwaLocalMap, WavefrontGoesRoundWallsWithOctileSteps) {
+TEST(ClearanceWindow, WavefrontGoesRoundWallsWithOctileSteps) {
   OccupancyGrid m = empty_map(4.0, 4.0);
-  DwaLocalMap local;
+  ClearanceWindow local;
   local.build(m, {2.0, 2.0}, 1.5, 0.5);
   const Cell seed = local.cell_of({2.0, 2.0});
   std::vector<double> d;
@@ -207,7 +207,7 @@ TEST(FootprintChecker, AgreesWithBruteForceOnRandomMaps) {
   int hits = 0, n = 0;
   for (int trial = 0; trial < test::scaled(20); ++trial) {
     const OccupancyGrid m = random_map(rng, 5.0, 5.0, rng.uniform(0.002, 0.03));
-    DwaLocalMap local;
+    ClearanceWindow local;
     local.build(m, {2.5, 2.5}, 1.5, 1.0);
     for (const int shape : {0, 1, 2}) {
       FootprintModel fm;
@@ -287,7 +287,7 @@ TEST(DwaController, NeverChoosesAMotionThatTouchesAnObstacle) {
       fill_box(m, x, y, x + rng.uniform(0.05, 0.6), y + rng.uniform(0.05, 0.6));
     }
     const Pose2 start(3.0, 3.0, rng.uniform(-kPi, kPi));
-    DwaLocalMap around;
+    ClearanceWindow around;
     around.build(m, start.translation(), 1.0, 1.0);
     if (dwa.footprint().collides(around, start)) continue;  // the robot must start clear
     const Vec2 goal(rng.uniform(0.5, 5.5), rng.uniform(0.5, 5.5));
@@ -376,7 +376,7 @@ TEST(DwaController, SaysBlockedWhenItCannotStopInTime) {
 
 struct SceneFixture {
   OccupancyGrid grid = empty_map(6.0, 6.0);
-  DwaLocalMap map;
+  ClearanceWindow map;
   DwaScene scene;
   std::vector<Pose2> poses;
 

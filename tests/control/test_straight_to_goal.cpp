@@ -33,7 +33,7 @@ navigation:
 TEST(StraightToGoal, ChosenByNameFromAScenarioItDrivesStraightToTheGoal) {
   const ScenarioSpec spec = parse_scenario(kOpenField, "open_field.yaml");
   NavigationRun run(spec);
-  EXPECT_EQ(run.navigator().controller_name(), "straight_to_goal");
+  EXPECT_EQ(run.navigator().controller().name(), "straight_to_goal");
   run.run();
   const NavigationMetrics m = run.metrics();
   EXPECT_TRUE(m.success) << m.outcome << " " << m.reason;

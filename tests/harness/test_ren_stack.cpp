@@ -58,11 +58,16 @@ TEST(RenStack, NoValidSampleGivesBlockedAZeroCommandAndARecovery) {
   c.geometry.height = 60;
   c.map.mode = NodeMapMode::Lidar2D;
   c.map.barrier_distance_m = 0.25;
-  c.controller = {"dwa", {}, "navigation.controller", 0, {}};
   c.prior_obstacles.assign(c.geometry.cell_count(), 0);
   for (int y = 0; y < 48; ++y)  // a wall at x = 3.75-3.85 m from y = 0 to 2.4 m; open above
     for (int x = 75; x < 77; ++x) c.prior_obstacles[c.geometry.index(x, y)] = 1;
-  Navigator nav(c, robot, {9.0, 1.5});
+  NavigationComponents components;
+  components.planner = {"astar", {}, "navigation.planner", 0, {}};
+  components.controller = {"dwa", {}, "navigation.controller", 0, {}};
+  components.goal_checker = {"latching", {}, "navigation.goal_checker", 0, {}};
+  components.progress_checker = {"simple_progress", {}, "navigation.progress_checker", 0, {}};
+  components.recoveries = {{"rotate", {}, "navigation.recoveries", 0, {}}, {"back_up", {}, "navigation.recoveries", 0, {}}};
+  Navigator nav(c, robot, make_navigator_parts(components, robot), {9.0, 1.5});
   const Pose2 pose(3.3, 1.5, 0.0);
   nav.on_points(Vec3(3.4, 1.5, 0.4), {}, pose, 0.0);
   ASSERT_EQ(nav.status(), NavStatus::Navigating);

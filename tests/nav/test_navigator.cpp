@@ -11,6 +11,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/rng.hpp"
+#include "starnav/harness/navigation_run.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/plan/grid_planner.hpp"
 
@@ -25,9 +26,21 @@ NavigatorConfig config_2d(const std::string& planner = "astar") {
   c.geometry.resolution = 0.1;
   c.map.mode = NodeMapMode::Lidar2D;
   c.map.barrier_distance_m = 0.3;
-  c.planner.name = planner;
   c.compare_astar = planner == "dstar_lite";
   return c;
+}
+
+// The registry's parts by name (the path follower, the latching goal checker, the simple progress
+// checker, rotate then back up), as a scenario chooses them.
+NavigatorParts parts(const std::string& planner = "astar", std::vector<ParamSetting> controller_settings = {},
+                     const RobotConfig& robot = RobotConfig{}) {
+  NavigationComponents c;
+  c.planner = {planner, {}, "navigation.planner", 0, {}};
+  c.controller = {"path_follower", std::move(controller_settings), "navigation.controller", 0, {}};
+  c.goal_checker = {"latching", {}, "navigation.goal_checker", 0, {}};
+  c.progress_checker = {"simple_progress", {}, "navigation.progress_checker", 0, {}};
+  c.recoveries = {{"rotate", {}, "navigation.recoveries", 0, {}}, {"back_up", {}, "navigation.recoveries", 0, {}}};
+  return make_navigator_parts(c, robot);
 }
 
 const Pose2 kStart(1.05, 3.05, 0.0);
@@ -53,7 +66,7 @@ bool blocked_from(const Navigator& nav, const NavPlan& plan, std::size_t progres
 }
 
 TEST(Navigator, FirstCyclePlansStraightThroughUnknownSpace) {
-  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  Navigator nav(config_2d(), RobotConfig{}, parts(), kGoal);
   EXPECT_EQ(nav.status(), NavStatus::Waiting);
   const NavCycle c = nav.on_points(origin_of(kStart), {}, kStart, 0.0);
   EXPECT_TRUE(c.planned);
@@ -69,7 +82,7 @@ TEST(Navigator, FirstCyclePlansStraightThroughUnknownSpace) {
 }
 
 TEST(Navigator, ObstacleOffThePathDoesNotReplanOnThePathDoes) {
-  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  Navigator nav(config_2d(), RobotConfig{}, parts(), kGoal);
   nav.on_points(origin_of(kStart), {}, kStart, 0.0);
   // 1 m beside the path (band 0.3 m): no replan.
   std::vector<Vec3> off{{5.05, 4.05, 0.2}, {5.15, 4.05, 0.2}};
@@ -93,7 +106,7 @@ TEST(Navigator, ObstacleOffThePathDoesNotReplanOnThePathDoes) {
 // Random obstacles, cycle after cycle, robot moving along its path: the navigator replans
 // exactly when the remaining path (from the progress it had) is blocked after the update.
 void random_replan_property(const std::string& planner, std::uint64_t seed, int& replans, int& kept) {
-  Navigator nav(config_2d(planner), RobotConfig{}, kGoal);
+  Navigator nav(config_2d(planner), RobotConfig{}, parts(planner), kGoal);
   Rng rng(seed);
   Pose2 pose = kStart;
   nav.on_points(origin_of(pose), {}, pose, 0.0);
@@ -166,7 +179,7 @@ TEST(Navigator, ReplansExactlyWhenTheRemainingPathIsBlockedDStarLiteEqualsAStar)
 }
 
 TEST(Navigator, StartInsideTheBandEscapesInsteadOfReportingABlockedStart) {
-  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  Navigator nav(config_2d(), RobotConfig{}, parts(), kGoal);
   // A wall 0.2 m below the robot: its cell lies inside the 0.3 m band.
   std::vector<Vec3> wall;
   for (double x = 0.55; x <= 1.6; x += 0.1) wall.emplace_back(x, 2.85, 0.2);
@@ -189,7 +202,7 @@ TEST(Navigator, StartInsideTheBandEscapesInsteadOfReportingABlockedStart) {
 }
 
 TEST(Navigator, EnclosedGoalIsReportedOnceAndNotLoopedOn) {
-  Navigator nav(config_2d(), RobotConfig{}, kGoal);
+  Navigator nav(config_2d(), RobotConfig{}, parts(), kGoal);
   nav.on_points(origin_of(kStart), {}, kStart, 0.0);
   // A closed square ring around the goal, 0.6 m out.
   std::vector<Vec3> ring;
@@ -221,7 +234,7 @@ TEST(Navigator, EnclosedGoalIsReportedOnceAndNotLoopedOn) {
 TEST(Navigator, ArrivesWithinGoalTolerance) {
   NavigatorConfig c = config_2d();
   c.goal_tolerance_m = 0.2;
-  Navigator nav(c, RobotConfig{}, kGoal);
+  Navigator nav(c, RobotConfig{}, parts(), kGoal);
   nav.on_points(origin_of(kStart), {}, kStart, 0.0);
   const BodyTwist far = nav.command(kStart, 0.0);
   EXPECT_GT(std::abs(far.vx) + std::abs(far.wz), 0.0);
@@ -234,38 +247,125 @@ TEST(Navigator, ArrivesWithinGoalTolerance) {
 
 TEST(Navigator, RejectsBadConfigurations) {
   NavigatorConfig c = config_2d();
-  EXPECT_THROW(Navigator(c, RobotConfig{}, Vec2(20.0, 3.0)), Error);  // goal outside the map
+  EXPECT_THROW(Navigator(c, RobotConfig{}, parts(), Vec2(20.0, 3.0)), Error);  // goal outside the map
   c.goal_tolerance_m = 0.0;
-  EXPECT_THROW(Navigator(c, RobotConfig{}, kGoal), Error);
+  EXPECT_THROW(Navigator(c, RobotConfig{}, parts(), kGoal), Error);
   c = config_2d();
-  c.controller.settings.push_back({"motion_mode", "holonomic", "", 0, "motion_mode"});
   RobotConfig diff;
   diff.drive = DriveKind::Differential;
   try {
-    Navigator nav(c, diff, kGoal);
+    Navigator nav(c, diff, parts("astar", {{"motion_mode", "holonomic", "", 0, "motion_mode"}}, diff), kGoal);
     FAIL() << "holonomic on a differential robot accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.field(), "motion_mode");
   }
   // Any occupancy planner of the registry navigates; an elevation planner or an unknown name does not.
-  c = config_2d("dijkstra");
-  EXPECT_EQ(Navigator(c, RobotConfig{}, kGoal).planner_name(), "dijkstra");
-  c = config_2d("ia");
-  EXPECT_THROW(Navigator(c, RobotConfig{}, kGoal), Error);
-  c = config_2d("nonesuch");
+  EXPECT_EQ(Navigator(c, RobotConfig{}, parts("dijkstra"), kGoal).planner().name(), "dijkstra");
   try {
-    Navigator nav(c, RobotConfig{}, kGoal);
+    Navigator nav(c, RobotConfig{}, parts("ia"), kGoal);
+    FAIL() << "an elevation planner navigated";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "navigation.planner");
+  }
+  try {
+    parts("nonesuch");
     FAIL() << "unknown planner accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.field(), "navigation.planner");
     EXPECT_NE(std::string(e.what()).find("dstar_lite"), std::string::npos) << e.what();
   }
-  // The old spelling still works, with a warning.
-  c = config_2d("dstarlite");
-  const Navigator old(c, RobotConfig{}, kGoal);
-  EXPECT_EQ(old.planner_name(), "dstar_lite");
-  ASSERT_EQ(old.warnings().size(), 1u);
-  EXPECT_NE(old.warnings()[0].find("deprecated"), std::string::npos);
+  // The old spelling still builds the planner (the scenario's reader warns about it).
+  EXPECT_EQ(Navigator(c, RobotConfig{}, parts("dstarlite"), kGoal).planner().name(), "dstar_lite");
+  // A navigator without one of its parts is refused.
+  NavigatorParts missing = parts();
+  missing.goal_checker.reset();
+  EXPECT_THROW(Navigator(c, RobotConfig{}, std::move(missing), kGoal), Error);
+}
+
+// The navigator knows its parts by their roles only: a planner and a controller written here,
+// never registered, plan and drive it; the goal checker and progress checker come the same way.
+class StraightLinePlanner final : public GlobalPlanner {
+ public:
+  std::string_view name() const override { return "fake_planner"; }
+  PlanResult plan(const PlanningLayers& layers, Cell start, Cell goal, std::span<const CellChange>) override {
+    ++calls;
+    PlanResult r;
+    r.status = PlanStatus::Found;
+    // Along x, then along y: enough for an open map.
+    Cell c = start;
+    r.path_cells.push_back(c);
+    while (c.x != goal.x) {
+      c.x += goal.x > c.x ? 1 : -1;
+      r.path_cells.push_back(c);
+    }
+    while (c.y != goal.y) {
+      c.y += goal.y > c.y ? 1 : -1;
+      r.path_cells.push_back(c);
+    }
+    for (const Cell& p : r.path_cells) r.path_world.push_back(layers.occupancy->geometry().cell_center(p));
+    r.cost = static_cast<double>(r.path_cells.size() - 1) * layers.occupancy->geometry().resolution;
+    r.length = r.cost;
+    return r;
+  }
+  int calls = 0;
+};
+
+class ConstantController final : public LocalController {
+ public:
+  std::string_view name() const override { return "fake_controller"; }
+  void set_path(std::span<const Vec2> points) override { path_.assign(points.begin(), points.end()); }
+  void clear() override { path_.clear(); }
+  bool has_path() const override { return !path_.empty(); }
+  const std::vector<Vec2>& path() const override { return path_; }
+  ControlOutput compute(const ControlInput& in) override {
+    last_goal = in.goal;
+    return {{0.25, 0.0, 0.0}, ControlStatus::Tracking};
+  }
+  std::vector<Vec2> path_;
+  Vec2 last_goal = Vec2::Zero();
+};
+
+class NeverReached final : public GoalChecker {
+ public:
+  std::string_view name() const override { return "never"; }
+  void reset() override {}
+  bool reached(const GoalCheckInput&) override { return false; }
+  bool position_reached() const override { return false; }
+};
+
+class AlwaysProgressing final : public ProgressChecker {
+ public:
+  std::string_view name() const override { return "always"; }
+  void reset() override {}
+  void restart_clock(double) override {}
+  bool check(const Pose2&, double) override { return true; }
+};
+
+TEST(Navigator, TakesAPlannerAndAControllerItWasGivenWithoutTheRegistry) {
+  NavigatorParts p;
+  auto planner = std::make_unique<StraightLinePlanner>();
+  auto controller = std::make_unique<ConstantController>();
+  StraightLinePlanner* planner_seen = planner.get();
+  ConstantController* controller_seen = controller.get();
+  p.planner = std::move(planner);
+  p.controller = std::move(controller);
+  p.goal_checker = std::make_unique<NeverReached>();
+  p.progress_checker = std::make_unique<AlwaysProgressing>();
+  Navigator nav(config_2d(), RobotConfig{}, std::move(p), kGoal);
+  nav.on_points(origin_of(kStart), {}, kStart, 0.0);
+  ASSERT_EQ(nav.status(), NavStatus::Navigating);
+  EXPECT_EQ(planner_seen->calls, 1);
+  EXPECT_EQ(nav.planner().name(), "fake_planner");
+  // The controller got the path (from the robot to the goal) and drives with its own twist.
+  ASSERT_EQ(controller_seen->path_.size(), 2u);
+  EXPECT_EQ(controller_seen->path_.front(), kStart.translation());
+  EXPECT_EQ(controller_seen->path_.back(), kGoal);
+  const BodyTwist t = nav.command(kStart, 0.1);
+  EXPECT_DOUBLE_EQ(t.vx, 0.25);
+  EXPECT_EQ(controller_seen->last_goal, kGoal);
+  // Near the goal the fake goal checker still says no: the navigator asks it, not a rule of its own.
+  nav.command(Pose2(kGoal.x(), kGoal.y(), 0.0), 0.2);
+  EXPECT_EQ(nav.status(), NavStatus::Navigating);
 }
 
 }  // namespace

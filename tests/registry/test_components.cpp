@@ -55,15 +55,15 @@ TEST(Components, CapabilitiesAgreeWithThePlanners) {
   const auto rough = rough_terrain_planner_names();
   for (const GlobalPlannerDef& d : global_planners()) {
     const bool elevation = std::find(rough.begin(), rough.end(), d.info.name) != rough.end();
-    EXPECT_EQ(d.info.has("needs_elevation"), elevation) << d.info.name;
-    EXPECT_EQ(d.info.has("incremental"), d.info.name == "dstar_lite") << d.info.name;
+    EXPECT_EQ(d.info.has(Capability::NeedsElevation), elevation) << d.info.name;
+    EXPECT_EQ(d.info.has(Capability::Incremental), d.info.name == "dstar_lite") << d.info.name;
     if (elevation) continue;
     // Against the planners themselves on a real query: an admissible planner's cost is optimal.
     const auto grid = make_grid_planner(d.info.name, OccupancyGrid(GridGeometry{3, 3, 1.0, {}}, 0));
-    EXPECT_EQ(d.info.has("admissible"), grid->admissible()) << d.info.name;
+    EXPECT_EQ(d.info.has(Capability::Admissible), grid->admissible()) << d.info.name;
   }
-  EXPECT_TRUE(find_global_planner("oa").info.has("admissible"));
-  EXPECT_FALSE(find_global_planner("ia").info.has("admissible"));
+  EXPECT_TRUE(find_global_planner("oa").info.has(Capability::Admissible));
+  EXPECT_FALSE(find_global_planner("ia").info.has(Capability::Admissible));
 }
 
 TEST(Components, EveryFactoryAcceptsItsDeclaredDefaultsAndRefusesUnknownKeys) {
@@ -96,7 +96,7 @@ TEST(Components, ParametersMarkdownIsCurrent) {
     EXPECT_NE(md.find("### `" + c.name + "`"), std::string::npos) << c.name;
     for (const ParamSpec& p : c.params) {
       // Elevation planners are not navigation components: their keys stand alone.
-      const std::string key = c.has("needs_elevation") ? "`" + p.key + "`" : "." + c.section + "." + p.key + "`";
+      const std::string key = c.has(Capability::NeedsElevation) ? "`" + p.key + "`" : "." + c.section + "." + p.key + "`";
       EXPECT_NE(md.find(key), std::string::npos) << p.key;
     }
   }

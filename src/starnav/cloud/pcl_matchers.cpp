@@ -167,7 +167,7 @@ ScanMatcher3dDef pcl_def(PclMethod method, const std::string& name, const std::s
   d.info.name = name;
   d.info.section = name;
   d.info.summary = summary;
-  d.info.capabilities = {"plugin"};
+  d.info.capabilities = {Capability::Plugin};
   d.info.params = pcl_matcher_params(method).specs(defaults);
   d.make = [method, name, defaults](const ScanMatcher3dContext& ctx,
                                     std::span<const ParamSetting> settings) -> std::unique_ptr<ScanMatcher3d> {

@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "starnav/control/dwa_local_map.hpp"
+#include "starnav/map/footprint_checker.hpp"
 #include "starnav/control/local_controller.hpp"
 #include "starnav/core/params.hpp"
 #include "starnav/robot/robot_model.hpp"
@@ -115,7 +115,7 @@ void dwa_rollout(const Pose2& start, const BodyTwist& twist, double step_s, int 
 
 // What every critic sees in one control step.
 struct DwaScene {
-  const DwaLocalMap* map = nullptr;
+  const ClearanceWindow* map = nullptr;
   Pose2 pose;                       // the robot (map frame)
   BodyTwist velocity;               // its current body twist
   std::vector<Vec2> local_path;     // the path from the robot's projection on it to the local goal

@@ -346,7 +346,7 @@ LocalControllerDef dwa_controller() {
   d.info.name = "dwa";
   d.info.section = "dwa";
   d.info.summary = "Dynamic Window Approach (Fox et al. 1997) with Nav2 DWB's critics; samples vy on a Mecanum base";
-  d.info.capabilities = {"goal_heading", "checks_footprint"};
+  d.info.capabilities = {Capability::GoalHeading, Capability::ChecksFootprint, Capability::VelocitySpace};
   d.info.params = dwa_params().specs();
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const DwaConfig c = configured(dwa_params(), settings, ctx.file);

@@ -47,7 +47,7 @@ class DwaController final : public LocalController {
   void keep_samples(bool on) { keep_samples_ = on; }
   const DwaStepRecord& last_step() const { return last_; }
   // The local map of the last step.
-  const DwaLocalMap& local_map() const { return map_; }
+  const ClearanceWindow& local_map() const { return map_; }
 
  private:
   void update_progress(const Vec2& p);
@@ -66,7 +66,7 @@ class DwaController final : public LocalController {
   std::size_t segment_ = 0;   // progress: the path segment the robot is nearest (never goes back)
   bool in_goal_window_ = false;
   bool keep_samples_ = false;
-  DwaLocalMap map_;
+  ClearanceWindow map_;
   DwaScene scene_;
   DwaStepRecord last_;
   std::vector<Pose2> poses_;           // rollout scratch

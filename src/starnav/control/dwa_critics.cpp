@@ -37,7 +37,7 @@ Vec2 dwa_forward_point(const Pose2& end, const BodyTwist& twist, double forward_
 }
 
 double dwa_goal_distance(const DwaScene& scene, const Vec2& p) {
-  const DwaLocalMap& map = *scene.map;
+  const ClearanceWindow& map = *scene.map;
   const Cell c = map.cell_of(p);
   if (!map.contains(c.x, c.y)) return kInvalidTrajectory;
   const double wave = scene.goal_distance[map.index(c.x, c.y)];
@@ -71,7 +71,7 @@ double GoalDistCritic::score(const DwaScene& scene, const DwaRollout& r) const {
 }
 
 double ObstacleCritic::score(const DwaScene& scene, const DwaRollout& r) const {
-  const DwaLocalMap& map = *scene.map;
+  const ClearanceWindow& map = *scene.map;
   double worst = 0.0;
   for (const Pose2& p : r.poses) {
     const Cell c = map.cell_of(p.translation());

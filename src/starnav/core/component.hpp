@@ -7,6 +7,7 @@
 // (docs/architecture.md, "Adding a component").
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <span>
@@ -18,13 +19,61 @@
 
 namespace starnav {
 
-enum class Role : std::uint8_t { GlobalPlanner, LocalController, Localizer, Slam, ScanMatcher, ScanMatcher3d };
-// "global_planner", "local_controller", "localizer", "slam", "scan_matcher", "scan_matcher_3d"
+enum class Role : std::uint8_t {
+  GlobalPlanner,
+  LocalController,
+  GoalChecker,
+  ProgressChecker,
+  Recovery,
+  Localizer,
+  Slam,
+  ScanMatcher,
+  ScanMatcher3d,
+};
+// "global_planner", "local_controller", "goal_checker", "progress_checker", "recovery", "localizer",
+// "slam", "scan_matcher", "scan_matcher_3d"
 const char* role_name(Role r);
-inline constexpr Role kAllRoles[] = {Role::GlobalPlanner, Role::LocalController, Role::Localizer,
-                                     Role::Slam,          Role::ScanMatcher,     Role::ScanMatcher3d};
+inline constexpr Role kAllRoles[] = {Role::GlobalPlanner, Role::LocalController, Role::GoalChecker,
+                                     Role::ProgressChecker, Role::Recovery,       Role::Localizer,
+                                     Role::Slam,            Role::ScanMatcher,    Role::ScanMatcher3d};
 // The role named as role_name() spells it; nullopt for anything else.
 std::optional<Role> role_from_name(std::string_view name);
+
+// What a component can do or needs, as callers query it instead of testing names (OMPL's
+// PlannerSpecs idea). Written in docs and `starnav params` by capability_name().
+enum class Capability : std::uint8_t {
+  Admissible,        // a planner whose paths are optimal on its graph
+  Incremental,       // a planner that repairs one search between calls (given the changed cells)
+  Occupancy,         // a planner that plans on an occupancy layer
+  NeedsElevation,    // a planner that plans on an elevation layer
+  NeedsMap,          // a localizer that needs a known map
+  GoalHeading,       // a controller that turns to a goal heading
+  ChecksFootprint,   // a controller that checks the whole footprint against the costmap
+  VelocitySpace,     // a controller that commands velocities under acceleration limits (a speed profile)
+  Plugin,            // loaded from a plugin library at run time
+  Planar,            // SLAM, scan matchers: 2D scans
+  ThreeD,            // SLAM, scan matchers: 3D clouds
+};
+inline constexpr int kCapabilityCount = 11;
+// "admissible", "incremental", "occupancy", "needs_elevation", "needs_map", "goal_heading",
+// "checks_footprint", "velocity_space", "plugin", "planar", "3d"
+const char* capability_name(Capability c);
+
+// A set of capabilities, in declaration order when listed.
+class Capabilities {
+ public:
+  Capabilities() = default;
+  Capabilities(std::initializer_list<Capability> list) {
+    for (Capability c : list) add(c);
+  }
+  void add(Capability c) { bits_ |= 1u << static_cast<unsigned>(c); }
+  bool has(Capability c) const { return (bits_ >> static_cast<unsigned>(c)) & 1u; }
+  bool empty() const { return bits_ == 0; }
+  std::vector<std::string> names() const;
+
+ private:
+  std::uint32_t bits_ = 0;
+};
 
 struct ComponentInfo {
   Role role = Role::GlobalPlanner;
@@ -32,9 +81,9 @@ struct ComponentInfo {
   std::vector<std::string> deprecated_aliases;  // accepted with a warning
   std::string section;                          // where its parameters live in a scenario ("follower": navigation.follower)
   std::string summary;                          // one line
-  std::vector<std::string> capabilities;        // admissible, incremental, needs_elevation, holonomic_only, ...
+  Capabilities capabilities;
   std::vector<ParamSpec> params;
-  bool has(const std::string& capability) const;
+  bool has(Capability c) const { return capabilities.has(c); }
 };
 
 // A component of role `Interface`, built from a context (what the caller knows: the robot, the

@@ -17,8 +17,41 @@ const char* param_type_name(ParamType t) {
     case ParamType::Integer: return "integer";
     case ParamType::Boolean: return "boolean";
     case ParamType::Choice: return "choice";
+    case ParamType::NameList: return "names";
   }
   return "unknown";
+}
+
+std::vector<std::string> parse_param_name_list(const ParamSetting& setting) {
+  std::vector<std::string> out;
+  std::string text = setting.value;
+  // A list written inline on the command line: [a, b]
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']') text = text.substr(1, text.size() - 2);
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = text.find(',', start);
+    std::string name = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t") + 1);
+    if (!name.empty()) {
+      for (const char ch : name)
+        if (!((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_'))
+          throw Error("expected a list of names (lower_snake_case), found '" + setting.value + "'", setting.file, setting.line,
+                      setting.field);
+      out.push_back(name);
+    } else if (comma != std::string::npos) {
+      throw Error("an empty name in the list '" + setting.value + "'", setting.file, setting.line, setting.field);
+    }
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::string format_param_name_list(const std::vector<std::string>& names) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+  return s + "]";
 }
 
 bool ParamRange::contains(double v) const {
@@ -48,6 +81,11 @@ std::string ParamSpec::range_text() const {
       std::string s;
       for (const auto& c : choices) s += (s.empty() ? "" : " | ") + c;
       return s;
+    }
+    case ParamType::NameList: {
+      std::string s;
+      for (const auto& c : choices) s += (s.empty() ? "" : ", ") + c;
+      return "a list of: " + s;
     }
     default: return range.text();
   }

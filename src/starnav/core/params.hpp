@@ -24,8 +24,8 @@
 
 namespace starnav {
 
-enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice };
-const char* param_type_name(ParamType t);  // "real", "integer", "boolean", "choice"
+enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice, NameList };
+const char* param_type_name(ParamType t);  // "real", "integer", "boolean", "choice", "names"
 
 // An interval for numbers; open or closed at each end, either end may be unbounded.
 struct ParamRange {
@@ -47,7 +47,7 @@ struct ParamSpec {
   ParamType type = ParamType::Real;
   std::string default_value;  // as text, in the parameter's unit; or the rule that gives it
   ParamRange range;           // Real, Integer
-  std::vector<std::string> choices;  // Choice
+  std::vector<std::string> choices;  // Choice, NameList
   std::string unit;           // of the value as written ("m", "m/s", "deg", "" for none)
   std::string doc;            // one line
   std::string range_text() const;  // the range, or "a | b | c" for choices, "true | false"
@@ -61,6 +61,11 @@ struct ParamSetting {
   int line = 0;
   std::string field;  // the full dotted key as the user wrote it ("navigation.follower.look_ahead_m", "--set ...")
 };
+
+// A list of names as a setting holds it: "a, b" (a YAML list [a, b] in a scenario; "" for none).
+// Each name lower_snake_case; Error naming `setting` otherwise.
+std::vector<std::string> parse_param_name_list(const ParamSetting& setting);
+std::string format_param_name_list(const std::vector<std::string>& names);  // "[a, b]"
 
 // Strict text -> value conversions shared by every table (Errors name `setting`).
 double parse_param_real(const ParamSetting& setting);
@@ -128,6 +133,23 @@ class ParamTable {
           set(c, v.value);
         },
         std::move(get));
+    return *this;
+  }
+
+  // An ordered list of names, each among `choices` (component names: with `strict` false the
+  // choices are only documented and `set` judges each name).
+  ParamTable& name_list(std::string key, std::vector<std::string> choices,
+                        std::function<void(Config&, const std::vector<std::string>&)> set,
+                        std::function<std::vector<std::string>(const Config&)> get, std::string doc, bool strict = true) {
+    ParamSpec s{std::move(key), ParamType::NameList, {}, {}, choices, "", std::move(doc)};
+    add(std::move(s),
+        [choices, set, strict](Config& c, const ParamSetting& v) {
+          const std::vector<std::string> names = parse_param_name_list(v);
+          if (strict)
+            for (const std::string& n : names) param_check_choice({v.key, n, v.file, v.line, v.field}, choices);
+          set(c, names);
+        },
+        [get](const Config& c) { return format_param_name_list(get(c)); });
     return *this;
   }
 

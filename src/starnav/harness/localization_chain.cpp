@@ -76,7 +76,7 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
   const ScenarioSpec& spec = sim.spec();
   LocalizerContext ctx = context();
   const LocalizerDef& def = find_localizer(config_.localizer.name, config_.localizer.field);
-  if (def.info.has("needs_map")) {
+  if (def.info.has(Capability::NeedsMap)) {
     if (config_.map_file.empty())
       throw Error(def.info.name + " needs a map: world.occupancy_map or localization.map", spec.file, config_.localizer.line,
                   config_.localizer.field);

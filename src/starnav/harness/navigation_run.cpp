@@ -82,18 +82,6 @@ GridGeometry map_geometry(const ScenarioSpec& spec, const WorldDescription& worl
   return g;
 }
 
-// A setting left over after every component took its own: a component section of a component
-// the scenario did not choose, or an unknown key of the section itself.
-template <class Config>
-[[noreturn]] void refuse_leftover(const ParamSetting& v, const ParamTable<Config>& table, const std::vector<ComponentInfo>& others,
-                                  const std::string& role_key, const std::string& chosen) {
-  const std::string head = v.key.substr(0, v.key.find('.'));
-  for (const ComponentInfo& c : others)
-    if (c.section == head && v.key != head)
-      throw Error("parameters of " + c.name + ", but " + role_key + " is " + chosen, v.file, v.line, v.field);
-  param_unknown_key(v, table.keys());
-}
-
 }  // namespace
 
 // The settings of `section` (keys starting "section."), the prefix removed.
@@ -135,11 +123,18 @@ const ParamTable<NavigationSettings>& navigation_params() {
     const auto get_of = [](std::string C::*member) { return [member](const C& c) { return c.*member; }; };
     std::vector<std::string> occupancy_planners;
     for (const GlobalPlannerDef& d : global_planners())
-      if (!d.info.has("needs_elevation")) occupancy_planners.push_back(d.info.name);
+      if (!d.info.has(Capability::NeedsElevation)) occupancy_planners.push_back(d.info.name);
     t.choice("planner", occupancy_planners, name_of(&C::planner), get_of(&C::planner),
              "the global planner (registry name; it plans on the node map's occupancy)", false);
     t.choice("controller", component_names(Role::LocalController), name_of(&C::controller), get_of(&C::controller),
              "the local controller (registry name)", false);
+    t.choice("goal_checker", component_names(Role::GoalChecker), name_of(&C::goal_checker), get_of(&C::goal_checker),
+             "the goal checker (registry name)", false);
+    t.choice("progress_checker", component_names(Role::ProgressChecker), name_of(&C::progress_checker),
+             get_of(&C::progress_checker), "the progress checker (registry name)", false);
+    t.name_list("recoveries", component_names(Role::Recovery), [](C& c, const std::vector<std::string>& v) { c.recoveries = v; },
+                [](const C& c) { return c.recoveries; },
+                "run in this order when the robot is stuck, then a new plan ([] : none, the robot waits)", false);
     t.real("goal_tolerance_m", &C::goal_tolerance_m, positive(), "m", "arrived within this distance of the goal");
     t.real("goal_yaw_tolerance_deg", &C::goal_yaw_tolerance_rad, open(0.0, 180.0), "deg",
            "with a goal heading (goal.yaw_deg), arrived within this angle of it too", kPi / 180.0);
@@ -151,22 +146,8 @@ const ParamTable<NavigationSettings>& navigation_params() {
     t.real("no_path_retry_s", &C::no_path_retry_s, closed(0.0, 3600.0), "s",
            "no path (a blocked start, a cut-off goal): wait and plan again at every cycle this long before giving up "
            "(0: give up at once, the paper's rule)");
-    t.boolean("recovery.enabled", [](C& c) -> bool& { return c.recovery.enabled; },
-              "rotate, back up and replan when the controller is blocked or the robot makes no progress");
     t.real("recovery.blocked_patience_s", [](C& c) -> double& { return c.recovery.blocked_patience_s; }, positive(), "s",
-           "the controller blocked this long starts a recovery (a new plan is asked for at once)");
-    t.real("recovery.stuck_time_s", [](C& c) -> double& { return c.recovery.stuck_time_s; }, positive(), "s",
-           "moving less than stuck_distance_m in this long starts a recovery");
-    t.real("recovery.stuck_distance_m", [](C& c) -> double& { return c.recovery.stuck_distance_m; }, positive(), "m",
-           "progress that resets the stuck timer");
-    t.real("recovery.rotate_deg", [](C& c) -> double& { return c.recovery.rotate_rad; }, open(0.0, 360.0), "deg",
-           "a recovery first turns in place this far (left if clear, else right)", kPi / 180.0);
-    t.real("recovery.rotate_speed_degps", [](C& c) -> double& { return c.recovery.rotate_speed_radps; }, positive(), "deg/s",
-           "turning speed of a recovery", kPi / 180.0);
-    t.real("recovery.backup_m", [](C& c) -> double& { return c.recovery.backup_m; }, open(0.0, 5.0), "m",
-           "then backs up this far (while the footprint stays clear)");
-    t.real("recovery.backup_speed_mps", [](C& c) -> double& { return c.recovery.backup_speed_mps; }, open(0.0, 2.0), "m/s",
-           "backing speed of a recovery");
+           "the controller blocked this long starts the recoveries (a new plan is asked for at once)");
     t.integer("recovery.max_recoveries", [](C& c) -> int& { return c.recovery.max_recoveries; }, closed(0, 1000), "",
               "recoveries per goal before the navigation gives up (no_path, stuck)");
     t.boolean("bumper.stop", [](C& c) -> bool& { return c.bumper.bumper_stop; },
@@ -227,8 +208,8 @@ std::vector<std::uint8_t> prior_mask(const std::string& file, const GridGeometry
 
 }  // namespace
 
-NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescription& world,
-                                 const NavigationOptions& options, NavigationSettings* settings_out) {
+NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescription& world, const NavigationOptions& options,
+                                 NavigationSettings* settings_out, NavigationComponents* components_out) {
   if (!spec.navigation)
     throw Error("not a navigation scenario (no navigation section)", spec.file, 0, "navigation");
   const ScenarioNavigation& n = *spec.navigation;
@@ -240,51 +221,91 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   s.map.li.max_step_m = rc.max_step_m;
   std::vector<ParamSetting> rest = n.settings;
   NavigatorConfig c;
-  c.planner = choice_of(rest, "planner", "astar", "navigation", spec);
-  c.controller = choice_of(rest, "controller", "path_follower", "navigation", spec);
-  if (options.planner) c.planner = {*options.planner, {}, "--planner", 0, ""};
-  if (options.controller) c.controller = {*options.controller, {}, "--controller", 0, ""};
-  // Each chosen component takes the settings of its own section.
-  const auto take_section = [&](ComponentChoice& choice, const ComponentInfo& info) {
-    choice.settings = settings_under(rest, info.section);
-  };
-  const auto planner_info = [&]() -> const ComponentInfo& {
+  NavigationComponents parts;
+  const NavigationSettings defaults;
+  parts.planner = choice_of(rest, "planner", defaults.planner, "navigation", spec);
+  parts.controller = choice_of(rest, "controller", defaults.controller, "navigation", spec);
+  parts.goal_checker = choice_of(rest, "goal_checker", defaults.goal_checker, "navigation", spec);
+  parts.progress_checker = choice_of(rest, "progress_checker", defaults.progress_checker, "navigation", spec);
+  if (options.planner) parts.planner = {*options.planner, {}, "--planner", 0, ""};
+  if (options.controller) parts.controller = {*options.controller, {}, "--controller", 0, ""};
+  {
+    // The recoveries, in order: the names of navigation.recoveries, each a choice of its own.
+    const ComponentChoice list = choice_of(rest, "recoveries", format_param_name_list(defaults.recoveries), "navigation", spec);
+    const ParamSetting as_setting{"recoveries", list.name, list.file, list.line, list.field};
+    for (const std::string& name : parse_param_name_list(as_setting))
+      parts.recoveries.push_back({name, {}, list.field, list.line, list.file});
+  }
+  // Each chosen component is found in the registry (errors where its name was given) and takes the
+  // settings of its own section.
+  std::vector<std::string> chosen_sections;
+  const auto resolve = [&](ComponentChoice& choice, Role role) -> ComponentInfo {
+    std::string warning;
+    ComponentInfo info;
     try {
-      return find_global_planner(c.planner.name, c.planner.field).info;
+      info = find_component(role, choice.name, choice.field, &warning);
     } catch (const Error& e) {
-      throw Error(e.message(), c.planner.file, c.planner.line, c.planner.field);
+      throw Error(e.message(), choice.file, choice.line, choice.field);
     }
-  };
-  const auto controller_info = [&]() -> const ComponentInfo& {
-    try {
-      return find_local_controller(c.controller.name, c.controller.field).info;
-    } catch (const Error& e) {
-      throw Error(e.message(), c.controller.file, c.controller.line, c.controller.field);
+    if (!warning.empty()) c.warnings.push_back(choice.field + ": " + warning);
+    choice.name = info.name;
+    if (std::find(chosen_sections.begin(), chosen_sections.end(), info.section) == chosen_sections.end()) {
+      choice.settings = settings_under(rest, info.section);
+      chosen_sections.push_back(info.section);
+    } else {
+      // The same recovery twice in the list: both run with the one section's settings.
+      for (const ComponentChoice& earlier : parts.recoveries)
+        if (earlier.name == info.name && !earlier.settings.empty()) choice.settings = earlier.settings;
     }
+    return info;
   };
-  const ComponentInfo& pinfo = planner_info();
-  const ComponentInfo& cinfo = controller_info();
+  const ComponentInfo pinfo = resolve(parts.planner, Role::GlobalPlanner);
+  const ComponentInfo cinfo = resolve(parts.controller, Role::LocalController);
+  resolve(parts.goal_checker, Role::GoalChecker);
+  resolve(parts.progress_checker, Role::ProgressChecker);
+  for (ComponentChoice& r : parts.recoveries) resolve(r, Role::Recovery);
   // The robot is a point in the expanded map: the body's circumscribed radius by default; a
   // controller that checks the whole footprint needs only the inscribed radius (the planner then
   // finds the doors the body fits through sideways or straight).
-  s.map.barrier_distance_m = cinfo.has("checks_footprint") ? 0.5 * std::min(rc.body_length_m, rc.body_width_m)
-                                                           : 0.5 * std::hypot(rc.body_length_m, rc.body_width_m);
-  take_section(c.planner, pinfo);
-  take_section(c.controller, cinfo);
-  // The top-level motion_mode (and --motion-mode) is the path follower's motion_mode.
-  if (cinfo.name == "path_follower") {
-    if (options.motion_mode) c.controller.settings.push_back({"motion_mode", *options.motion_mode, "", 0, "--motion-mode"});
+  s.map.barrier_distance_m = cinfo.has(Capability::ChecksFootprint) ? 0.5 * std::min(rc.body_length_m, rc.body_width_m)
+                                                                   : 0.5 * std::hypot(rc.body_length_m, rc.body_width_m);
+  // The top-level motion_mode (and --motion-mode) is the controller's own motion_mode parameter,
+  // for a controller that declares one.
+  const bool has_motion_mode = std::any_of(cinfo.params.begin(), cinfo.params.end(),
+                                           [](const ParamSpec& p) { return p.key == "motion_mode"; });
+  if (has_motion_mode) {
+    if (options.motion_mode) parts.controller.settings.push_back({"motion_mode", *options.motion_mode, "", 0, "--motion-mode"});
     else if (!spec.motion_mode.empty())
-      c.controller.settings.push_back({"motion_mode", spec.motion_mode, spec.file, spec.motion_mode_source.line, "motion_mode"});
+      parts.controller.settings.push_back({"motion_mode", spec.motion_mode, spec.file, spec.motion_mode_source.line, "motion_mode"});
   } else if (options.motion_mode) {
-    throw Error("applies to the path_follower controller only, not " + cinfo.name, "", 0, "--motion-mode");
+    throw Error("the " + cinfo.name + " controller has no motion_mode", "", 0, "--motion-mode");
   } else if (!spec.motion_mode.empty()) {
-    // A scenario written for the follower, run with another controller from the command line.
+    // A scenario written for a controller with motion modes, run with another from the command line.
     if (!options.controller)
-      throw Error("motion_mode applies to the path_follower controller only, not " + cinfo.name, spec.file,
-                  spec.motion_mode_source.line, "motion_mode");
-    c.warnings.push_back("motion_mode: ignored (it applies to the path_follower controller, not " + cinfo.name + ")");
+      throw Error("the " + cinfo.name + " controller has no motion_mode", spec.file, spec.motion_mode_source.line, "motion_mode");
+    c.warnings.push_back("motion_mode: ignored (the " + cinfo.name + " controller has none)");
   }
+  // What is left: the navigation section's own settings, or a section of a component that is not
+  // running (refused, unless a command-line flag swapped that component out: then the file's
+  // section is dropped and said).
+  const std::vector<std::pair<Role, const char*>> roles = {{Role::GlobalPlanner, "navigation.planner"},
+                                                           {Role::LocalController, "navigation.controller"},
+                                                           {Role::GoalChecker, "navigation.goal_checker"},
+                                                           {Role::ProgressChecker, "navigation.progress_checker"},
+                                                           {Role::Recovery, "navigation.recoveries"}};
+  const auto chosen_name = [&](Role role) {
+    switch (role) {
+      case Role::GlobalPlanner: return parts.planner.name;
+      case Role::LocalController: return parts.controller.name;
+      case Role::GoalChecker: return parts.goal_checker.name;
+      case Role::ProgressChecker: return parts.progress_checker.name;
+      default: {
+        std::vector<std::string> names;
+        for (const ComponentChoice& r : parts.recoveries) names.push_back(r.name);
+        return format_param_name_list(names);
+      }
+    }
+  };
   std::vector<ParamSetting> own;
   std::vector<std::string> dropped_sections;
   for (ParamSetting& v : rest) {
@@ -292,26 +313,29 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
       own.push_back(std::move(v));
       continue;
     }
-    std::vector<ComponentInfo> others;
-    for (const ComponentInfo& i : all_components())
-      if ((i.role == Role::GlobalPlanner || i.role == Role::LocalController) && i.name != pinfo.name && i.name != cinfo.name)
-        others.push_back(i);
     const std::string head = v.key.substr(0, v.key.find('.'));
-    const auto owner = std::find_if(others.begin(), others.end(), [&](const ComponentInfo& i) { return i.section == head; });
-    const bool planner_like = owner != others.end() && owner->role == Role::GlobalPlanner;
+    std::optional<ComponentInfo> owner;
+    for (const ComponentInfo& i : all_components())
+      if (i.section == head && v.key != head &&
+          std::any_of(roles.begin(), roles.end(), [&](const auto& r) { return r.first == i.role; }))
+        owner = i;
+    if (!owner) param_unknown_key(v, navigation_params().keys());
+    const auto role = std::find_if(roles.begin(), roles.end(), [&](const auto& r) { return r.first == owner->role; });
     // The scenario file's section of the component a command-line flag swapped out: the flag
     // outranks the file, so that section is dropped (and said). A --set for it is still refused.
-    const bool swapped_on_command_line = planner_like ? options.planner.has_value() : options.controller.has_value();
-    if (owner != others.end() && v.key != head && v.line > 0 && swapped_on_command_line) {
+    const bool swapped_on_command_line = (owner->role == Role::GlobalPlanner && options.planner) ||
+                                         (owner->role == Role::LocalController && options.controller);
+    if (v.line > 0 && swapped_on_command_line) {
       if (std::find(dropped_sections.begin(), dropped_sections.end(), head) == dropped_sections.end()) {
         dropped_sections.push_back(head);
         c.warnings.push_back("navigation." + head + ": ignored (parameters of " + owner->name + "; " +
-                             (planner_like ? "--planner chose " + pinfo.name : "--controller chose " + cinfo.name) + ")");
+                             (owner->role == Role::GlobalPlanner ? "--planner chose " : "--controller chose ") +
+                             chosen_name(owner->role) + ")");
       }
       continue;
     }
-    refuse_leftover(v, navigation_params(), others, planner_like ? "navigation.planner" : "navigation.controller",
-                    planner_like ? pinfo.name : cinfo.name);
+    throw Error("parameters of " + owner->name + ", but " + role->second + " is " + chosen_name(owner->role), v.file, v.line,
+                v.field);
   }
   navigation_params().apply(s, own);
 
@@ -345,7 +369,8 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
       throw Error("cannot read the prior map: " + what, spec.file, line, field);
     }
   }
-  c.compare_astar = options.compare_astar && pinfo.has("incremental");
+  c.compare_astar = options.compare_astar && pinfo.has(Capability::Incremental);
+  if (components_out) *components_out = std::move(parts);
   try {
     c.validate();
   } catch (const Error& e) {
@@ -369,26 +394,62 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   return c;
 }
 
+NavigatorParts make_navigator_parts(const NavigationComponents& components, const RobotConfig& robot) {
+  // Errors of a component's own checks (its parameters, its name) point where it was chosen.
+  const auto at_choice = [](const ComponentChoice& choice, auto&& build) {
+    try {
+      return build();
+    } catch (const Error& e) {
+      if (!e.file().empty() || e.line() > 0) throw;
+      throw Error(e.message(), choice.file, choice.line, e.field().empty() ? choice.field : e.field());
+    }
+  };
+  NavigatorParts parts;
+  const ComponentChoice& p = components.planner;
+  const GlobalPlannerDef& planner = at_choice(p, [&]() -> const GlobalPlannerDef& { return find_global_planner(p.name, p.field); });
+  GridPlannerOptions grid;
+  grid.connectivity = 8;
+  grid.unknown_is_free = true;  // plan optimistically through unobserved cells (spec li2019 section 7)
+  parts.planner = planner.make({grid, p.file}, p.settings);
+  parts.planner_capabilities = planner.info.capabilities;
+  const ComponentChoice& c = components.controller;
+  const LocalControllerDef& controller =
+      at_choice(c, [&]() -> const LocalControllerDef& { return find_local_controller(c.name, c.field); });
+  parts.controller = controller.make({robot, c.file}, c.settings);
+  parts.controller_capabilities = controller.info.capabilities;
+  const ComponentChoice& g = components.goal_checker;
+  parts.goal_checker = at_choice(g, [&] { return find_goal_checker(g.name, g.field).make({g.file}, g.settings); });
+  const ComponentChoice& pc = components.progress_checker;
+  parts.progress_checker = at_choice(pc, [&] { return find_progress_checker(pc.name, pc.field).make({pc.file}, pc.settings); });
+  for (const ComponentChoice& r : components.recoveries)
+    parts.recoveries.push_back(at_choice(r, [&] { return find_recovery(r.name, r.field).make({robot, r.file}, r.settings); }));
+  return parts;
+}
+
 namespace {
 
-// The navigator of a scenario; errors about a goal name the goal's line.
-std::unique_ptr<Navigator> make_navigator(const ScenarioSpec& spec, const NavigatorConfig& config) {
+// The navigator of a scenario with its parts from the registry; errors about a goal name the
+// goal's line.
+std::unique_ptr<Navigator> make_navigator(const ScenarioSpec& spec, const NavigatorConfig& config,
+                                          const NavigationComponents& components) {
+  NavigatorParts parts = make_navigator_parts(components, spec.vehicle.robot);
   const ScenarioGoal& first = spec.navigation->goals.front();
-  // Every goal's heading must suit the controller, not only the first's: the registry says which
-  // controllers turn to one (the first goal's is checked by the navigator itself below).
+  // Every goal's heading must suit the controller, not only the first's (the first goal's is
+  // checked by the navigator itself below).
   for (const ScenarioGoal& g : spec.navigation->goals) {
     if (&g == &first || !g.yaw_rad) continue;
-    const std::string& name = config.controller.name;
-    if (!find_local_controller(name, config.controller.field).info.has("goal_heading"))
-      throw Error("the " + name + " controller cannot turn to a goal heading (give the goal without yaw_deg)", spec.file,
-                  g.source.line, g.source.field + ".yaw_deg");
+    if (!parts.controller_capabilities.has(Capability::GoalHeading))
+      throw Error("the " + components.controller.name + " controller cannot turn to a goal heading (give the goal without yaw_deg)",
+                  spec.file, g.source.line, g.source.field + ".yaw_deg");
   }
   std::unique_ptr<Navigator> nav;
   try {
-    nav = std::make_unique<Navigator>(config, spec.vehicle.robot, first.position, first.yaw_rad);
+    nav = std::make_unique<Navigator>(config, spec.vehicle.robot, std::move(parts), first.position, first.yaw_rad);
   } catch (const Error& e) {
     if (e.file().empty() && e.field().rfind("navigation.goal", 0) == 0)
       throw Error(e.message(), spec.file, first.source.line, first.source.field + e.field().substr(15));
+    if (e.file().empty() && e.field() == "navigation.planner")
+      throw Error(e.message(), components.planner.file, components.planner.line, components.planner.field);
     throw;
   }
   return nav;
@@ -414,9 +475,10 @@ LidarScan scan_placed_at(const LidarScan& scan, const Pose2& truth, const Pose2&
 void check_navigation_scenario(const ScenarioSpec& spec) {
   if (!spec.navigation) return;
   WorldDescription empty;
-  const NavigatorConfig c = navigator_config(spec, empty, {});
+  NavigationComponents components;
+  const NavigatorConfig c = navigator_config(spec, empty, {}, nullptr, &components);
   // Building the components validates their parameters (and the motion mode against the drive).
-  make_navigator(spec, c);
+  make_navigator(spec, c, components);
   const LocalizationConfig l = localization_config(spec);
   const LocalizerContext ctx = localizer_context(spec);
   // Without its map (not loaded here) a map-based localizer still checks its parameters.
@@ -430,10 +492,11 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   if (!spec_.navigation)
     throw Error("not a navigation scenario (no navigation section)", spec_.file, 0, "navigation");
   const WorldDescription world = build_world(spec_);
-  const NavigatorConfig config = navigator_config(spec_, world, options_, &settings_);
+  NavigationComponents components;
+  const NavigatorConfig config = navigator_config(spec_, world, options_, &settings_, &components);
   localization_ = localization_config(spec_);
   sim_ = std::make_unique<Simulation>(spec_, world);
-  nav_ = make_navigator(spec_, config);
+  nav_ = make_navigator(spec_, config, components);
   if (options_.record_steps) {
     const std::span<const std::int8_t> cells = nav_->map().occupancy().data();
     initial_occupancy_.assign(cells.begin(), cells.end());
@@ -569,7 +632,7 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   };
   if (!options_.dwa_snapshot_times_s.empty()) {
     auto* dwa = dynamic_cast<DwaController*>(&nav_->controller());
-    if (!dwa) throw Error("DWA pictures need the dwa controller, not " + nav_->controller_name(), "", 0, "--dwa-pictures");
+    if (!dwa) throw Error("DWA pictures need the dwa controller, not " + std::string(nav_->controller().name()), "", 0, "--dwa-pictures");
     dwa->keep_samples(true);
     std::sort(options_.dwa_snapshot_times_s.begin(), options_.dwa_snapshot_times_s.end());
   }
@@ -628,8 +691,8 @@ NavigationMetrics NavigationRun::metrics() const {
     m.deviation_max_m = deviation_max_;
   }
   m.goal_distance_m = (s.final_state.position.head<2>() - nav.goal()).norm();
-  m.planner = nav.planner_name();
-  m.controller = nav.controller_name();
+  m.planner = std::string(nav.planner().name());
+  m.controller = std::string(nav.controller().name());
   const auto* follower = dynamic_cast<const PathFollowerController*>(&nav.controller());
   m.motion_mode = follower ? motion_mode_name(follower->follower().mode()) : "none";
   return m;

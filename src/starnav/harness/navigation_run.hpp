@@ -47,6 +47,9 @@ struct NavigationOptions {
 struct NavigationSettings {
   std::string planner = "astar";
   std::string controller = "path_follower";
+  std::string goal_checker = "latching";
+  std::string progress_checker = "simple_progress";
+  std::vector<std::string> recoveries = {"rotate", "back_up"};
   double goal_tolerance_m = 0.15;
   double goal_yaw_tolerance_rad = 0.08726646259971647;
   std::string prior_map;   // "" none, "world" (world.occupancy_map), or a map_server YAML (relative to the scenario)
@@ -68,13 +71,26 @@ const ParamTable<NavigationSettings>& navigation_params();
 // building its world (the errors of NavigationRun's set-up that need no terrain).
 void check_navigation_scenario(const ScenarioSpec& spec);
 
+// The components a navigation scenario chooses (navigation.planner, .controller, .goal_checker,
+// .progress_checker, .recoveries; --planner, --controller), each with its own section's settings.
+struct NavigationComponents {
+  ComponentChoice planner, controller, goal_checker, progress_checker;
+  std::vector<ComponentChoice> recoveries;
+};
+
 // The navigator's configuration for a scenario: the map grid (world bounds or the paper's
 // extent), node-map parameters (defaults from the robot: max_step from robot.max_step_m,
 // barrier distance = the body's circumscribed radius, or its inscribed radius for a controller
-// that checks the whole footprint), the prior map, planner, controller. Errors name the scenario
-// file, line and field. `settings`, when given, receives the navigation section's own settings.
+// that checks the whole footprint), the prior map; `components` receives the chosen components
+// (names checked against the registry). Errors name the scenario file, line and field.
+// `settings`, when given, receives the navigation section's own settings.
 NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescription& world,
-                                 const NavigationOptions& options = {}, NavigationSettings* settings = nullptr);
+                                 const NavigationOptions& options = {}, NavigationSettings* settings = nullptr,
+                                 NavigationComponents* components = nullptr);
+
+// The parts of `components` built from the registry for `robot` (errors name where each name or
+// setting was given).
+NavigatorParts make_navigator_parts(const NavigationComponents& components, const RobotConfig& robot);
 
 // `scan` (taken at the true pose `truth`) with its world-framed points and sensor pose placed as
 // a robot that believes it is at `estimate` places them.

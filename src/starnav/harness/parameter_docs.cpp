@@ -14,7 +14,10 @@ namespace {
 std::string scenario_prefix(Role role) {
   switch (role) {
     case Role::GlobalPlanner:
-    case Role::LocalController: return "navigation";
+    case Role::LocalController:
+    case Role::GoalChecker:
+    case Role::ProgressChecker:
+    case Role::Recovery: return "navigation";
     case Role::Localizer: return "localization";
     case Role::Slam: return "slam";
     case Role::ScanMatcher: return "scan_matcher";
@@ -27,6 +30,9 @@ const char* role_title(Role role) {
   switch (role) {
     case Role::GlobalPlanner: return "Global planners";
     case Role::LocalController: return "Local controllers";
+    case Role::GoalChecker: return "Goal checkers";
+    case Role::ProgressChecker: return "Progress checkers";
+    case Role::Recovery: return "Recoveries";
     case Role::Localizer: return "Localizers";
     case Role::Slam: return "SLAM";
     case Role::ScanMatcher: return "Scan matchers";
@@ -39,6 +45,9 @@ const char* role_key(Role role) {
   switch (role) {
     case Role::GlobalPlanner: return "navigation.planner";
     case Role::LocalController: return "navigation.controller";
+    case Role::GoalChecker: return "navigation.goal_checker";
+    case Role::ProgressChecker: return "navigation.progress_checker";
+    case Role::Recovery: return "navigation.recoveries (a list, run in order)";
     case Role::Localizer: return "localization.localizer";
     case Role::Slam: return "slam.name";
     case Role::ScanMatcher: return "scan_matcher.name";
@@ -80,7 +89,7 @@ std::string parameters_markdown() {
   s += "## 3D graph SLAM\n\n`starnav slam3d --set KEY=VALUE` (docs/mapping3d.md); the matcher is chosen by `--matcher` and its "
        "parameters (below, under 3D scan matchers) set by `--matcher-set`.\n\n" +
        params_markdown_table(graph_slam_3d_params().specs(), "") + "\n";
-  for (Role role : {Role::GlobalPlanner, Role::LocalController, Role::Localizer, Role::Slam, Role::ScanMatcher, Role::ScanMatcher3d}) {
+  for (Role role : kAllRoles) {
     s += std::string("## ") + role_title(role) + "\n\n";
     const auto names = component_names(role);
     if (names.empty()) {
@@ -91,10 +100,10 @@ std::string parameters_markdown() {
     for (const ComponentInfo& c : all_components()) {
       if (c.role != role) continue;
       s += "### `" + c.name + "`\n\n" + c.summary + ".";
-      if (!c.capabilities.empty()) s += " Capabilities: " + join(c.capabilities) + ".";
+      if (!c.capabilities.empty()) s += " Capabilities: " + join(c.capabilities.names()) + ".";
       if (!c.deprecated_aliases.empty()) s += " Deprecated alias: " + join(c.deprecated_aliases) + ".";
       // An elevation planner is not a navigation planner (navigation plans on its occupancy map).
-      const bool elevation = c.has("needs_elevation");
+      const bool elevation = c.has(Capability::NeedsElevation);
       if (elevation)
         s += " Plans on elevation maps: `starnav plan --planner " + c.name +
              "` (its flags --robot-radius-m and --unobserved set two of these); navigation refuses it.";
@@ -124,7 +133,7 @@ std::string parameters_json() {
                  {"name", c.name},
                  {"aliases", c.deprecated_aliases},
                  {"section", scenario_prefix(c.role) + "." + c.section},
-                 {"capabilities", c.capabilities},
+                 {"capabilities", c.capabilities.names()},
                  {"summary", c.summary},
                  {"params", params_json(c.params)}});
   return j.dump(2) + "\n";
@@ -136,10 +145,10 @@ std::string role_components_text(Role role) {
     if (c.role != role) continue;
     s += c.name + ": " + c.summary + "\n";
     if (!c.deprecated_aliases.empty()) s += "  also accepted (deprecated): " + join(c.deprecated_aliases) + "\n";
-    if (!c.capabilities.empty()) s += "  capabilities: " + join(c.capabilities) + "\n";
+    if (!c.capabilities.empty()) s += "  capabilities: " + join(c.capabilities.names()) + "\n";
     // Navigation and localization components are set in a scenario's section; the others by their
     // command's --set (slam run, slam3d --matcher-set) with the bare key.
-    const bool in_scenario = role == Role::GlobalPlanner || role == Role::LocalController || role == Role::Localizer;
+    const bool in_scenario = scenario_prefix(role) == "navigation" || role == Role::Localizer;
     const std::string prefix = in_scenario ? scenario_prefix(role) + "." + c.section + "." : "";
     for (const ParamSpec& p : c.params) {
       s += "  " + prefix + p.key + " (" + param_type_name(p.type) + ", default " +
@@ -160,10 +169,10 @@ std::string component_help() {
     // Navigation plans on an occupancy map: the elevation planners are `starnav plan`'s only.
     std::vector<std::string> names;
     for (const ComponentInfo& c : all_components())
-      if (c.role == role && !c.has("needs_elevation")) names.push_back(c.name);
+      if (c.role == role && !c.has(Capability::NeedsElevation)) names.push_back(c.name);
     s += std::string("  ") + role_key(role) + ": " + join(names) + "\n";
     for (const ComponentInfo& c : all_components())
-      if (c.role == role && !c.params.empty() && !c.has("needs_elevation")) {
+      if (c.role == role && !c.params.empty() && !c.has(Capability::NeedsElevation)) {
         std::vector<std::string> keys;
         for (const ParamSpec& p : c.params) keys.push_back(p.key);
         s += "    " + scenario_prefix(role) + "." + c.section + ".{" + join(keys) + "}\n";

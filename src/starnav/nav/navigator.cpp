@@ -3,14 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "starnav/control/dwa_local_map.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/core/planar_motion.hpp"
 #include "starnav/core/polyline.hpp"
+#include "starnav/map/footprint_checker.hpp"
 #include "starnav/plan/grid_graph.hpp"
 #include "starnav/plan/path_smoothing.hpp"
-#include "starnav/registry/components.hpp"
 
 namespace starnav {
 
@@ -29,12 +27,6 @@ void RecoveryConfig::validate() const {
     if (!(v > 0.0) || !std::isfinite(v)) throw Error("must be > 0", "", 0, field);
   };
   positive_finite(blocked_patience_s, "recovery.blocked_patience_s");
-  positive_finite(stuck_time_s, "recovery.stuck_time_s");
-  positive_finite(stuck_distance_m, "recovery.stuck_distance_m");
-  positive_finite(rotate_rad, "recovery.rotate_deg");
-  positive_finite(rotate_speed_radps, "recovery.rotate_speed_degps");
-  positive_finite(backup_m, "recovery.backup_m");
-  positive_finite(backup_speed_mps, "recovery.backup_speed_mps");
   if (max_recoveries < 0 || max_recoveries > 1000) throw Error("must be in [0, 1000]", "", 0, "recovery.max_recoveries");
 }
 
@@ -88,48 +80,52 @@ std::vector<Cell> turning_cells(const std::vector<Cell>& cells) {
 
 namespace {
 
-// Errors of the registry lookup name where the component's name was given.
-[[noreturn]] void rethrow_at_choice(const Error& e, const ComponentChoice& c) {
-  throw Error(e.message(), c.file, c.line, c.field);
-}
+// The recoveries' motion check: the robot's rectangle against the raw obstacles it knows.
+class FootprintMotionCheck final : public MotionCheck {
+ public:
+  FootprintMotionCheck(const Footprint& footprint, const OccupancyGrid& obstacles)
+      : checker_(rectangle(footprint), obstacles) {}
+  bool clear(const Pose2& pose, const BodyTwist& twist, double duration_s) const override {
+    return checker_.clear(pose, twist, duration_s);
+  }
+
+ private:
+  static FootprintModel rectangle(const Footprint& f) {
+    FootprintModel m;
+    m.circle = false;
+    m.half_length_m = 0.5 * f.length_m;
+    m.half_width_m = 0.5 * f.width_m;
+    return m;
+  }
+  FootprintMotionChecker checker_;
+};
 
 }  // namespace
 
-Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal,
+Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, NavigatorParts parts, const Vec2& goal,
                      std::optional<double> goal_yaw)
     : config_(config),
       goal_(goal),
       map_((config.validate(), config.geometry), config.map),
+      planner_(std::move(parts.planner)),
+      controller_(std::move(parts.controller)),
+      goal_checker_(std::move(parts.goal_checker)),
+      progress_checker_(std::move(parts.progress_checker)),
+      recoveries_list_(std::move(parts.recoveries)),
+      controller_capabilities_(parts.controller_capabilities),
       footprint_(footprint_of(robot)),
       limits_(velocity_limits_of(robot)) {
+  if (!planner_ || !controller_ || !goal_checker_ || !progress_checker_)
+    throw Error("a navigator needs a planner, a controller, a goal checker and a progress checker", "", 0, "navigation");
+  for (const auto& r : recoveries_list_)
+    if (!r) throw Error("a recovery is missing", "", 0, "navigation.recoveries");
   warnings_ = config_.warnings;
-  const ComponentChoice& pc = config_.planner;
-  const GlobalPlannerDef* planner = nullptr;
-  std::string warning;
-  try {
-    planner = &find_global_planner(pc.name, pc.field, &warning);
-  } catch (const Error& e) {
-    rethrow_at_choice(e, pc);
-  }
-  if (!warning.empty()) warnings_.push_back(pc.field + ": " + warning);
-  if (planner->info.has("needs_elevation"))
-    throw Error("planner '" + planner->info.name + "' plans on elevation maps; navigation plans on its occupancy map",
-                pc.file, pc.line, pc.field);
-  planner_name_ = planner->info.name;
-  incremental_ = planner->info.has("incremental");
-  planner_ = planner->make({search_options(), pc.file}, pc.settings);
-
-  const ComponentChoice& cc = config_.controller;
-  const LocalControllerDef* controller = nullptr;
-  try {
-    controller = &find_local_controller(cc.name, cc.field, &warning);
-  } catch (const Error& e) {
-    rethrow_at_choice(e, cc);
-  }
-  if (!warning.empty()) warnings_.push_back(cc.field + ": " + warning);
-  controller_name_ = controller->info.name;
-  controller_ = controller->make({robot, cc.file}, cc.settings);
+  if (parts.planner_capabilities.has(Capability::NeedsElevation))
+    throw Error("planner '" + std::string(planner_->name()) + "' plans on elevation maps; navigation plans on its occupancy map",
+                "", 0, "navigation.planner");
+  incremental_ = parts.planner_capabilities.has(Capability::Incremental);
   if (incremental_) pending_mark_.assign(config_.geometry.cell_count(), 0);
+  motion_check_ = std::make_unique<FootprintMotionCheck>(footprint_, map_.raw_occupancy());
 
   if (!config_.prior_obstacles.empty()) map_.set_static_obstacles(config_.prior_obstacles);
   set_goal(goal, goal_yaw);
@@ -137,14 +133,14 @@ Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, co
 
 void Navigator::set_goal(const Vec2& goal, std::optional<double> goal_yaw) {
   if (goal_yaw && !std::isfinite(*goal_yaw)) throw Error("the goal heading is not finite", "", 0, "navigation.goal.yaw_deg");
-  if (goal_yaw && !find_local_controller(controller_name_).info.has("goal_heading"))
-    throw Error("the " + controller_name_ + " controller cannot turn to a goal heading (give the goal without yaw_deg)", "", 0,
-                "navigation.goal.yaw_deg");
+  if (goal_yaw && !controller_capabilities_.has(Capability::GoalHeading))
+    throw Error("the " + std::string(controller_->name()) + " controller cannot turn to a goal heading (give the goal without yaw_deg)",
+                "", 0, "navigation.goal.yaw_deg");
   const auto g = config_.geometry.world_to_cell(goal);
   if (!g) throw Error("the goal lies outside the navigation map", "", 0, "navigation.goal");
   goal_ = goal;
   goal_yaw_ = goal_yaw;
-  goal_xy_reached_ = false;
+  goal_checker_->reset();
   goal_cell_ = *g;
   status_ = NavStatus::Waiting;
   no_path_reason_.clear();
@@ -154,9 +150,9 @@ void Navigator::set_goal(const Vec2& goal, std::optional<double> goal_yaw) {
   progress_ = 0;
   held_ = {};
   next_control_t_ = -1.0;
-  action_ = RecoveryAction::None;
+  recovery_ = recoveries_list_.size();
   blocked_since_ = -1.0;
-  progress_t_ = -1.0;
+  progress_checker_->reset();
   recoveries_ = 0;
   no_path_since_ = -1.0;
 }
@@ -348,26 +344,25 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
 
 BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& velocity) {
   if (status_ != NavStatus::Navigating) return {};
-  const bool heading_ok = !goal_yaw_ || std::abs(wrap_angle(*goal_yaw_ - pose.yaw)) <= config_.goal_yaw_tolerance_rad;
-  // Without a heading the position is the goal. With one, the position latches once the robot is
-  // slow there (passing through is not reaching), and then only the heading is left.
-  const bool within = (pose.translation() - goal_).norm() <= config_.goal_tolerance_m;
-  if (within && (!goal_yaw_ || std::hypot(velocity.vx, velocity.vy) <= 0.05)) goal_xy_reached_ = true;
-  if (goal_xy_reached_ && heading_ok) {
+  GoalCheckInput goal;
+  goal.t_s = t;
+  goal.pose = pose;
+  goal.velocity = velocity;
+  goal.goal = goal_;
+  goal.goal_yaw = goal_yaw_;
+  goal.xy_tolerance_m = config_.goal_tolerance_m;
+  goal.yaw_tolerance_rad = config_.goal_yaw_tolerance_rad;
+  if (goal_checker_->reached(goal)) {
     status_ = NavStatus::Arrived;
     arrival_t_ = t;
     controller_->clear();
-    action_ = RecoveryAction::None;
+    recovery_ = recoveries_list_.size();
     return {};
   }
   if (const std::optional<BodyTwist> r = recovery_twist(pose, t)) return *r;
   if (status_ != NavStatus::Navigating) return {};
-  // Progress: a robot that has not moved for stuck_time_s recovers.
-  if (progress_t_ < 0.0 || (pose.translation() - progress_pose_.translation()).norm() >= config_.recovery.stuck_distance_m) {
-    progress_pose_ = pose;
-    progress_t_ = t;
-  } else if (config_.recovery.enabled && t - progress_t_ >= config_.recovery.stuck_time_s) {
-    progress_t_ = t;
+  // Progress: a robot that makes none recovers (with no recoveries, nothing happens).
+  if (!progress_checker_->check(pose, t) && !recoveries_list_.empty()) {
     if (!start_recovery(pose, t, "no_progress")) return {};
     if (const std::optional<BodyTwist> r = recovery_twist(pose, t)) return *r;
   }
@@ -384,7 +379,7 @@ BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& veloc
   in.goal_yaw = goal_yaw_;
   in.goal_tolerance_m = config_.goal_tolerance_m;
   in.goal_yaw_tolerance_rad = config_.goal_yaw_tolerance_rad;
-  in.goal_xy_reached = goal_xy_reached_;
+  in.goal_xy_reached = goal_checker_->position_reached();
   const ControlOutput out = controller_->compute(in);
   control_status_ = out.status;
   next_control_t_ = t + period;
@@ -398,7 +393,7 @@ BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& veloc
     if (blocked_since_ < 0.0) {
       blocked_since_ = t;
       replan_cause_ = "controller_blocked";  // perhaps the path runs into something new
-    } else if (config_.recovery.enabled && t - blocked_since_ >= config_.recovery.blocked_patience_s) {
+    } else if (!recoveries_list_.empty() && t - blocked_since_ >= config_.recovery.blocked_patience_s) {
       blocked_since_ = -1.0;
       if (!start_recovery(pose, t, "controller_blocked")) return {};
       if (const std::optional<BodyTwist> r = recovery_twist(pose, t)) return *r;
@@ -411,10 +406,19 @@ BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& veloc
 }
 
 void Navigator::hold(double t) {
-  progress_t_ = t;
+  progress_checker_->restart_clock(t);
   blocked_since_ = -1.0;
   next_control_t_ = -1.0;
   held_ = {};
+}
+
+RecoveryInput Navigator::recovery_input(const Pose2& pose, double t) const {
+  RecoveryInput in;
+  in.t_s = t;
+  in.pose = pose;
+  in.motion = motion_check_.get();
+  in.look_period_s = controller_->control_period_s();
+  return in;
 }
 
 bool Navigator::start_recovery(const Pose2& pose, double t, const std::string& why) {
@@ -423,68 +427,33 @@ bool Navigator::start_recovery(const Pose2& pose, double t, const std::string& w
     status_ = NavStatus::NoPath;
     no_path_reason_ = "stuck: " + std::to_string(recoveries_) + " recoveries did not free the robot (" + why + ")";
     controller_->clear();
-    action_ = RecoveryAction::None;
+    recovery_ = recoveries_list_.size();
     return false;
   }
   ++recoveries_;
   events_.push_back({t, "recovery", why});
-  goal_xy_reached_ = false;  // the recovery moves the robot: the goal must be reached again
-  action_ = RecoveryAction::Rotate;
-  recovery_check_t_ = -1e300;  // a new action: look anew
-  action_end_t_ = t + config_.recovery.rotate_rad / config_.recovery.rotate_speed_radps;
-  // Turn the way that is clear (left first).
-  action_sign_ = motion_clear(pose, {0.0, 0.0, config_.recovery.rotate_speed_radps}, action_end_t_ - t) ? 1.0 : -1.0;
+  goal_checker_->reset();  // the recovery moves the robot: the goal must be reached again
+  recovery_ = 0;
+  recoveries_list_[recovery_]->start(recovery_input(pose, t));
   return true;
-}
-
-bool Navigator::motion_clear(const Pose2& pose, const BodyTwist& twist, double duration_s) const {
-  FootprintModel fm;
-  fm.circle = false;
-  fm.half_length_m = 0.5 * footprint_.length_m;
-  fm.half_width_m = 0.5 * footprint_.width_m;
-  const FootprintChecker checker(fm, 0.0);
-  DwaLocalMap local;
-  const double reach = fm.bounding_radius_m() + std::hypot(twist.vx, twist.vy) * duration_s + 0.5;
-  local.build(map_.raw_occupancy(), pose.translation(), reach, fm.bounding_radius_m() + 0.2);
-  const double step = 0.05;
-  for (double s = step; s <= duration_s + 1e-9; s += step)
-    if (checker.collides(local, advance_on_arc(pose, twist.vx, twist.vy, twist.wz, s))) return false;
-  return true;
-}
-
-bool Navigator::recovery_clear(const Pose2& pose, const BodyTwist& twist, double t) {
-  // The check looks 0.5 s ahead, ten control periods and more: one look per period misses nothing.
-  if (recovery_check_action_ == action_ && t < recovery_check_t_ + controller_->control_period_s()) return recovery_clear_;
-  recovery_clear_ = motion_clear(pose, twist, 0.5);
-  recovery_check_t_ = t;
-  recovery_check_action_ = action_;
-  return recovery_clear_;
 }
 
 std::optional<BodyTwist> Navigator::recovery_twist(const Pose2& pose, double t) {
-  const RecoveryConfig& r = config_.recovery;
+  if (recovery_ >= recoveries_list_.size()) return std::nullopt;
+  const RecoveryInput in = recovery_input(pose, t);
   for (;;) {
-    switch (action_) {
-      case RecoveryAction::None: return std::nullopt;
-      case RecoveryAction::Rotate: {
-        const BodyTwist w{0.0, 0.0, action_sign_ * r.rotate_speed_radps};
-        if (t < action_end_t_ && recovery_clear(pose, w, t)) return w;
-        events_.push_back({t, "recovery", "back_up"});
-        action_ = RecoveryAction::BackUp;
-        action_end_t_ = t + r.backup_m / r.backup_speed_mps;
-        break;
-      }
-      case RecoveryAction::BackUp: {
-        const BodyTwist b{-r.backup_speed_mps, 0.0, 0.0};
-        if (t < action_end_t_ && recovery_clear(pose, b, t)) return b;
-        events_.push_back({t, "recovery", "replan"});
-        action_ = RecoveryAction::None;
-        replan_cause_ = "recovery";
-        progress_t_ = -1.0;
-        next_control_t_ = -1.0;
-        return BodyTwist{};
-      }
+    if (const std::optional<BodyTwist> twist = recoveries_list_[recovery_]->step(in)) return twist;
+    if (++recovery_ < recoveries_list_.size()) {
+      events_.push_back({t, "recovery", std::string(recoveries_list_[recovery_]->name())});
+      recoveries_list_[recovery_]->start(in);
+      continue;
     }
+    // Every recovery ran: plan again from where the robot is.
+    events_.push_back({t, "recovery", "replan"});
+    replan_cause_ = "recovery";
+    progress_checker_->reset();
+    next_control_t_ = -1.0;
+    return BodyTwist{};
   }
 }
 

@@ -16,13 +16,16 @@
 // Per control step (command): arrived when within goal_tolerance of the goal (status Arrived,
 // zero twist); otherwise the PathFollower's twist for the current path.
 //
-// Components, by name from the registry (registry/components.hpp): the global planner plans on the
-// node map's occupancy ("astar" from scratch at every plan, as the paper; an incremental planner,
-// "dstar_lite", keeps one search and at a replan is given the cells whose occupancy changed since
-// its last search, their values now); the local controller turns the path into twists
-// ("path_follower", the paper's). With compare_astar, every plan of an incremental planner also
-// runs A* from scratch on the same map, from the robot to the goal and from the goal to the robot
-// (expansions and costs recorded; the robot follows the incremental planner's path).
+// The parts play roles and are given to the navigator by whoever builds it (NavigatorParts; the
+// harness builds them by name from the registry, a test may hand in its own): the global planner
+// plans on the node map's occupancy (a planner with Capability::Incremental keeps one search and
+// at a replan is given the cells whose occupancy changed since its last search, their values now);
+// the local controller turns the path into twists; the goal checker says when the goal is reached;
+// the progress checker when the robot is stuck; the recoveries run in order when it is (each
+// moving the robot only while the map-level footprint check says its motion is clear). With
+// compare_astar, every plan of an incremental planner also runs A* from scratch on the same map,
+// from the robot to the goal and from the goal to the robot (expansions and costs recorded; the
+// robot follows the incremental planner's path).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -30,7 +33,10 @@
 #include <string>
 #include <vector>
 
+#include "starnav/control/goal_checker.hpp"
 #include "starnav/control/local_controller.hpp"
+#include "starnav/control/progress_checker.hpp"
+#include "starnav/control/recovery.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/nav/node_height_map.hpp"
@@ -41,28 +47,30 @@
 
 namespace starnav {
 
-// What the navigator does when the controller cannot go on (status Blocked for a while) or the
-// robot makes no progress: ask for a new plan, turn in place, back up, plan again; each motion
-// only while the robot's footprint stays clear of the obstacles it knows.
+// When the navigator starts its recoveries: the controller blocked this long (a new plan is asked
+// for at once), or the progress checker says the robot is stuck; and how often per goal.
 struct RecoveryConfig {
-  bool enabled = true;
-  double blocked_patience_s = 1.0;  // Blocked this long (a new plan asked for at once) starts a recovery
-  double stuck_time_s = 15.0;       // or moving less than stuck_distance_m in this long
-  double stuck_distance_m = 0.1;
-  double rotate_rad = 1.5707963267948966;
-  double rotate_speed_radps = 0.5;
-  double backup_m = 0.25;
-  double backup_speed_mps = 0.1;
-  int max_recoveries = 8;           // per goal; then the navigation gives up (status NoPath)
-  void validate() const;            // Error naming the field (prefix "recovery.")
+  double blocked_patience_s = 1.0;
+  int max_recoveries = 8;  // per goal; then the navigation gives up (status NoPath)
+  void validate() const;   // Error naming the field (prefix "recovery.")
+};
+
+// The parts of a navigator, each playing its role. The capabilities are the components' (the
+// navigator asks them, never a name): a planner's Incremental, a controller's GoalHeading.
+struct NavigatorParts {
+  std::unique_ptr<GlobalPlanner> planner;
+  Capabilities planner_capabilities;
+  std::unique_ptr<LocalController> controller;
+  Capabilities controller_capabilities;
+  std::unique_ptr<GoalChecker> goal_checker;
+  std::unique_ptr<ProgressChecker> progress_checker;
+  std::vector<std::unique_ptr<Recovery>> recoveries;  // run in order; none: the robot never recovers
 };
 
 struct NavigatorConfig {
   GridGeometry geometry;  // the map's grid (world-aligned, y up)
   NodeMapParams map;
   std::vector<std::uint8_t> prior_obstacles;  // obstacles known before the run (2D map mode), empty: none
-  ComponentChoice planner{"astar", {}, "navigation.planner", 0, {}};              // a global planner on occupancy grids
-  ComponentChoice controller{"path_follower", {}, "navigation.controller", 0, {}};  // a local controller
   bool compare_astar = false;     // incremental planners: also A* from scratch at every plan
   double goal_tolerance_m = 0.15;
   double goal_yaw_tolerance_rad = 0.08726646259971647;  // 5 deg: with a goal heading, arrived within it
@@ -117,11 +125,10 @@ struct NavCycle {
 
 class Navigator {
  public:
-  // Builds the planner and the controller from the registry. Throws Error naming the field for
-  // bad configurations, unknown components or parameters, a planner that needs an elevation map,
-  // a goal outside the map, a goal heading the controller cannot turn to, or a motion mode the
-  // robot cannot do.
-  Navigator(const NavigatorConfig& config, const RobotConfig& robot, const Vec2& goal,
+  // Takes the parts (each must be given; recoveries may be none). Throws Error naming the field for
+  // a bad configuration, a planner that needs an elevation map, a goal outside the map or a goal
+  // heading the controller cannot turn to.
+  Navigator(const NavigatorConfig& config, const RobotConfig& robot, NavigatorParts parts, const Vec2& goal,
             std::optional<double> goal_yaw = std::nullopt);
   // A new goal: navigation starts again (status Waiting; the next cycle plans, cause "initial").
   void set_goal(const Vec2& goal, std::optional<double> goal_yaw = std::nullopt);
@@ -153,10 +160,8 @@ class Navigator {
   const LocalController& controller() const { return *controller_; }
   LocalController& controller() { return *controller_; }
   const GlobalPlanner& planner() const { return *planner_; }
-  // The registry names of the planner and the controller (aliases resolved).
-  const std::string& planner_name() const { return planner_name_; }
-  const std::string& controller_name() const { return controller_name_; }
-  // What the registry said about deprecated names (empty when none were used).
+  const GoalChecker& goal_checker() const { return *goal_checker_; }
+  // What whoever built the configuration warned about (deprecated names, ignored sections).
   const std::vector<std::string>& warnings() const { return warnings_; }
   const Vec2& goal() const { return goal_; }
   const std::optional<double>& goal_yaw() const { return goal_yaw_; }
@@ -173,13 +178,11 @@ class Navigator {
 
  private:
   NavCycle after_update(NodeMapUpdate update, const Pose2& pose, double t);
-  // Recovery: starts one (false when the navigation gives up), and the twist of the running one.
+  // Recovery: starts the recoveries (false when the navigation gives up), and the twist of the
+  // running one.
   bool start_recovery(const Pose2& pose, double t, const std::string& why);
   std::optional<BodyTwist> recovery_twist(const Pose2& pose, double t);
-  bool motion_clear(const Pose2& pose, const BodyTwist& twist, double duration_s) const;
-  // motion_clear for the running recovery action, looked at once per control period (it builds a
-  // local distance field; the simulation asks every step).
-  bool recovery_clear(const Pose2& pose, const BodyTwist& twist, double t);
+  RecoveryInput recovery_input(const Pose2& pose, double t) const;
   void plan(const Pose2& pose, double t, const std::string& cause);
   void advance_progress(const Vec2& p);
   std::vector<Vec2> follower_points(const std::vector<Cell>& cells, const Vec2& robot) const;
@@ -190,10 +193,14 @@ class Navigator {
   NodeHeightMap map_;
   std::unique_ptr<GlobalPlanner> planner_;
   std::unique_ptr<LocalController> controller_;
-  std::string planner_name_, controller_name_;
+  std::unique_ptr<GoalChecker> goal_checker_;
+  std::unique_ptr<ProgressChecker> progress_checker_;
+  std::vector<std::unique_ptr<Recovery>> recoveries_list_;
+  Capabilities controller_capabilities_;
   std::vector<std::string> warnings_;
   bool incremental_ = false;
   Footprint footprint_;
+  std::unique_ptr<MotionCheck> motion_check_;  // the footprint against the raw obstacles
   VelocityLimits limits_;
   std::vector<CellChange> pending_;        // cells changed since the incremental planner's last search
   std::vector<std::uint8_t> pending_mark_;  // 1 = in pending_
@@ -201,22 +208,13 @@ class Navigator {
   std::size_t progress_ = 0;
   std::string replan_cause_;  // a plan asked for by the controller or a recovery ("" none)
   std::optional<double> goal_yaw_;
-  bool goal_xy_reached_ = false;
   std::vector<NavEvent> events_;
   ControlStatus control_status_ = ControlStatus::Idle;
   BodyTwist held_;
   double next_control_t_ = -1.0;
-  // Recovery state.
-  enum class RecoveryAction : std::uint8_t { None, Rotate, BackUp };
-  RecoveryAction action_ = RecoveryAction::None;
-  double action_end_t_ = 0.0;
-  double recovery_check_t_ = -1e300;
-  RecoveryAction recovery_check_action_ = RecoveryAction::None;
-  bool recovery_clear_ = false;
-  double action_sign_ = 1.0;
+  // Recovery state: the index of the running recovery (none: size of the list).
+  std::size_t recovery_ = 0;
   double blocked_since_ = -1.0;
-  Pose2 progress_pose_;
-  double progress_t_ = -1.0;
   int recoveries_ = 0;
   double no_path_since_ = -1.0;  // first failed plan of the current wait
   NavStatus status_ = NavStatus::Waiting;

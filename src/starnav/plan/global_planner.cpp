@@ -67,10 +67,10 @@ GlobalPlannerDef grid_global_planner(const std::string& name, std::string summar
   {
     const OccupancyGrid probe(GridGeometry{1, 1, 1.0, {}}, 0);
     const auto p = make_grid_planner(name, probe, {});
-    if (p->admissible()) d.info.capabilities.push_back("admissible");
-    if (p->incremental()) d.info.capabilities.push_back("incremental");
+    if (p->admissible()) d.info.capabilities.add(Capability::Admissible);
+    if (p->incremental()) d.info.capabilities.add(Capability::Incremental);
   }
-  d.info.capabilities.push_back("occupancy");
+  d.info.capabilities.add(Capability::Occupancy);
   const bool band = honours_cost_band(name);
   if (band) d.info.params = cost_band_params().specs();
   d.make = [name, band](const GlobalPlannerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GlobalPlanner> {

@@ -36,13 +36,30 @@ namespace starnav {
 #define STARNAV_SLAM(X) \
   X(graph_slam) /* slam/graph_slam.cpp */
 
+#define STARNAV_GOAL_CHECKERS(X) \
+  X(latching_goal_checker) /* control/latching_goal_checker.cpp */
+
+#define STARNAV_PROGRESS_CHECKERS(X) \
+  X(simple_progress_checker) /* control/simple_progress_checker.cpp */
+
+#define STARNAV_RECOVERIES(X)                       \
+  X(rotate_recovery)  /* control/recoveries.cpp */ \
+  X(back_up_recovery) /* control/recoveries.cpp */ \
+  X(wait_recovery)    /* control/recoveries.cpp */
+
 #define STARNAV_DECLARE_CONTROLLER(f) LocalControllerDef f();
+#define STARNAV_DECLARE_GOAL_CHECKER(f) GoalCheckerDef f();
+#define STARNAV_DECLARE_PROGRESS_CHECKER(f) ProgressCheckerDef f();
+#define STARNAV_DECLARE_RECOVERY(f) RecoveryDef f();
 #define STARNAV_DECLARE_LOCALIZER(f) LocalizerDef f();
 #define STARNAV_DECLARE_SCAN_MATCHER(f) ScanMatcherDef f();
 #define STARNAV_DECLARE_SCAN_MATCHER_3D(f) ScanMatcher3dDef f();
 #define STARNAV_DECLARE_SLAM(f) SlamDef f();
 #define STARNAV_LIST(f) f(),
 STARNAV_LOCAL_CONTROLLERS(STARNAV_DECLARE_CONTROLLER)
+STARNAV_GOAL_CHECKERS(STARNAV_DECLARE_GOAL_CHECKER)
+STARNAV_PROGRESS_CHECKERS(STARNAV_DECLARE_PROGRESS_CHECKER)
+STARNAV_RECOVERIES(STARNAV_DECLARE_RECOVERY)
 STARNAV_LOCALIZERS(STARNAV_DECLARE_LOCALIZER)
 STARNAV_SCAN_MATCHERS(STARNAV_DECLARE_SCAN_MATCHER)
 STARNAV_SCAN_MATCHERS_3D(STARNAV_DECLARE_SCAN_MATCHER_3D)
@@ -68,6 +85,21 @@ const std::vector<GlobalPlannerDef>& global_planners() {
 
 const std::vector<LocalControllerDef>& local_controllers() {
   static const std::vector<LocalControllerDef> all = {STARNAV_LOCAL_CONTROLLERS(STARNAV_LIST)};
+  return all;
+}
+
+const std::vector<GoalCheckerDef>& goal_checkers() {
+  static const std::vector<GoalCheckerDef> all = {STARNAV_GOAL_CHECKERS(STARNAV_LIST)};
+  return all;
+}
+
+const std::vector<ProgressCheckerDef>& progress_checkers() {
+  static const std::vector<ProgressCheckerDef> all = {STARNAV_PROGRESS_CHECKERS(STARNAV_LIST)};
+  return all;
+}
+
+const std::vector<RecoveryDef>& recoveries() {
+  static const std::vector<RecoveryDef> all = {STARNAV_RECOVERIES(STARNAV_LIST)};
   return all;
 }
 
@@ -123,6 +155,15 @@ const GlobalPlannerDef& find_global_planner(const std::string& name, const std::
 const LocalControllerDef& find_local_controller(const std::string& name, const std::string& field, std::string* warning) {
   return find_in(local_controllers(), name, field, warning, "controller");
 }
+const GoalCheckerDef& find_goal_checker(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(goal_checkers(), name, field, warning, "goal checker");
+}
+const ProgressCheckerDef& find_progress_checker(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(progress_checkers(), name, field, warning, "progress checker");
+}
+const RecoveryDef& find_recovery(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(recoveries(), name, field, warning, "recovery");
+}
 const LocalizerDef& find_localizer(const std::string& name, const std::string& field, std::string* warning) {
   return find_in(localizers(), name, field, warning, "localizer");
 }
@@ -139,10 +180,28 @@ const SlamDef& find_slam(const std::string& name, const std::string& field, std:
   return find_in(slam_components(), name, field, warning, "SLAM method");
 }
 
+ComponentInfo find_component(Role role, const std::string& name, const std::string& field, std::string* warning) {
+  switch (role) {
+    case Role::GlobalPlanner: return find_global_planner(name, field, warning).info;
+    case Role::LocalController: return find_local_controller(name, field, warning).info;
+    case Role::GoalChecker: return find_goal_checker(name, field, warning).info;
+    case Role::ProgressChecker: return find_progress_checker(name, field, warning).info;
+    case Role::Recovery: return find_recovery(name, field, warning).info;
+    case Role::Localizer: return find_localizer(name, field, warning).info;
+    case Role::Slam: return find_slam(name, field, warning).info;
+    case Role::ScanMatcher: return find_scan_matcher(name, field, warning).info;
+    case Role::ScanMatcher3d: return find_scan_matcher_3d(name, field, warning).info;
+  }
+  throw Error("unknown role", {}, 0, field);
+}
+
 std::vector<ComponentInfo> all_components() {
   std::vector<ComponentInfo> out;
   append_infos(global_planners(), out);
   append_infos(local_controllers(), out);
+  append_infos(goal_checkers(), out);
+  append_infos(progress_checkers(), out);
+  append_infos(recoveries(), out);
   append_infos(localizers(), out);
   append_infos(slam_components(), out);
   append_infos(scan_matchers(), out);

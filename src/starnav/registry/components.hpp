@@ -7,7 +7,10 @@
 #include <vector>
 
 #include "starnav/cloud/scan_matcher_3d.hpp"
+#include "starnav/control/goal_checker.hpp"
 #include "starnav/control/local_controller.hpp"
+#include "starnav/control/progress_checker.hpp"
+#include "starnav/control/recovery.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/estimate/localizer.hpp"
 #include "starnav/plan/global_planner.hpp"
@@ -18,6 +21,9 @@ namespace starnav {
 
 const std::vector<GlobalPlannerDef>& global_planners();
 const std::vector<LocalControllerDef>& local_controllers();
+const std::vector<GoalCheckerDef>& goal_checkers();
+const std::vector<ProgressCheckerDef>& progress_checkers();
+const std::vector<RecoveryDef>& recoveries();
 const std::vector<LocalizerDef>& localizers();
 const std::vector<SlamDef>& slam_components();
 const std::vector<ScanMatcherDef>& scan_matchers();
@@ -29,6 +35,12 @@ const GlobalPlannerDef& find_global_planner(const std::string& name, const std::
                                             std::string* warning = nullptr);
 const LocalControllerDef& find_local_controller(const std::string& name, const std::string& field = "controller",
                                                 std::string* warning = nullptr);
+const GoalCheckerDef& find_goal_checker(const std::string& name, const std::string& field = "goal_checker",
+                                        std::string* warning = nullptr);
+const ProgressCheckerDef& find_progress_checker(const std::string& name, const std::string& field = "progress_checker",
+                                                std::string* warning = nullptr);
+const RecoveryDef& find_recovery(const std::string& name, const std::string& field = "recoveries",
+                                 std::string* warning = nullptr);
 const LocalizerDef& find_localizer(const std::string& name, const std::string& field = "localizer",
                                    std::string* warning = nullptr);
 const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::string& field = "scan_matcher",
@@ -36,6 +48,10 @@ const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::stri
 const ScanMatcher3dDef& find_scan_matcher_3d(const std::string& name, const std::string& field = "matcher",
                                             std::string* warning = nullptr);
 const SlamDef& find_slam(const std::string& name, const std::string& field = "slam", std::string* warning = nullptr);
+
+// The description of the component of `role` named `name` (or a deprecated alias); Errors as the
+// find_* functions.
+ComponentInfo find_component(Role role, const std::string& name, const std::string& field, std::string* warning = nullptr);
 
 // The names of a role, in registry order.
 std::vector<std::string> component_names(Role role);

@@ -718,6 +718,18 @@ ParamSetting setting_of(const Value& e, const std::string& key, const Doc& doc) 
   return {key, e.node().Scalar(), doc.file, e.line(), e.line() > 0 ? e.field() : e.field() + " (--set)"};
 }
 
+// A sequence of lower_snake_case names (component names), perhaps empty.
+bool is_name_list(const YAML::Node& node) {
+  for (const YAML::Node& item : node) {
+    if (!item.IsScalar()) return false;
+    const std::string& name = item.Scalar();
+    if (name.empty() || !(name[0] >= 'a' && name[0] <= 'z')) return false;
+    for (const char ch : name)
+      if (!((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_')) return false;
+  }
+  return true;
+}
+
 // Every value of `f` not taken yet, as a setting with its dotted key (relative to `prefix`) and
 // line, sections recursively; the navigation stack checks them against its components' declared
 // parameters.
@@ -731,8 +743,14 @@ void collect_settings(Fields& f, const Doc& doc, const std::string& prefix, std:
       collect_settings(section, doc, key, out);
     } else if (e.node().IsScalar()) {
       out.push_back(setting_of(e, key, doc));
+    } else if (e.node().IsSequence() && is_name_list(e.node())) {
+      // A list of names (navigation.recoveries: [rotate, back_up]) as one setting "rotate, back_up".
+      ParamSetting s = setting_of(e, key, doc);
+      s.value.clear();
+      for (std::size_t i = 0; i < e.node().size(); ++i) s.value += (i ? ", " : "") + e.node()[i].Scalar();
+      out.push_back(std::move(s));
     } else {
-      e.fail("expected a value or a section of values, found " + node_kind(e.node()));
+      e.fail("expected a value, a section of values or a list of names, found " + node_kind(e.node()));
     }
   }
 }

@@ -390,8 +390,8 @@ GlobalPlannerDef rough_terrain_global_planner(RoughTerrainPlannerKind kind) {
   d.info.summary = kind == RoughTerrainPlannerKind::OA     ? "OA*: A* on traversable cells of an elevation map (Liu et al. 2024)"
                    : kind == RoughTerrainPlannerKind::AOEA ? "AOEA*: OA* with obstacle expansion (Liu et al. 2024)"
                                                            : "IA*: slope, step and ruggedness costs (Liu et al. 2024)";
-  d.info.capabilities = {"needs_elevation"};
-  if (kind != RoughTerrainPlannerKind::IA) d.info.capabilities.insert(d.info.capabilities.begin(), "admissible");
+  d.info.capabilities = {Capability::NeedsElevation};
+  if (kind != RoughTerrainPlannerKind::IA) d.info.capabilities.add(Capability::Admissible);
   d.info.params = rough_terrain_params().specs();
   d.make = [name](const GlobalPlannerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GlobalPlanner> {
     const RoughTerrainPlannerOptions o = configured(rough_terrain_params(), settings, ctx.file);

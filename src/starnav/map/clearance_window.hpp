@@ -1,7 +1,7 @@
 #pragma once
-// What the DWA controller scores its samples against (docs/local_planning.md): a square window of
-// the local obstacle map around the robot on the map's own cell lattice, with per cell the
-// distance to the nearest obstacle cell, and the robot's footprint tested against it.
+// A square window of an obstacle map around the robot on the map's own cell lattice, with per cell
+// the distance to the nearest obstacle cell: what a local controller scores its samples against
+// and what the footprint checker (map/footprint_checker.hpp) tests a pose against.
 //
 // Obstacles are the map's occupied cells (unknown cells are free: the sensed map of an unexplored
 // room is mostly unknown); cells outside the map are obstacles (the robot cannot leave it). The
@@ -21,7 +21,7 @@
 
 namespace starnav {
 
-class DwaLocalMap {
+class ClearanceWindow {
  public:
   // The window of `map` covering at least `half_m` around `centre` in x and y (rounded out to
   // whole cells), its distances exact for obstacles up to `pad_m` outside it. Reuses its buffers.
@@ -86,7 +86,7 @@ class DwaLocalMap {
 };
 
 template <class F>
-void DwaLocalMap::for_each_obstacle_near(const Vec2& p, double r, F&& f) const {
+void ClearanceWindow::for_each_obstacle_near(const Vec2& p, double r, F&& f) const {
   const Vec2 lo = continuous_cell(p) - Vec2::Constant(r * inv_resolution_);
   const Vec2 hi = lo + Vec2::Constant(2.0 * r * inv_resolution_);
   const auto clamp_floor = [](double v, int lo, int hi) {
@@ -103,64 +103,5 @@ void DwaLocalMap::for_each_obstacle_near(const Vec2& p, double r, F&& f) const {
     for (auto it = std::lower_bound(first, last, x0); it != last && *it <= x1; ++it) f(cell_center(*it - pad_, y - pad_));
   }
 }
-
-// The robot's outline for collision tests: a circle, or a rectangle centred on base_link. Every
-// test grows it by `grow_m` and by half the diagonal of a cell, so that an obstacle cell (a
-// square) touching the outline is always found from its centre.
-struct FootprintModel {
-  bool circle = true;
-  double radius_m = 0.25;       // circle
-  double half_length_m = 0.0;   // rectangle, along x
-  double half_width_m = 0.0;    // rectangle, along y
-  double bounding_radius_m() const;
-  double inscribed_radius_m() const;
-};
-
-// What the distance field alone says about a footprint at a pose.
-enum class FootprintTest : std::uint8_t { Clear, Collides, Unsure };
-
-class FootprintChecker {
- public:
-  FootprintChecker() = default;
-  // A rectangle is also covered by discs along its length (for the quick clear test).
-  FootprintChecker(const FootprintModel& model, double grow_m);
-  const FootprintModel& model() const { return model_; }
-  double grow_m() const { return grow_m_; }
-
-  // True when the footprint at `pose`, grown by grow_m() + `extra_m` + half a cell's diagonal
-  // (never by less than nothing: `extra_m` may be negative), holds an obstacle cell centre, or when
-  // `pose` lies outside the window. Exact for that rule:
-  // quick_test decides most poses, the cells near the outline the rest.
-  bool collides(const DwaLocalMap& map, const Pose2& pose, double extra_m = 0.0) const;
-  // The distance field's verdict alone: Clear when the discs covering the footprint hold no
-  // obstacle, Collides when a nearest obstacle it looked up lies inside, Unsure otherwise.
-  // `heading` is (cos yaw, sin yaw) of the pose.
-  FootprintTest quick_test(const DwaLocalMap& map, const Pose2& pose, const Vec2& heading, double extra_m = 0.0) const;
-  // The exact test of the cells near the pose (what collides() does when quick_test is unsure).
-  bool exact_test(const DwaLocalMap& map, const Pose2& pose, const Vec2& heading, double extra_m = 0.0) const;
-  // The same by brute force over every obstacle cell of the window (tests).
-  bool collides_brute_force(const DwaLocalMap& map, const Pose2& pose, double extra_m = 0.0) const;
-
- private:
-  // The grown footprint at `pose` (heading = its cos, sin) holds `point`.
-  bool holds(const Pose2& pose, const Vec2& heading, const Vec2& point, double grow) const {
-    const double dx = point.x() - pose.x, dy = point.y() - pose.y;
-    if (model_.circle) {
-      const double r = model_.radius_m + grow;
-      return dx * dx + dy * dy <= r * r;
-    }
-    const double qx = heading.x() * dx + heading.y() * dy;
-    const double qy = -heading.y() * dx + heading.x() * dy;
-    const double ox = std::max(std::abs(qx) - model_.half_length_m, 0.0);
-    const double oy = std::max(std::abs(qy) - model_.half_width_m, 0.0);
-    return ox * ox + oy * oy <= grow * grow;
-  }
-
-  FootprintModel model_;
-  double grow_m_ = 0.0;
-  double bounding_m_ = 0.0;  // the model's bounding radius
-  std::vector<Vec2> cover_;      // base_link centres of the covering discs (along the long axis)
-  double cover_radius_m_ = 0.0;
-};
 
 }  // namespace starnav

@@ -1,0 +1,116 @@
+#include "starnav/map/footprint_checker.hpp"
+
+#include "starnav/core/planar_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <utility>
+
+namespace starnav {
+
+double FootprintModel::bounding_radius_m() const {
+  return circle ? radius_m : std::hypot(half_length_m, half_width_m);
+}
+
+double FootprintModel::inscribed_radius_m() const {
+  return circle ? radius_m : std::min(half_length_m, half_width_m);
+}
+
+FootprintChecker::FootprintChecker(const FootprintModel& model, double grow_m)
+    : model_(model), grow_m_(grow_m), bounding_m_(model.bounding_radius_m()) {
+  if (model_.circle) {
+    cover_ = {Vec2::Zero()};
+    cover_radius_m_ = model_.radius_m;
+    return;
+  }
+  // k discs centred along the long axis at the middles of k equal slices of the rectangle; more
+  // discs hug it closer but cost a lookup each (three for a near-square body).
+  const bool along_x = model_.half_length_m >= model_.half_width_m;
+  const double hl = along_x ? model_.half_length_m : model_.half_width_m;
+  const double hw = along_x ? model_.half_width_m : model_.half_length_m;
+  const int k = std::clamp(static_cast<int>(std::ceil(hl / hw)) + 1, 1, 8);
+  const double slice = 2.0 * hl / k;
+  for (int i = 0; i < k; ++i) {
+    const double a = -hl + slice * (i + 0.5);
+    cover_.push_back(along_x ? Vec2(a, 0.0) : Vec2(0.0, a));
+  }
+  cover_radius_m_ = std::hypot(0.5 * slice, hw);
+}
+
+FootprintTest FootprintChecker::quick_test(const ClearanceWindow& map, const Pose2& pose, const Vec2& heading,
+                                           double extra_m) const {
+  const double grow = std::max(0.0, grow_m_ + extra_m + map.resolution() * std::sqrt(0.5));
+  // Every obstacle centre lies at least d - |q - c| from a point q whose cell (centre c) has
+  // clearance d: clear when that exceeds `radius`.
+  const auto clear_within = [&](const Vec2& q, std::size_t i, const Cell& cell, double radius) {
+    const double d = map.clearance_m(i);
+    if (!std::isfinite(d)) return true;
+    const double room = d - radius;
+    return room > 0.0 && (q - map.cell_center(cell.x, cell.y)).squaredNorm() < room * room;
+  };
+  const Cell centre = map.cell_of(pose.translation());
+  if (!map.contains(centre.x, centre.y)) return FootprintTest::Collides;
+  // One lookup settles open space.
+  if (clear_within(pose.translation(), map.index(centre.x, centre.y), centre, bounding_m_ + grow))
+    return FootprintTest::Clear;
+  const double c = heading.x(), s = heading.y();
+  bool clear = true;
+  for (const Vec2& o : cover_) {
+    const Vec2 q(pose.x + c * o.x() - s * o.y(), pose.y + s * o.x() + c * o.y());
+    const Cell cell = map.cell_of(q);
+    if (!map.contains(cell.x, cell.y)) {
+      clear = false;  // beyond the window's distances: the exact test decides
+      continue;
+    }
+    const std::size_t i = map.index(cell.x, cell.y);
+    if (clear_within(q, i, cell, cover_radius_m_ + grow)) continue;
+    clear = false;
+    if (holds(pose, heading, map.nearest_obstacle(i), grow)) return FootprintTest::Collides;
+  }
+  return clear ? FootprintTest::Clear : FootprintTest::Unsure;
+}
+
+bool FootprintChecker::exact_test(const ClearanceWindow& map, const Pose2& pose, const Vec2& heading, double extra_m) const {
+  const double grow = std::max(0.0, grow_m_ + extra_m + map.resolution() * std::sqrt(0.5));
+  bool hit = false;
+  map.for_each_obstacle_near(pose.translation(), bounding_m_ + grow,
+                             [&](const Vec2& o) { hit = hit || holds(pose, heading, o, grow); });
+  return hit;
+}
+
+bool FootprintChecker::collides(const ClearanceWindow& map, const Pose2& pose, double extra_m) const {
+  const Cell c = map.cell_of(pose.translation());
+  if (!map.contains(c.x, c.y)) return true;
+  const Vec2 heading(std::cos(pose.yaw), std::sin(pose.yaw));
+  switch (quick_test(map, pose, heading, extra_m)) {
+    case FootprintTest::Clear: return false;
+    case FootprintTest::Collides: return true;
+    case FootprintTest::Unsure: break;
+  }
+  return exact_test(map, pose, heading, extra_m);
+}
+
+bool FootprintChecker::collides_brute_force(const ClearanceWindow& map, const Pose2& pose, double extra_m) const {
+  const Cell c = map.cell_of(pose.translation());
+  if (!map.contains(c.x, c.y)) return true;
+  const double grow = std::max(0.0, grow_m_ + extra_m + map.resolution() * std::sqrt(0.5));
+  const Vec2 heading(std::cos(pose.yaw), std::sin(pose.yaw));
+  bool hit = false;
+  map.for_each_obstacle_near(pose.translation(), 1e9, [&](const Vec2& o) { hit = hit || holds(pose, heading, o, grow); });
+  return hit;
+}
+
+FootprintMotionChecker::FootprintMotionChecker(const FootprintModel& model, const OccupancyGrid& obstacles)
+    : model_(model), checker_(model, 0.0), obstacles_(&obstacles) {}
+
+bool FootprintMotionChecker::clear(const Pose2& pose, const BodyTwist& twist, double duration_s, double step_s) const {
+  const double reach = model_.bounding_radius_m() + std::hypot(twist.vx, twist.vy) * duration_s + 0.5;
+  window_.build(*obstacles_, pose.translation(), reach, model_.bounding_radius_m() + 0.2);
+  for (double s = step_s; s <= duration_s + 1e-9; s += step_s)
+    if (checker_.collides(window_, advance_on_arc(pose, twist.vx, twist.vy, twist.wz, s))) return false;
+  return true;
+}
+
+}  // namespace starnav
