@@ -53,7 +53,8 @@ struct SimOptions {
   std::vector<std::string> sets;
   bool compare_astar = false;
   bool step_all_hits = false;
-  std::vector<double> dwa_pictures;
+  std::vector<double> controller_pictures;
+  std::vector<double> dwa_pictures;  // the old name of --controller-pictures
   bool png = false;
   bool force = false;
   bool json = false;
@@ -145,10 +146,16 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   if (!o.controller.empty()) options.controller = o.controller;
   options.compare_astar = o.compare_astar;
   options.step_all_hits = o.step_all_hits;
-  for (const double t : o.dwa_pictures)
+  const char* pictures_flag = o.dwa_pictures.empty() ? "--controller-pictures" : "--dwa-pictures";
+  const std::vector<double>& pictures = o.dwa_pictures.empty() ? o.controller_pictures : o.dwa_pictures;
+  if (!o.dwa_pictures.empty() && !o.controller_pictures.empty())
+    throw Error("give --controller-pictures only (--dwa-pictures is its old name)", "", 0, "--dwa-pictures");
+  if (!o.dwa_pictures.empty())
+    std::fprintf(stderr, "starnav: warning: --dwa-pictures is deprecated; use --controller-pictures\n");
+  for (const double t : pictures)
     if (!std::isfinite(t) || t < 0.0 || t > spec.duration_s)
-      throw Error("each time must be in [0, sim.duration_s]", "", 0, "--dwa-pictures");
-  options.dwa_snapshot_times_s = o.dwa_pictures;
+      throw Error("each time must be in [0, sim.duration_s]", "", 0, pictures_flag);
+  options.controller_snapshot_times_s = pictures;
 #if STARNAV_HAVE_HTTP
   // The server is made once the run exists (it serves the run's world); steps before that: none.
   std::unique_ptr<RunServer> live;
@@ -182,11 +189,15 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     write_navigation_scene(run, (dir / "scene.png").string());
     write_navigation_overlay(run, (dir / "overlay.png").string());
   }
-  if (run.navigator().controller().name() == "dwa") {
+  // A controller that commands velocities under acceleration limits: its speed profile.
+  if (run.navigator().controller_capabilities().has(Capability::VelocitySpace))
     speed_profile_plot(run.simulation().trajectory(), spec.name + ": achieved velocities").write_svg((dir / "speed.svg").string());
-    for (const DwaSnapshot& s : run.dwa_snapshots()) {
-      const std::string stem = "dwa_" + format_fixed(s.step.t_s, 2) + "s";
-      const viz::MapPicture pic = dwa_step_picture(s, spec.name + ": DWA at t = " + format_fixed(s.step.t_s, 2) + " s");
+  {
+    const std::string controller(run.navigator().controller().name());
+    for (const ControllerSnapshot& s : run.controller_snapshots()) {
+      const std::string stem = "controller_" + format_fixed(s.step.t_s, 2) + "s";
+      const viz::MapPicture pic =
+          controller_step_picture(s, spec.name + ": " + controller + " at t = " + format_fixed(s.step.t_s, 2) + " s");
       pic.write_svg((dir / (stem + ".svg")).string());
       if (o.png) {
         pic.write_png((dir / (stem + ".png")).string());
@@ -251,6 +262,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
     for (const auto& [flag, given] : {std::pair{"--motion-mode", !o.motion_mode.empty()}, std::pair{"--planner", !o.planner.empty()},
                                       std::pair{"--controller", !o.controller.empty()},
                                       std::pair{"--compare-astar", o.compare_astar}, std::pair{"--all-hits", o.step_all_hits},
+                                      std::pair{"--controller-pictures", !o.controller_pictures.empty()},
                                       std::pair{"--dwa-pictures", !o.dwa_pictures.empty()}})
       if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
   }
@@ -355,9 +367,11 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
                   "(repeatable; checked as if written in the file)");
   sim->add_flag("--compare-astar", o->compare_astar, "navigation with an incremental planner (dstar_lite): also run A* from scratch at every plan");
   sim->add_flag("--all-hits", o->step_all_hits, "navigation: steps.jsonl holds every LiDAR return, not only obstacle hits");
-  sim->add_option("--dwa-pictures", o->dwa_pictures,
-                  "navigation with dwa: T1,T2,... (s): draw the DWA step at each time (dwa_T.svg: local map, every sample, the chosen one)")
+  sim->add_option("--controller-pictures", o->controller_pictures,
+                  "navigation: T1,T2,... (s): draw the controller's step at each time (controller_T.svg: local map, every\n"
+                  "candidate it scored, the chosen one, its own points such as a local goal)")
       ->delimiter(',');
+  sim->add_option("--dwa-pictures", o->dwa_pictures, "the old name of --controller-pictures (deprecated)")->delimiter(',');
   sim->add_flag("--png", o->png, "navigation: also write scene.png and overlay.png");
   sim->add_flag("--force", o->force, "write into a non-empty output folder");
   sim->add_flag("--json", o->json, "print metrics.json to stdout");

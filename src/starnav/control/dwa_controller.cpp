@@ -340,6 +340,29 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   return {best_twist, ControlStatus::Tracking};
 }
 
+std::optional<ControlDiagnostics> DwaController::diagnostics() const {
+  if (!keep_samples_) return std::nullopt;
+  ControlDiagnostics d;
+  d.t_s = last_.t_s;
+  d.pose = last_.pose;
+  d.status = last_.status;
+  const int n = std::max(1, static_cast<int>(std::lround(config_.sim_time_s / config_.sim_step_s)));
+  for (const DwaSample& x : last_.samples) {
+    ControlCandidate c;
+    c.twist = x.twist;
+    c.status = x.valid ? CandidateStatus::Valid : (x.collides ? CandidateStatus::Collides : CandidateStatus::Rejected);
+    c.cost = x.cost;
+    dwa_rollout(last_.pose, x.twist, config_.sim_step_s, n, c.trajectory);
+    d.candidates.push_back(std::move(c));
+  }
+  d.chosen = last_.chosen;
+  if (last_.chosen >= 0 && static_cast<std::size_t>(last_.chosen) < last_.samples.size())
+    d.command = last_.samples[static_cast<std::size_t>(last_.chosen)].twist;
+  d.points.emplace_back("local goal", last_.local_goal);
+  d.terms.emplace_back("margin_cut_m", last_.margin_cut_m);
+  return d;
+}
+
 LocalControllerDef dwa_controller() {
   LocalControllerDef d;
   d.info.role = Role::LocalController;

@@ -7,8 +7,6 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "starnav/control/dwa_controller.hpp"
-#include "starnav/control/path_follower.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/io/file_bytes.hpp"
@@ -587,14 +585,15 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
       return d.twist;
     }
     const BodyTwist cmd = nav_->command(pose, t, state.twist);
-    if (snapshots_.size() < options_.dwa_snapshot_times_s.size()) {
-      const auto* dwa = dynamic_cast<const DwaController*>(&nav_->controller());
-      if (dwa && dwa->last_step().t_s == t && t >= options_.dwa_snapshot_times_s[snapshots_.size()] - 1e-9) {
-        DwaSnapshot snap;
-        snap.step = dwa->last_step();
+    if (snapshots_.size() < options_.controller_snapshot_times_s.size() &&
+        t >= options_.controller_snapshot_times_s[snapshots_.size()] - 1e-9) {
+      // The controller's step of this instant (a controller with a period computes only at its ticks).
+      std::optional<ControlDiagnostics> step = nav_->controller().diagnostics();
+      if (step && step->t_s == t) {
+        ControllerSnapshot snap;
+        snap.step = std::move(*step);
         snap.local_map = crop_map(nav_->map().raw_occupancy(), pose.translation(), 4.0);
-        snap.path = dwa->path();
-        snap.config = dwa->config();
+        snap.path = nav_->controller().path();
         snap.footprint = footprint_of(spec_.vehicle.robot);
         snapshots_.push_back(std::move(snap));
       }
@@ -630,11 +629,12 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
     }
     return cmd;
   };
-  if (!options_.dwa_snapshot_times_s.empty()) {
-    auto* dwa = dynamic_cast<DwaController*>(&nav_->controller());
-    if (!dwa) throw Error("DWA pictures need the dwa controller, not " + std::string(nav_->controller().name()), "", 0, "--dwa-pictures");
-    dwa->keep_samples(true);
-    std::sort(options_.dwa_snapshot_times_s.begin(), options_.dwa_snapshot_times_s.end());
+  if (!options_.controller_snapshot_times_s.empty()) {
+    nav_->controller().keep_diagnostics(true);
+    if (!nav_->controller().diagnostics())
+      throw Error("the " + std::string(nav_->controller().name()) + " controller gives no diagnostics to draw", "", 0,
+                  "--controller-pictures");
+    std::sort(options_.controller_snapshot_times_s.begin(), options_.controller_snapshot_times_s.end());
   }
   // After the run's own scan hook: the chain's hook feeds the localizer first, then calls it.
   chain_ = std::make_unique<LocalizationChain>(*sim_, localization_);
@@ -693,8 +693,7 @@ NavigationMetrics NavigationRun::metrics() const {
   m.goal_distance_m = (s.final_state.position.head<2>() - nav.goal()).norm();
   m.planner = std::string(nav.planner().name());
   m.controller = std::string(nav.controller().name());
-  const auto* follower = dynamic_cast<const PathFollowerController*>(&nav.controller());
-  m.motion_mode = follower ? motion_mode_name(follower->follower().mode()) : "none";
+  m.motion_mode = nav.controller().motion_mode().empty() ? "none" : nav.controller().motion_mode();
   return m;
 }
 

@@ -39,7 +39,9 @@ struct NavigationOptions {
   // Called with each cycle's steps.jsonl line as it is recorded (a live viewer's feed); the run
   // never waits on it beyond the call.
   std::function<void(const std::string&)> on_step_line;
-  std::vector<double> dwa_snapshot_times_s;  // with the dwa controller: keep its first step at or after each time
+  // Keep the controller's first step at or after each time (its diagnostics and the map around it;
+  // a controller that gives no diagnostics is refused).
+  std::vector<double> controller_snapshot_times_s;
 };
 
 // The navigation section's own parameters (docs/parameters.md); the planner and controller
@@ -174,8 +176,8 @@ class NavigationRun {
   const std::vector<std::int8_t>& initial_occupancy() const { return initial_occupancy_; }
   const std::vector<NavArrival>& arrivals() const { return arrivals_; }
   const CommandArbiter& arbiter() const { return *arbiter_; }
-  // The DWA steps kept at NavigationOptions::dwa_snapshot_times_s.
-  const std::vector<DwaSnapshot>& dwa_snapshots() const { return snapshots_; }
+  // The controller steps kept at NavigationOptions::controller_snapshot_times_s.
+  const std::vector<ControllerSnapshot>& controller_snapshots() const { return snapshots_; }
   NavigationMetrics metrics() const;
   double setup_s() const { return setup_s_; }
   double wall_s() const { return wall_s_; }
@@ -192,7 +194,7 @@ class NavigationRun {
   std::unique_ptr<CommandArbiter> arbiter_;
   NavigationSettings settings_;
   std::vector<NavArrival> arrivals_;
-  std::vector<DwaSnapshot> snapshots_;
+  std::vector<ControllerSnapshot> snapshots_;
   std::size_t goal_index_ = 0;  // into the flattened goals x laps
   bool settling_ = false;
   double deviation_sum_ = 0.0, deviation_max_ = 0.0;

@@ -161,6 +161,7 @@ class Navigator {
   LocalController& controller() { return *controller_; }
   const GlobalPlanner& planner() const { return *planner_; }
   const GoalChecker& goal_checker() const { return *goal_checker_; }
+  const Capabilities& controller_capabilities() const { return controller_capabilities_; }
   // What whoever built the configuration warned about (deprecated names, ignored sections).
   const std::vector<std::string>& warnings() const { return warnings_; }
   const Vec2& goal() const { return goal_; }
