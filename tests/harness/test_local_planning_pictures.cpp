@@ -50,7 +50,9 @@ TEST(LocalPlanningPictures, ARunKeepsItsSnapshotsAndDrawsThem) {
   EXPECT_EQ(chosen.status, CandidateStatus::Valid);
   EXPECT_EQ(chosen.twist.vx, s.step.command.vx);
   for (const ControlCandidate& c : s.step.candidates) {
-    if (c.status == CandidateStatus::Valid) EXPECT_GE(c.cost, chosen.cost);  // the chosen one is the cheapest valid
+    if (c.status == CandidateStatus::Valid) {
+      EXPECT_GE(c.cost, chosen.cost);  // the chosen one is the cheapest valid
+    }
   }
   ASSERT_EQ(s.step.points.size(), 1u);
   EXPECT_EQ(s.step.points[0].first, "local goal");

@@ -11,7 +11,7 @@
 #include "starnav/core/error.hpp"
 #include "starnav/harness/navigation_pictures.hpp"
 #include "starnav/harness/navigation_run.hpp"
-#include "starnav/nav/node_height_map.hpp"
+#include "starnav/costmap/node_height_map.hpp"
 #include "starnav/sim/obstacles.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "support/test_support.hpp"

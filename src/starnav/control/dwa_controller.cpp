@@ -213,7 +213,9 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   const double outer = fm.bounding_radius_m() + checker_.grow_m() + 0.5 * max_step + res;
   const double half = config_.window_m > 0.0 ? 0.5 * config_.window_m
                                              : limits_.max_speed_xy * check_max + config_.forward_point_m + outer + 2.0 * res;
-  map_.build(*in.local_map, in.pose.translation(), half, std::max(outer, config_.inflation_radius_m) + res);
+  const double pad = std::max(outer, config_.inflation_radius_m) + res;
+  if (in.clearance) map_.build(*in.clearance, in.pose.translation(), half, pad);
+  else map_.build(*in.local_map, in.pose.translation(), half, pad);
   s.map = &map_;
   s.pass_clearance_m = 0.5 * fm.inscribed_radius_m();
 

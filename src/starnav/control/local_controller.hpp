@@ -14,6 +14,7 @@
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/plane_fit.hpp"
+#include "starnav/map/obstacle_distance_field.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/robot/robot_model.hpp"
 
@@ -45,6 +46,9 @@ struct ControlInput {
   Pose2 pose;                               // map frame (from the localizer)
   BodyTwist velocity;                       // current body twist (odometry or estimate)
   const OccupancyGrid* local_map = nullptr; // obstacles as sensed, not inflated (occupied cells); may be null
+  const ObstacleDistanceField* clearance = nullptr; // the same obstacles' distance field, up to date (controllers that
+                                             // check their footprint get it; they read it instead of
+                                             // transforming local_map themselves)
   Footprint footprint;
   VelocityLimits limits;
   Vec2 goal = Vec2::Zero();

@@ -82,27 +82,27 @@ std::vector<Vec2> circle_points(const Vec2& c, double r, int n = 72) {
 // are light, and coloured paths stay readable on grey; a height ramp would compete with them), or
 // one grey in 2D mode where heights are all 0; unobserved cells near white. The two ends of the
 // grey scale get (empty) legend entries with their heights.
-viz::MapPicture base_picture(const NodeHeightMap& map, viz::PictureOptions opts) {
+viz::MapPicture base_picture(const LayeredCostmap& map, viz::PictureOptions opts) {
   constexpr int kLow = 12, kHigh = 60;  // occupancy values: grey 224 .. 102
   opts.plot_background = kUnobserved;
   opts.occupancy.unknown = kUnobserved;
   // Observed by evidence (in 2D mode the elevation layer may stay empty).
-  const ElevationMap& e = map.elevation();
-  const bool heights = map.params().mode == NodeMapMode::Nodes3D;
+  const ElevationMap* e = map.heights();  // 3D nodes; none in 2D mode
+  const bool heights = e != nullptr;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   bool any = false;
   for (int y = 0; y < map.height(); ++y)
     for (int x = 0; x < map.width(); ++x) {
       if (!map.observed(x, y)) continue;
       any = true;
-      if (heights && e.observed_at(x, y)) lo = std::min(lo, e.height_at(x, y)), hi = std::max(hi, e.height_at(x, y));
+      if (heights && e->observed_at(x, y)) lo = std::min(lo, e->height_at(x, y)), hi = std::max(hi, e->height_at(x, y));
     }
   const bool shaded = heights && hi - lo > 1e-9;
   OccupancyGrid grey(map.geometry(), kUnknownOccupancy);
   for (int y = 0; y < map.height(); ++y)
     for (int x = 0; x < map.width(); ++x) {
       if (!map.observed(x, y)) continue;
-      const double t = shaded && e.observed_at(x, y) ? (e.height_at(x, y) - lo) / (hi - lo) : 0.0;
+      const double t = shaded && e->observed_at(x, y) ? (e->height_at(x, y) - lo) / (hi - lo) : 0.0;
       grey(x, y) = static_cast<std::int8_t>(std::lround(kLow + t * (kHigh - kLow)));
     }
   viz::MapPicture pic(grey, opts);
@@ -184,7 +184,7 @@ NavigationPictureData navigation_picture_data(const NavigationRun& run) {
 
 viz::MapPicture navigation_scene_picture(const NavigationPictureData& d) {
   if (d.map == nullptr) throw Error("navigation picture without a map", {}, 0, "map");
-  const NodeHeightMap& map = *d.map;
+  const LayeredCostmap& map = *d.map;
   const GridGeometry& g = map.geometry();
   viz::PictureOptions opts;
   opts.title = d.name + ": navigation scene" + title_suffix(d);

@@ -52,6 +52,7 @@ struct NavigationSettings {
   std::string goal_checker = "latching";
   std::string progress_checker = "simple_progress";
   std::vector<std::string> recoveries = {"rotate", "back_up"};
+  std::vector<std::string> layers = {"static_map", "node_height"};
   double goal_tolerance_m = 0.15;
   double goal_yaw_tolerance_rad = 0.08726646259971647;
   std::string prior_map;   // "" none, "world" (world.occupancy_map), or a map_server YAML (relative to the scenario)
@@ -78,6 +79,7 @@ void check_navigation_scenario(const ScenarioSpec& spec);
 struct NavigationComponents {
   ComponentChoice planner, controller, goal_checker, progress_checker;
   std::vector<ComponentChoice> recoveries;
+  std::vector<ComponentChoice> layers;  // the navigation map's, in order
 };
 
 // The navigator's configuration for a scenario: the map grid (world bounds or the paper's
@@ -90,9 +92,10 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
                                  const NavigationOptions& options = {}, NavigationSettings* settings = nullptr,
                                  NavigationComponents* components = nullptr);
 
-// The parts of `components` built from the registry for `robot` (errors name where each name or
-// setting was given).
-NavigatorParts make_navigator_parts(const NavigationComponents& components, const RobotConfig& robot);
+// The parts of `components` built from the registry for `robot`, the map's layers on `config`'s
+// grid (errors name where each name or setting was given).
+NavigatorParts make_navigator_parts(const NavigationComponents& components, const NavigatorConfig& config,
+                                    const RobotConfig& robot);
 
 // `scan` (taken at the true pose `truth`) with its world-framed points and sensor pose placed as
 // a robot that believes it is at `estimate` places them.

@@ -1,14 +1,10 @@
-#include "starnav/nav/node_height_map.hpp"
+#include "starnav/costmap/node_height_layer.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <queue>
-#include <string>
 
 #include "starnav/core/error.hpp"
-#include "starnav/map/distance_transform.hpp"
 
 namespace starnav {
 
@@ -16,7 +12,6 @@ namespace {
 
 constexpr int kTile = 32;  // cells per side of the tiles the incremental refresh works in
 constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
-
 
 }  // namespace
 
@@ -31,9 +26,11 @@ void NodeMapParams::validate() const {
   // A cell hit in a scan must stay observed whatever else happened to it in that scan.
   if (miss_loss > hit_gain) throw Error("must be <= hit_gain", {}, 0, "miss_loss");
   if (evidence_max < hit_gain || evidence_max > 255) throw Error("must be in hit_gain..255", {}, 0, "evidence_max");
+  if (!std::isfinite(clearance_range_m) || !(clearance_range_m > 0.0) || clearance_range_m > 100.0)
+    throw Error("must be in (0, 100]", {}, 0, "clearance_range_m");
 }
 
-NodeHeightMap::NodeHeightMap(const GridGeometry& geometry, const NodeMapParams& params)
+NodeHeightLayer::NodeHeightLayer(const GridGeometry& geometry, const NodeMapParams& params)
     : geometry_(geometry), params_(params) {
   validate_geometry(geometry_, "geometry");
   if (geometry_.y_down) throw Error("a navigation map must be metric (y up)", {}, 0, "geometry");
@@ -42,74 +39,35 @@ NodeHeightMap::NodeHeightMap(const GridGeometry& geometry, const NodeMapParams& 
   evidence_.assign(n, 0);
   lo_.assign(n, 0.0);
   hi_.assign(n, 0.0);
-  raw2d_.assign(n, 0);
   hit_stamp_.assign(n, 0);
   miss_stamp_.assign(n, 0);
   touch_stamp_.assign(n, 0);
   const int tiles_x = (geometry_.width + kTile - 1) / kTile, tiles_y = (geometry_.height + kTile - 1) / kTile;
   tile_dirty_.assign(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 0);
   elevation_ = ElevationMap(geometry_);
-  occupancy_ = OccupancyGrid(geometry_, kUnknownOccupancy);
-  raw_occupancy_ = OccupancyGrid(geometry_, kUnknownOccupancy);
-  rebuild();
+  recompute();
 }
 
-void NodeHeightMap::set_static_obstacles(std::span<const std::uint8_t> mask) {
-  if (params_.mode != NodeMapMode::Lidar2D)
-    throw Error("a prior map needs the 2D map mode (map.mode lidar_2d)", {}, 0, "map.prior");
-  if (mask.size() != geometry_.cell_count())
-    throw Error("the prior map's mask has " + std::to_string(mask.size()) + " cells, the grid " +
-                    std::to_string(geometry_.cell_count()),
-                {}, 0, "map.prior");
-  static_.assign(mask.begin(), mask.end());
-  rebuild();
+void NodeHeightLayer::recompute() {
+  if (params_.mode != NodeMapMode::Nodes3D) return;
+  TerrainAnalysisOptions options;
+  options.unobserved = UnobservedPolicy::FreeFlat;  // unknown cells are free for planning
+  options.li = params_.li;
+  options.robot_radius_m = 0.0;  // the costmap expands the obstacles (incrementally)
+  analysis_.compute(elevation_, options);
 }
 
-void NodeHeightMap::rebuild() {
-  const std::size_t n = geometry_.cell_count();
-  for (std::size_t i = 0; i < n; ++i) raw2d_[i] = raw2d_value(i) ? 1 : 0;
-  if (params_.mode == NodeMapMode::Nodes3D) {
-    TerrainAnalysisOptions options;
-    options.unobserved = UnobservedPolicy::FreeFlat;  // unknown cells are free for planning
-    options.li = params_.li;
-    options.robot_radius_m = 0.0;  // the expansion is ours (incremental over tiles)
-    analysis_.compute(elevation_, options);
-  }
-  blocked_ = inflate_mask(raw_blocked(), geometry_.width, geometry_.height,
-                         inflation_radius_cells(params_.barrier_distance_m, geometry_.resolution));
-  for (std::size_t i = 0; i < n; ++i) {
-    occupancy_.data()[i] = occupancy_value(i);
-    raw_occupancy_.data()[i] = raw_occupancy_value(i);
-  }
-}
-
-std::int8_t NodeHeightMap::raw_occupancy_value(std::size_t i) const {
-  if (raw_blocked()[i]) return kOccupiedOccupancy;
-  return evidence_[i] > 0 ? kFreeOccupancy : kUnknownOccupancy;
-}
-
-std::int8_t NodeHeightMap::occupancy_value(std::size_t i) const {
-  if (blocked_[i]) return kOccupiedOccupancy;
-  return evidence_[i] > 0 ? kFreeOccupancy : kUnknownOccupancy;
-}
-
-NodeMapUpdate NodeHeightMap::integrate(const LidarScan& scan, double no_return_clear_m) {
-  if (!std::isfinite(no_return_clear_m) || no_return_clear_m < 0.0)
-    throw Error("must be a finite number >= 0", {}, 0, "no_return_clear_m");
-  if (!(no_return_clear_m > 0.0)) return integrate(scan.sensor_pose.position, scan.points_world);
-  pass_ends_.clear();
-  const Eigen::Matrix3d r = scan.sensor_pose.rotation();
-  for (int j = 0; j < scan.lines; ++j)
-    for (int b = 0; b < scan.beams; ++b) {
-      if (std::isfinite(scan.range(j, b))) continue;
-      const double phi = scan.elevations[static_cast<std::size_t>(j)], theta = scan.azimuths[static_cast<std::size_t>(b)];
-      const Vec3 dir(std::cos(phi) * std::cos(theta), std::cos(phi) * std::sin(theta), std::sin(phi));
-      pass_ends_.push_back(scan.sensor_pose.position + no_return_clear_m * (r * dir));
+void NodeHeightLayer::contribute(const CellRect& rect, std::span<std::uint8_t> obstacles,
+                                 std::span<std::uint8_t> observed) const {
+  for (int y = rect.y0; y < rect.y1; ++y)
+    for (int x = rect.x0; x < rect.x1; ++x) {
+      const std::size_t i = geometry_.index(x, y);
+      if (obstacle(i)) obstacles[i] = 1;
+      if (evidence_[i] > 0) observed[i] = 1;
     }
-  return integrate(scan.sensor_pose.position, scan.points_world, pass_ends_);
 }
 
-void NodeHeightMap::touch(std::uint32_t i) {
+void NodeHeightLayer::touch(std::uint32_t i) {
   if (touch_stamp_[i] == scan_) return;
   touch_stamp_[i] = scan_;
   touched_.push_back({i, lo_[i], hi_[i], evidence_[i] > 0});
@@ -117,7 +75,7 @@ void NodeHeightMap::touch(std::uint32_t i) {
 
 // Amanatides & Woo (1987) over the cells of the segment a -> b (continuous cell coordinates),
 // clipped to the grid; stops before `end_cell`. z runs linearly from za to zb along the segment.
-void NodeHeightMap::walk_beam(const Vec2& a, const Vec2& b, double za, double zb, std::uint32_t end_cell) {
+void NodeHeightLayer::walk_beam(const Vec2& a, const Vec2& b, double za, double zb, std::uint32_t end_cell) {
   const double w = geometry_.width, h = geometry_.height;
   const Vec2 d = b - a;
   // Liang-Barsky clip of t in [0, 1] to [0, w] x [0, h].
@@ -177,9 +135,10 @@ void NodeHeightMap::walk_beam(const Vec2& a, const Vec2& b, double za, double zb
   }
 }
 
-NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3> points,
-                                       std::span<const Vec3> pass_ends) {
-  NodeMapUpdate update;
+void NodeHeightLayer::on_scan(const CostmapScan& scan, std::vector<CellRect>& changed, CostmapScanStats& update) {
+  const Vec3& origin = scan.origin;
+  const std::span<const Vec3> points = scan.points;
+  const std::span<const Vec3> pass_ends = scan.pass_ends;
   ++scan_;
   if (scan_ == 0) {  // stamps wrapped: forget them all
     std::fill(hit_stamp_.begin(), hit_stamp_.end(), 0);
@@ -189,6 +148,7 @@ NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3>
   }
   touched_.clear();
   const bool planar = params_.mode == NodeMapMode::Lidar2D;
+  const std::size_t hits_before = update.cells_hit;
   const bool origin_ok = origin.allFinite();
   const Vec2 origin_cell = geometry_.world_to_cell_continuous(origin.head<2>());
 
@@ -205,7 +165,7 @@ NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3>
       if (p.allFinite())
         walk_beam(origin_cell, geometry_.world_to_cell_continuous(p.head<2>()), origin.z(), p.z(), kNoCell);
   }
-  update.cells_contradicted = touched_.size();  // so far only passes touched cells
+  update.cells_contradicted += touched_.size();  // so far only passes touched cells
 
   // 2. Hits. A cell contradicted in this scan, or unobserved, restarts its heights from the scan's
   // own returns; any other cell accumulates.
@@ -248,7 +208,6 @@ NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3>
     if (!changed) continue;
     ++update.cells_changed;
     const Cell c = geometry_.cell_of_index(i);
-    raw2d_[i] = raw2d_value(i) ? 1 : 0;
     if (!planar) {
       if (now_observed) elevation_.set_cell(c.x, c.y, 0.5 * (lo_[i] + hi_[i]), lo_[i], hi_[i]);
       else elevation_.clear_cell(c.x, c.y);
@@ -259,102 +218,34 @@ NodeMapUpdate NodeHeightMap::integrate(const Vec3& origin, std::span<const Vec3>
       dirty_tiles_.push_back(tile);
     }
   }
-  any_evidence_ = any_evidence_ || update.cells_hit > 0;
+  any_evidence_ = any_evidence_ || hits_before != update.cells_hit;
 
-  // 4. Derived layers over the dirty tiles, in tile order (deterministic): first every tile's
-  // analysis, so that the expansions read final raw masks, then the expansions, then the
-  // occupancy differences (no transient values are reported).
+  // 4. The analysis over the dirty tiles, in tile order (deterministic); the tiles (grown by the
+  // one cell the Li criteria read around each) are what changed.
   std::sort(dirty_tiles_.begin(), dirty_tiles_.end());
-  std::vector<CellRect>& rects = dirty_rects_;
-  rects.clear();
   for (const std::uint32_t tile : dirty_tiles_) {
     tile_dirty_[tile] = 0;
     const int tx = static_cast<int>(tile) % tiles_x, ty = static_cast<int>(tile) / tiles_x;
     const CellRect r{tx * kTile, ty * kTile, std::min(geometry_.width, (tx + 1) * kTile),
                      std::min(geometry_.height, (ty + 1) * kTile)};
     if (!planar) analysis_.update(elevation_, r);
-    rects.push_back(planar ? r : r.grown(1, geometry_.width, geometry_.height));  // Li reads 8 neighbours
+    changed.push_back(planar ? r : r.grown(1, geometry_.width, geometry_.height));  // Li reads 8 neighbours
   }
-  for (const CellRect& r : rects) refresh_expansion(r);
-  for (const CellRect& r : rects) refresh_occupancy(r, update);
-  std::sort(update.occupancy_changed.begin(), update.occupancy_changed.end(),
-            [&](const Cell& a, const Cell& b) { return geometry_.index(a.x, a.y) < geometry_.index(b.x, b.y); });
-  return update;
 }
 
-void NodeHeightMap::refresh_occupancy(const CellRect& raw_changed, NodeMapUpdate& update) {
-  const double rc = inflation_radius_cells(params_.barrier_distance_m, geometry_.resolution);
-  const CellRect region = raw_changed.grown(inflation_margin_cells(rc), geometry_.width, geometry_.height);
-  for (int y = region.y0; y < region.y1; ++y)
-    for (int x = region.x0; x < region.x1; ++x) {
-      const std::size_t i = geometry_.index(x, y);
-      raw_occupancy_.data()[i] = raw_occupancy_value(i);
-      const std::int8_t v = occupancy_value(i);
-      if (occupancy_.data()[i] == v) continue;
-      occupancy_.data()[i] = v;
-      update.occupancy_changed.push_back({x, y});
-      CellRect& b = update.bounds;
-      if (b.empty()) b = {x, y, x + 1, y + 1};
-      else b = {std::min(b.x0, x), std::min(b.y0, y), std::max(b.x1, x + 1), std::max(b.y1, y + 1)};
-    }
-}
-
-// Cells within the radius of a changed raw cell may change; their nearest raw cells within the
-// radius lie within `margin` more cells, so a window of that size decides them exactly.
-void NodeHeightMap::refresh_expansion(const CellRect& raw_changed) {
-  inflation_.update(raw_blocked(), geometry_.width, geometry_.height,
-                    inflation_radius_cells(params_.barrier_distance_m, geometry_.resolution), raw_changed, blocked_);
-}
-
-std::optional<Cell> NodeHeightMap::escape_cell(Cell start, std::vector<Cell>* path) const {
-  if (path) path->clear();
-  if (!geometry_.contains(start)) return std::nullopt;
-  const std::vector<std::uint8_t>& raw = raw_blocked();
-  const std::size_t s = geometry_.index(start.x, start.y);
-  if (raw[s]) return std::nullopt;
-  if (!blocked_[s]) {
-    if (path) path->push_back(start);
-    return start;
-  }
-  // Dijkstra from start through cells that are not raw blocked; the first settled cell outside
-  // the band is the cheapest way out (ties: lower cost first, then lower index).
-  const std::size_t n = geometry_.cell_count();
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> dist(n, kInf);
-  std::vector<std::uint32_t> parent(n, kNoCell);
-  using Entry = std::pair<double, std::uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
-  dist[s] = 0.0;
-  open.push({0.0, static_cast<std::uint32_t>(s)});
-  const double diag = std::sqrt(2.0);
-  while (!open.empty()) {
-    const auto [d, u] = open.top();
-    open.pop();
-    if (d > dist[u]) continue;
-    if (!blocked_[u]) {
-      const Cell out = geometry_.cell_of_index(u);
-      if (path) {
-        for (std::uint32_t v = u; v != kNoCell; v = parent[v]) path->push_back(geometry_.cell_of_index(v));
-        std::reverse(path->begin(), path->end());
-      }
-      return out;
-    }
-    const Cell c = geometry_.cell_of_index(u);
-    for (int k = 0; k < kMoveCount; ++k) {
-      const int nx = c.x + kMoveDx[k], ny = c.y + kMoveDy[k];
-      if (!geometry_.contains(nx, ny) || raw[geometry_.index(nx, ny)]) continue;
-      if (move_is_diagonal(k) && (raw[geometry_.index(c.x + kMoveDx[k], c.y)] || raw[geometry_.index(c.x, c.y + kMoveDy[k])]))
-        continue;  // no corner cutting past an obstacle
-      const std::uint32_t v = static_cast<std::uint32_t>(geometry_.index(nx, ny));
-      const double nd = d + (move_is_diagonal(k) ? diag : 1.0);
-      if (nd < dist[v]) {
-        dist[v] = nd;
-        parent[v] = u;
-        open.push({nd, v});
-      }
-    }
-  }
-  return std::nullopt;
+CostmapLayerDef node_height_layer() {
+  CostmapLayerDef d;
+  d.info.role = Role::CostmapLayer;
+  d.info.name = "node_height";
+  d.info.section = "node_height";
+  d.info.summary =
+      "LiDAR returns into a grid of 3D nodes (Li 2019: walkable by height spread and slope) or, with a 2D LiDAR, marked "
+      "cells; beams clear what they pass (its settings: navigation.map.*)";
+  d.make = [](const CostmapLayerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<CostmapLayer> {
+    if (!settings.empty()) param_unknown_key(settings.front(), {});
+    return std::make_unique<NodeHeightLayer>(ctx.geometry, ctx.map);
+  };
+  return d;
 }
 
 }  // namespace starnav
