@@ -89,7 +89,8 @@ ArrayLimit query_max_array_size() {
   if (!r) {
     limit.source = "Slurm's default (scontrol not found)";
   } else if (r->exit_code != 0) {
-    limit.source = "Slurm's default (scontrol show config failed: " + one_line(trim(r->err), 120) + ")";
+    const std::string err = trim(r->err);
+    limit.source = "Slurm's default (scontrol show config failed: " + one_line(err.substr(0, err.find('\n')), 100) + ")";
   } else if (const std::optional<std::uint64_t> v = parse_max_array_size(r->out)) {
     limit.max_array_size = *v;
     limit.source = "scontrol show config";
