@@ -27,7 +27,8 @@ using test::run_cli;
 using test::ScratchDir;
 
 bool on_path(const std::string& program) {
-  std::string path = std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin";
+  const char* env = std::getenv("PATH");
+  std::string path = env ? env : "/usr/bin:/bin";
   path += ":/usr/sbin:/sbin";
   for (std::size_t start = 0; start <= path.size();) {
     const std::size_t end = std::min(path.find(':', start), path.size());

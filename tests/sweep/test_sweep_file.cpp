@@ -57,6 +57,13 @@ TEST(SweepFile, RangesAreExactDecimals) {
   EXPECT_EQ(range("{from: 2.50, count: 2, step: 0.25}"), (std::vector<std::string>{"2.5", "2.75"}));
   // 0.1 + 0.2 in binary is 0.30000000000000004; a range never shows that.
   EXPECT_EQ(range("{from: 0.1, count: 3, step: 0.1}").back(), "0.3");
+  // The widest ranges the limits allow, end to end.
+  EXPECT_EQ(range("{from: -4611686018427387903, count: 3, step: 4611686018427387903}"),
+            (std::vector<std::string>{"-4611686018427387903", "0", "4611686018427387903"}));
+  EXPECT_EQ(error_of([&] { range("{from: -4611686018427387903, count: 4, step: 4611686018427387903}"); }),
+            "s.yaml:3: axes.a: numbers too large for a range");
+  EXPECT_EQ(error_of([&] { range("{from: 0, count: 2, step: 4611686018427387905}"); }),
+            "s.yaml:3: axes.a.step: expected a decimal number below 2^62 with at most 12 decimals, got '4611686018427387905'");
   // A million seeds cost nothing to parse: values are computed when asked for.
   const SweepSpec big = parse("command: [sim, x.yaml, --seed, '{seed}']\naxes:\n  seed: {from: 0, count: 1000000}\n");
   EXPECT_EQ(big.task_count(), 1000000u);
@@ -137,7 +144,7 @@ TEST(SweepFile, BadInputIsOneErrorNamingFileLineAndKey) {
       {cmd + "axes:\n  s: {from: 0, to: 3, count: 4}\n", "s.yaml:3: axes.s: give exactly one of to and count"},
       {cmd + "axes:\n  s: {from: 0, count: 3, step: 0}\n", "s.yaml:3: axes.s.step: must be > 0"},
       {cmd + "axes:\n  s: {from: 0, count: 3, stepp: 1}\n", "s.yaml:3: axes.s.stepp: unknown key (known: from, to, count, step)"},
-      {cmd + "axes:\n  s: {from: x, count: 3}\n", "s.yaml:3: axes.s.from: expected a decimal number with at most 12 decimals, got 'x'"},
+      {cmd + "axes:\n  s: {from: x, count: 3}\n", "s.yaml:3: axes.s.from: expected a decimal number below 2^62 with at most 12 decimals, got 'x'"},
       {cmd + "axes:\n  s: {from: 0, count: -1}\n", "s.yaml:3: axes.s.count: expected a whole number >= 1, got '-1'"},
       {cmd + "axes:\n  s: [1, 2, 1]\n", "s.yaml:3: axes.s[2]: the same value twice (two tasks would be the same)"},
       {cmd + "axes:\n  s: []\n", "s.yaml:3: axes.s: an empty list: give at least one value"},

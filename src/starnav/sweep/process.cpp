@@ -17,6 +17,7 @@
 #include <filesystem>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 
 namespace starnav::sweep {
 
@@ -197,17 +198,14 @@ std::optional<CapturedRun> run_and_capture(const std::vector<std::string>& argv)
     std::remove(err_name);
     return std::nullopt;
   }
-  const auto slurp = [](const char* name) {
-    std::string s;
-    if (std::FILE* f = std::fopen(name, "rb")) {
-      char buf[65536];
-      for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) s.append(buf, n);
-      std::fclose(f);
-    }
-    return s;
-  };
-  r.out = slurp(out_name);
-  r.err = slurp(err_name);
+  try {
+    r.out = read_input_file(out_name, std::uint64_t{1} << 26);
+    r.err = read_input_file(err_name, std::uint64_t{1} << 26);
+  } catch (const Error&) {
+    std::remove(out_name);
+    std::remove(err_name);
+    throw;
+  }
   std::remove(out_name);
   std::remove(err_name);
   return r;

@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/number_text.hpp"
 #include "starnav/core/output_file.hpp"
 #include "starnav/sweep/process.hpp"
@@ -38,33 +39,24 @@ bool has_control(const std::string& s) {
   return std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
 }
 
-// Slurm's time limit forms.
-bool valid_slurm_time(const std::string& t) {
+// Slurm's time limit forms: MM, MM:SS, HH:MM:SS, and D-HH, D-HH:MM, D-HH:MM:SS.
+bool valid_slurm_time(std::string_view t) {
   const auto digits = [](std::string_view s) {
     return !s.empty() && s.size() <= 6 && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
   };
-  std::string_view rest = t;
-  if (const std::size_t dash = rest.find('-'); dash != std::string_view::npos) {
-    if (!digits(rest.substr(0, dash))) return false;
-    rest = rest.substr(dash + 1);
-    // D-HH, D-HH:MM, D-HH:MM:SS
+  // Up to three numbers separated by colons.
+  const auto clock = [&](std::string_view s) {
     int parts = 0;
     for (std::size_t start = 0;; ++parts) {
-      const std::size_t colon = rest.find(':', start);
-      if (!digits(rest.substr(start, colon - start))) return false;
-      if (colon == std::string_view::npos) break;
+      const std::size_t colon = s.find(':', start);
+      if (!digits(s.substr(start, colon == std::string_view::npos ? std::string_view::npos : colon - start))) return false;
+      if (colon == std::string_view::npos) return parts <= 2;
       start = colon + 1;
     }
-    return parts <= 2;
-  }
-  int parts = 0;
-  for (std::size_t start = 0;; ++parts) {
-    const std::size_t colon = rest.find(':', start);
-    if (!digits(rest.substr(start, colon - start))) return false;
-    if (colon == std::string_view::npos) break;
-    start = colon + 1;
-  }
-  return parts <= 2;  // MM, MM:SS, HH:MM:SS
+  };
+  const std::size_t dash = t.find('-');
+  if (dash == std::string_view::npos) return clock(t);
+  return digits(t.substr(0, dash)) && clock(t.substr(dash + 1));
 }
 
 }  // namespace
@@ -213,13 +205,7 @@ std::string submit_slurm_script(const SweepDir& sweep, const SlurmScript& script
   const std::string log = sweep.dir + "/slurm/jobs.txt";
   std::string previous;
   std::error_code ec;
-  if (fs::exists(log, ec)) {
-    if (std::FILE* f = std::fopen(log.c_str(), "rb")) {
-      char buf[4096];
-      for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) previous.append(buf, n);
-      std::fclose(f);
-    }
-  }
+  if (fs::exists(log, ec)) previous = read_input_file(log, std::uint64_t{1} << 24);
   write_file_atomically(log, previous + id + " array=" + script.array_spec + " tasks=" + std::to_string(script.pending) + "\n");
   return id;
 }

@@ -136,7 +136,7 @@ std::optional<Decimal> parse_decimal(const std::string& text) {
   if (d > kMaxDecimals) return std::nullopt;
   std::int64_t v = 0;
   for (char c : digits) {
-    if (v > (kMaxScaled - 9) / 10) return std::nullopt;
+    if (v > (kMaxScaled - (c - '0')) / 10) return std::nullopt;  // |value| <= 2^62
     v = v * 10 + (c - '0');
   }
   return Decimal{negative ? -v : v, static_cast<int>(d), integer};
@@ -174,7 +174,7 @@ void read_range(const Reader& r, const YAML::Node& node, const std::string& key,
     const YAML::Node n = node[k];
     const std::string text = r.scalar(n, key + "." + k);
     const std::optional<Decimal> d = parse_decimal(text);
-    if (!d) r.fail(n, key + "." + k, "expected a decimal number with at most 12 decimals, got " + quote_text(text));
+    if (!d) r.fail(n, key + "." + k, "expected a decimal number below 2^62 with at most 12 decimals, got " + quote_text(text));
     return *d;
   };
   const Decimal from = number("from");
@@ -195,8 +195,9 @@ void read_range(const Reader& r, const YAML::Node& node, const std::string& key,
     const std::int64_t t = rescale(to->scaled, to->decimals, decimals, overflow);
     if (overflow) r.fail(node, key, "numbers too large for a range");
     if (t < axis.range_from) r.fail(node["to"], key + ".to", "must be >= from");
-    // Both within +-2^62: the difference fits.
-    const std::uint64_t count = static_cast<std::uint64_t>(t - axis.range_from) / static_cast<std::uint64_t>(axis.range_step) + 1;
+    // Both within +-2^62: the difference fits in 64 unsigned bits.
+    const std::uint64_t count = (static_cast<std::uint64_t>(t) - static_cast<std::uint64_t>(axis.range_from)) /
+                                    static_cast<std::uint64_t>(axis.range_step) + 1;
     if (count > kMaxSweepTasks) r.fail(node, key, "more than " + std::to_string(kMaxSweepTasks) + " values");
     axis.range_count = count;
   } else {
@@ -208,7 +209,8 @@ void read_range(const Reader& r, const YAML::Node& node, const std::string& key,
   }
   // The last value must stay representable.
   const std::uint64_t steps = axis.range_count - 1;
-  if (steps > 0 && steps > static_cast<std::uint64_t>(kMaxScaled - axis.range_from) / static_cast<std::uint64_t>(axis.range_step))
+  if (steps > 0 && steps > (static_cast<std::uint64_t>(kMaxScaled) - static_cast<std::uint64_t>(axis.range_from)) /
+                               static_cast<std::uint64_t>(axis.range_step))
     r.fail(node, key, "numbers too large for a range");
 }
 
@@ -386,7 +388,11 @@ std::uint64_t SweepAxis::size() const {
 }
 
 std::string SweepAxis::value(std::uint64_t index, std::size_t field) const {
-  if (kind == Kind::Range) return decimal_text(range_from + range_step * static_cast<std::int64_t>(index), range_decimals);
+  if (kind == Kind::Range) {
+    // In unsigned arithmetic (the sum is within +-2^62, the product alone need not be).
+    const std::uint64_t v = static_cast<std::uint64_t>(range_from) + static_cast<std::uint64_t>(range_step) * index;
+    return decimal_text(static_cast<std::int64_t>(v), range_decimals);
+  }
   return texts.at(static_cast<std::size_t>(index) * width() + field);
 }
 
