@@ -248,7 +248,7 @@ MergeReport merge_sweep(const SweepDir& sweep, const std::string& out_dir) {
     js.write(h + ",\"rows\":[");
     std::string m = "|", rule = "|";
     for (const std::string& c : columns) {
-      m += " " + md_cell(c) + " |";
+      m.append(" ").append(md_cell(c)).append(" |");
       rule += "---|";
     }
     md.write("# " + md_cell(spec.name) + ": every task\n\n" + m + "\n" + rule + "\n");
@@ -321,7 +321,7 @@ MergeReport merge_sweep(const SweepDir& sweep, const std::string& out_dir) {
     std::string line, mline = "|";
     for (std::size_t i = 0; i < texts.size(); ++i) {
       line.append(i ? "," : "").append(csv_field(texts[i]));
-      mline += " " + md_cell(texts[i]) + " |";
+      mline.append(" ").append(md_cell(texts[i])).append(" |");
     }
     csv.write(line + "\n");
     md.write(mline + "\n");
