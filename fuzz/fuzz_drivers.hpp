@@ -33,6 +33,7 @@
 
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/number_text.hpp"
 #include "starnav/io/elevation_io.hpp"
 #include "starnav/io/image.hpp"
 #include "starnav/io/movingai.hpp"
@@ -43,6 +44,7 @@
 #include "starnav/logs/carmen_log.hpp"
 #include "starnav/logs/ros_bag.hpp"
 #include "starnav/sim/scenario.hpp"
+#include "starnav/sweep/manifest.hpp"
 
 namespace starnav::fuzz {
 
@@ -512,6 +514,46 @@ inline void fuzz_point_cloud(std::string_view data) {
   }
 }
 
+// parse_sweep_file on the YAML text (globs are never resolved: no file system is read), then the
+// first tasks of its expansion: ids, columns, and the manifest's brace escaping undone exactly.
+inline void fuzz_sweep_file(std::string_view data) {
+  sweep::SweepSpec spec;
+  try {
+    spec = sweep::parse_sweep_file(data, "fuzz_sweep.yaml");
+  } catch (const Error&) {
+    return;
+  }
+  const std::uint64_t n = spec.task_count();
+  require(n <= sweep::kMaxSweepTasks, "sweep: more tasks than the limit");
+  const std::size_t columns = spec.axis_columns().size();
+  for (std::uint64_t i = 0; i < std::min<std::uint64_t>(n, 64); ++i) {
+    const sweep::SweepTask t = sweep::make_task(spec, i);
+    require(t.id.size() == 16 && t.id.find_first_not_of("0123456789abcdef") == std::string::npos, "sweep: a task id not 16 hex digits");
+    require(t.values.size() == columns, "sweep: task values do not match the columns");
+    const std::vector<std::string> argv = sweep::command_for_run(t.argv, "/o");
+    require(argv.size() == t.argv.size() && argv[0] == "starnav" && argv.size() >= spec.command.size() + 1, "sweep: argv size");
+    for (std::size_t k = 0; k < spec.command.size(); ++k) {
+      std::string expected;
+      for (const sweep::TemplatePart& p : spec.command[k].parts)
+        expected += p.kind == sweep::TemplatePart::Kind::Text ? p.text
+                    : p.kind == sweep::TemplatePart::Kind::Out ? std::string("/o")
+                                                               : t.values.at([&] {
+                                                                   std::size_t col = 0;
+                                                                   for (std::size_t a = 0; a < p.axis; ++a) col += spec.axes[a].width();
+                                                                   return col + p.field;
+                                                                 }());
+      require(argv[k + 1] == expected, "sweep: the manifest's braces do not come back as written");
+    }
+  }
+  for (const sweep::SweepAxis& a : spec.axes)
+    if (a.kind == sweep::SweepAxis::Kind::Range && a.size() > 0)
+      require(parse_real_text(a.value(0)).has_value() && parse_real_text(a.value(a.size() - 1)).has_value(), "sweep: a range value is not a number");
+  try {
+    sweep::check_axis_values(spec);
+  } catch (const Error&) {
+  }
+}
+
 struct Target {
   const char* name;
   void (*run)(std::string_view);
@@ -531,6 +573,7 @@ inline constexpr Target kTargets[] = {
     {"fuzz_carmen_log", fuzz_carmen_log},
     {"fuzz_ros_bag", fuzz_ros_bag},
     {"fuzz_point_cloud", fuzz_point_cloud},
+    {"fuzz_sweep_file", fuzz_sweep_file},
 };
 
 inline const Target* find_target(std::string_view name) {

@@ -3,8 +3,8 @@
 # quick, then the viewer's npm packages when viewer/package-lock.json is newer than what is installed.
 # Usage: scripts/install-deps.sh [core|fuzz|ci|all]   (default core)
 #   core  what make build / test / demo need; fuzz  plus clang-16 for the sanitizer build;
-#   ci    everything .ci/run uses (with chromium for the browser tests); all  plus the developer
-#   tools (clang-format)
+#   ci    everything .ci/run uses (with chromium for the browser tests, slurm-wlm and munge for the
+#   sweep's end-to-end test on a single-node Slurm cluster); all  plus the developer tools (clang-format)
 set -euo pipefail
 what=${1:-core}
 core=(build-essential cmake ninja-build pkg-config python3 curl libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
@@ -17,7 +17,7 @@ fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
 case "$what" in
   core) pkgs=("${core[@]}") ;;
   fuzz) pkgs=("${core[@]}" "${fuzz[@]}") ;;
-  ci) pkgs=("${core[@]}" "${fuzz[@]}" chromium) ;;
+  ci) pkgs=("${core[@]}" "${fuzz[@]}" chromium slurm-wlm munge) ;;
   all)  pkgs=("${core[@]}" "${fuzz[@]}" clang-format) ;;
   *) echo "usage: $0 [core|fuzz|ci|all]" >&2; exit 2 ;;
 esac

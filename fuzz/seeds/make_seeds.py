@@ -488,6 +488,33 @@ def point_clouds():
     }
 
 
+def sweep_files():
+    """The repository's examples/sweeps/*.yaml without comments, and small valid and invalid sweeps."""
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "sweeps")
+    out = {}
+    for name in sorted(os.listdir(root)) if os.path.isdir(root) else []:
+        if name.endswith(".yaml"):
+            with open(os.path.join(root, name), "rb") as f:
+                lines = [l for l in f.read().split(b"\n") if l.strip() and not l.lstrip().startswith(b"#")]
+            out["example-" + name] = b"\n".join(lines) + b"\n"
+    out.update({
+        "minimal.yaml": b"command: [plan, --seed, '{s}']\naxes: {s: {from: 0, count: 3}}\n",
+        "zip.yaml": b"command: [plan, --start, '{q.a}', --goal, '{q.b}', --out, '{out}/x']\n"
+                    b"axes:\n  q: [{a: '1,1', b: '2,2'}, {a: '3,3', b: '4,4'}]\n  k.x: [1, 2]\n",
+        "range_real.yaml": b"command: [sim, s.yaml]\naxes: {a.b: {from: -0.5, to: 0.75, step: 0.25}}\n"
+                           b"metrics: {m: /m, t: {pointer: /t, timing: true, when: /ok}}\n"
+                           b"summary: {group_by: [a.b], baseline: '0.25'}\n"
+                           b"plots: [{metric: m, x: a.b, error: sd}]\n",
+        "braces.yaml": b"command: [plan, '{{literal}}', 'x{v}y']\naxes: {v: ['{a}', '}}{{']}\nresult: out.json\n",
+        "glob.yaml": b"command: [plan, --map, '{map}']\naxes: {map: {glob: ['*.map', 'm/*.yaml']}}\n",
+        "unknown_key.yaml": b"command: [plan]\naxes: {s: [1]}\nbogus: 1\n",
+        "unused_axis.yaml": b"command: [plan]\naxes: {s: [1, 2]}\n",
+        "huge.yaml": b"command: [plan, '{a}{b}']\naxes: {a: {from: 0, count: 100000}, b: {from: 0, count: 100000}}\n",
+        "bad_pointer.yaml": b"command: [plan, '{s}']\naxes: {s: [1]}\nmetrics: {m: 'cost'}\n",
+    })
+    return out
+
+
 TARGETS = {
     "fuzz_movingai_map": maps,
     "fuzz_movingai_scen": scens,
@@ -502,6 +529,7 @@ TARGETS = {
     "fuzz_carmen_log": carmen_logs,
     "fuzz_ros_bag": ros_bags,
     "fuzz_point_cloud": point_clouds,
+    "fuzz_sweep_file": sweep_files,
 }
 
 
