@@ -134,6 +134,14 @@ def scens():
     }
 
 
+def alias_bomb(levels=9):
+    """Nine nested levels of ten aliases: 10^9 nodes once expanded, in a few hundred bytes."""
+    out = b"l0: &l0 [x, x, x, x, x, x, x, x, x, x]\n"
+    for i in range(1, levels):
+        out += f"l{i}: &l{i} [".encode() + b", ".join([f"*l{i - 1}".encode()] * 10) + b"]\n"
+    return out
+
+
 def ros_yamls():
     image = b"P5\n3 2\n255\n\x00\xcd\xfe\x80\xff\x10"
     base = (b"image: m.pgm\nresolution: 0.05\norigin: [-10.0, -10.0, 0.0]\nnegate: 0\n"
@@ -160,6 +168,8 @@ def ros_yamls():
         "anchors.yaml": b"a: &x [0, 0, 0]\nimage: m.pgm\nresolution: 1\norigin: *x\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
         "empty.yaml": b"",
         "deep_nesting.yaml": b"image: " + b"[" * 3000 + b"\n",
+        "alias_bomb.yaml": base + alias_bomb() + SEP + image,
+        "alias_cycle.yaml": base.replace(b"[-10.0, -10.0, 0.0]", b"&o [0, 0, *o]") + SEP + image,
     }
 
 
@@ -236,6 +246,7 @@ def elevation_yamls():
         "bad_png.yaml": base + SEP + img16[:30],
         "nan_zmax.yaml": base.replace(b"10.0", b".nan") + SEP + img16,
         "deep_nesting.yaml": b"origin: " + b"{a: " * 2000 + b"\n" + SEP + img16,
+        "alias_bomb.yaml": base + alias_bomb() + SEP + img16,
     }
 
 
@@ -261,6 +272,7 @@ def unity_raws():
         "raw_nodata.raw": sidecar(3, 2, 3, extra="nodata: 0\n") + SEP + raw(3, lambda x, y: x * 30000),
         "raw_big_endian.raw": sidecar(2, 2, 2).replace(b"little", b"big") + SEP + raw(2, lambda x, y: 1),
         "raw_minimal_keys.raw": b"size: 3\nwidth: 3\nheight: 3\nresolution: 1\norigin: [0, 0, 0]\nz_min: 0\nz_max: 1\n" + SEP + raw(3, lambda x, y: 7),
+        "raw_alias_bomb.raw": sidecar(3, 3, 3) + alias_bomb() + SEP + raw(3, lambda x, y: 7),
     }
 
 
@@ -384,6 +396,8 @@ def scenarios():
         "empty.yaml": b"",
         "tabs.yaml": b"world:\t{}\n",
         "deep_nesting.yaml": b"world: " + b"[" * 3000 + b"\n",
+        "alias_bomb.yaml": alias_bomb() + sim,
+        "alias_cycle.yaml": b"world:\n  obstacles: &o [*o]\n" + sim,
     }
     out.update(scenario_files())
     return out

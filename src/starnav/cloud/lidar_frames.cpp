@@ -74,8 +74,7 @@ LidarFrameFolder read_lidar_frame_folder(const std::string& dir) {
   if (!fs::is_directory(dir)) throw Error("is not a folder of LiDAR frames", dir);
   const std::string sensor = (fs::path(dir) / "sensor.yaml").string();
   {
-    const std::string text = read_file_bytes(sensor);
-    const YAML::Node y = load_yaml_document(text, sensor);
+    const YAML::Node y = load_yaml_document(read_yaml_file(sensor), sensor);
     auto number = [&](const YAML::Node& n, const std::string& key) {
       if (!n || !n[key] || !n[key].IsScalar()) throw Error("missing", sensor, 0, key);
       double v = 0.0;

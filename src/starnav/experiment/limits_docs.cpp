@@ -9,6 +9,7 @@
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/run_limits.hpp"
+#include "starnav/io/yaml_document.hpp"
 #include "starnav/logs/decompress.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/sense/lidar.hpp"
@@ -31,6 +32,7 @@ struct Limit {
 
 std::string count(double v) { return format_number(v); }
 std::string bytes(double v) { return format_number(v / (1024.0 * 1024.0 * 1024.0)) + " GiB"; }
+std::string bytes_mib(double v) { return format_number(v / (1024.0 * 1024.0)) + " MiB"; }
 
 }  // namespace
 
@@ -47,6 +49,9 @@ std::string limits_markdown() {
             "cell indices are 32-bit; checked from the header before the body is read"},
            {"points of a cloud file", count(static_cast<double>(kMaxCloudPoints)), "PCD, PLY and KITTI .bin clouds",
             "checked from the header (or the file size) before reading"},
+           {"a YAML document", bytes_mib(static_cast<double>(kMaxYamlBytes)) + " and " + count(static_cast<double>(kMaxYamlNodes)) + " nodes",
+            "scenarios, `--set` values, map_server and elevation YAML, RAW sidecars, slam3d's sensor.yaml",
+            "nodes counted with their aliases expanded, in one pass over the text before the document is built"},
        }},
       {"Simulation",
        {

@@ -23,7 +23,7 @@ namespace {
 // occupied_thresh (conventions.md).
 MapFormat detect_yaml_kind(const std::string& path) {
   if (!std::filesystem::exists(path)) throw Error("file not found", path);
-  const YAML::Node root = load_yaml_document(read_input_file(path, 1u << 20), path);
+  const YAML::Node root = load_yaml_document(read_yaml_file(path), path);
   if (!root.IsMap()) throw Error("expected a YAML mapping of keys", path);
   if (root["z_min"] || root["z_max"]) return MapFormat::ElevationYaml;
   if (root["occupied_thresh"] || root["free_thresh"] || root["negate"]) return MapFormat::RosMap;
