@@ -167,6 +167,14 @@ TEST(LogReaders, MalformedInputNamesFileLineAndField) {
       {"LASERSCAN 1.0 3 1 2\n", true, 1, "LASERSCAN ranges"},
       {"ODOMETRY 1.0 1 2 3 4\n", true, 1, "ODOMETRY fields"},
       {"ODOMETRY 1.0 1 2 3 4 5\nLASERSCAN 1.0 1 \x01\n", true, 2, "LASERSCAN range"},
+      // Positions farther than kMaxCoordinateM (1e9 m) from the origin are corrupt, never mapped.
+      {"FLASER 1 1.0 1e19 0 0 0 0 0 1.0 h 0\n", false, 1, "FLASER x"},
+      {"FLASER 1 1.0 0 0 0 0 -1e300 0 1.0 h 0\n", false, 1, "FLASER odom_y"},
+      {"ODOM 1e10 2 0 0 0 0 1.0 h 0\n", false, 1, "ODOM x"},
+      {"TRUEPOS 0 0 0 2e9 0 0 1.0 h 0\n", false, 1, "TRUEPOS odom_x"},
+      {"ROBOTLASER1 0 0 3 0.1 10 0.01 0 1 1 0 1e20 0 0 0 0 0 0 0 0 0 0 1.0 h 0\n", false, 1, "ROBOTLASER1 laser_x"},
+      {"PARAM robot_frontlaser_offset 1e12 h 0\n", false, 1, "PARAM robot_frontlaser_offset"},
+      {"ODOMETRY 1.0 3e9 2 3 4 5\n", true, 1, "ODOMETRY x"},
   };
   for (const Row& r : rows) {
     try {
@@ -276,6 +284,32 @@ TEST(RosBag, MalformedBagsNameTheByteAndField) {
       if (r.field != "magic") {
         EXPECT_NE(std::string(e.what()).find("byte"), std::string::npos) << e.what();
       }
+    }
+  }
+}
+
+TEST(RosBag, PositionsFartherThanTheCoordinateLimitAreRefused) {
+  struct Row {
+    std::string message;
+    std::string topic, type, field;
+  };
+  const std::vector<Row> rows = {
+      {test::odometry(1, 0, "base_link", 1e19, 0.0, 0.0, 0.0, 0.0), "/odom", "nav_msgs/Odometry", "pose.position"},
+      {test::odometry(1, 0, "base_link", 0.0, -2e9, 0.0, 0.0, 0.0), "/odom", "nav_msgs/Odometry", "pose.position"},
+      {test::tf_message({{"base_link", "laser", 1e12, 0.0, 0.0}}), "/tf_static", "tf2_msgs/TFMessage", "transforms"},
+  };
+  for (const Row& r : rows) {
+    test::BagWriter w;
+    w.connection({0, "/scan", "sensor_msgs/LaserScan"});
+    w.connection({1, r.topic, r.type});
+    w.message(0, 1, 0, test::laser_scan(1, 0, "laser", 0.0f, 0.1f, 10.0f, {1.0f, 2.0f}));
+    w.message(1, 1, 0, r.message);
+    try {
+      read_ros1_bag(w.bytes(), "far.bag");
+      ADD_FAILURE() << "accepted a position beyond 1e9 m on " << r.topic;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), r.field) << e.what();
+      EXPECT_NE(std::string(e.what()).find("farther than 1000000000 m"), std::string::npos) << e.what();
     }
   }
 }

@@ -55,6 +55,9 @@ std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
       if (columns == 13) e.t_s = v[0];
       e.pose = rigid_from_kitti_3x4(m, path, line_no, "pose");
     }
+    if (!(plausible_coordinate(e.pose.translation().x()) && plausible_coordinate(e.pose.translation().y()) &&
+          plausible_coordinate(e.pose.translation().z())))
+      throw Error("the position lies farther than " + format_number(kMaxCoordinateM) + " m from the origin", path, line_no, "pose");
     if (e.t_s && !out.empty() && out.back().t_s && !(*e.t_s > *out.back().t_s))
       throw Error("times must increase", path, line_no, "t");
     out.push_back(e);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "starnav/cloud/cloud_io.hpp"
+#include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
@@ -49,6 +50,9 @@ std::string limits_markdown() {
             "cell indices are 32-bit; checked from the header before the body is read"},
            {"points of a cloud file", count(static_cast<double>(kMaxCloudPoints)), "PCD, PLY and KITTI .bin clouds",
             "checked from the header (or the file size) before reading"},
+           {"a position read from a file", format_number(kMaxCoordinateM) + " m from the origin",
+            "poses of robot logs (CARMEN, text extracts, bags' odometry and transforms), trajectory and pose files, frames.csv",
+            "beyond any site; a farther value is corrupt (grids and pictures index what lies within it)"},
            {"a YAML document", bytes_mib(static_cast<double>(kMaxYamlBytes)) + " and " + count(static_cast<double>(kMaxYamlNodes)) + " nodes",
             "scenarios, `--set` values, map_server and elevation YAML, RAW sidecars, slam3d's sensor.yaml",
             "nodes counted with their aliases expanded, in one pass over the text before the document is built"},

@@ -43,6 +43,13 @@ class Fields {
     if (!parse_finite_number(tokens_[i], v)) fail(field, "expected a finite number, got '" + printable(tokens_[i], 40) + "'");
     return v;
   }
+  // A position (metres): finite and within kMaxCoordinateM of the origin.
+  double coordinate(std::size_t i, const char* field) const {
+    const double v = number(i, field);
+    if (!plausible_coordinate(v))
+      fail(field, format_number(v) + " m lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position");
+    return v;
+  }
   std::size_t count(std::size_t i, const char* field, std::size_t max) const {
     if (i >= tokens_.size()) fail(field, "missing");
     std::size_t v = 0;
@@ -112,8 +119,8 @@ LogScan raw_laser(const Fields& f, bool robot_laser) {
   std::size_t at = 10 + n + m;
   if (robot_laser) {
     f.need(at + 11 + 1, "... remissions laser_x laser_y laser_theta x y theta tv rv forward side turn_axis ipc_timestamp");
-    s.laser_pose = Pose2(f.number(at, "laser_x"), f.number(at + 1, "laser_y"), wrap_angle(f.number(at + 2, "laser_theta")));
-    s.odometry = Pose2(f.number(at + 3, "x"), f.number(at + 4, "y"), wrap_angle(f.number(at + 5, "theta")));
+    s.laser_pose = Pose2(f.coordinate(at, "laser_x"), f.coordinate(at + 1, "laser_y"), wrap_angle(f.number(at + 2, "laser_theta")));
+    s.odometry = Pose2(f.coordinate(at + 3, "x"), f.coordinate(at + 4, "y"), wrap_angle(f.number(at + 5, "theta")));
     at += 11;
   }
   s.stamp_us = f.stamp(at, "ipc_timestamp");
@@ -145,8 +152,8 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
       LogScan s;
       set_flaser_beam_angles(s, n);
       read_ranges(f, 2, n, s);
-      s.laser_pose = Pose2(f.number(2 + n, "x"), f.number(2 + n + 1, "y"), wrap_angle(f.number(2 + n + 2, "theta")));
-      s.odometry = Pose2(f.number(2 + n + 3, "odom_x"), f.number(2 + n + 4, "odom_y"),
+      s.laser_pose = Pose2(f.coordinate(2 + n, "x"), f.coordinate(2 + n + 1, "y"), wrap_angle(f.number(2 + n + 2, "theta")));
+      s.odometry = Pose2(f.coordinate(2 + n + 3, "odom_x"), f.coordinate(2 + n + 4, "odom_y"),
                          wrap_angle(f.number(2 + n + 5, "odom_theta")));
       s.stamp_us = f.stamp(2 + n + 6, "ipc_timestamp");
       s.source_index = static_cast<std::size_t>(line_no);
@@ -164,7 +171,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
     } else if (type == "ODOM") {
       f.need(8, "x y theta tv rv accel ipc_timestamp");
       LogOdometry od;
-      od.pose = Pose2(f.number(1, "x"), f.number(2, "y"), wrap_angle(f.number(3, "theta")));
+      od.pose = Pose2(f.coordinate(1, "x"), f.coordinate(2, "y"), wrap_angle(f.number(3, "theta")));
       od.tv_mps = f.number(4, "tv");
       od.rv_radps = f.number(5, "rv");
       od.stamp_us = f.stamp(7, "ipc_timestamp");
@@ -173,15 +180,15 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
     } else if (type == "TRUEPOS") {
       f.need(8, "x y theta odom_x odom_y odom_theta ipc_timestamp");
       LogTruePose tp;
-      tp.pose = Pose2(f.number(1, "true_x"), f.number(2, "true_y"), wrap_angle(f.number(3, "true_theta")));
-      tp.odometry = Pose2(f.number(4, "odom_x"), f.number(5, "odom_y"), wrap_angle(f.number(6, "odom_theta")));
+      tp.pose = Pose2(f.coordinate(1, "true_x"), f.coordinate(2, "true_y"), wrap_angle(f.number(3, "true_theta")));
+      tp.odometry = Pose2(f.coordinate(4, "odom_x"), f.coordinate(5, "odom_y"), wrap_angle(f.number(6, "odom_theta")));
       tp.stamp_us = f.stamp(7, "ipc_timestamp");
       log.truth.push_back(tp);
     } else if (type == "PARAM") {
       f.need(3, "name value");
       const std::string name = printable(f[1], std::size_t{200});
       log.params[name] = printable(f[2], std::size_t{200});
-      if (name == "robot_frontlaser_offset") log.laser_in_base = Pose2(f.number(2, "robot_frontlaser_offset"), 0.0, 0.0);
+      if (name == "robot_frontlaser_offset") log.laser_in_base = Pose2(f.coordinate(2, "robot_frontlaser_offset"), 0.0, 0.0);
     } else {
       ++log.skipped[type];
     }
@@ -213,7 +220,7 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
       if (f.size() != 7) f.fail("fields", "expected ODOMETRY ipc_timestamp x y theta tv rv, got " + std::to_string(f.size()) + " fields");
       LogOdometry od;
       od.stamp_us = f.stamp(1, "ipc_timestamp");
-      od.pose = Pose2(f.number(2, "x"), f.number(3, "y"), wrap_angle(f.number(4, "theta")));
+      od.pose = Pose2(f.coordinate(2, "x"), f.coordinate(3, "y"), wrap_angle(f.number(4, "theta")));
       od.tv_mps = f.number(5, "tv");
       od.rv_radps = f.number(6, "rv");
       od.source_index = static_cast<std::size_t>(line_no);

@@ -99,6 +99,13 @@ std::string format_stamp_us(std::int64_t us) {
   return buffer;
 }
 
+Error error_at_scan(const RobotLog& log, const LogScan& scan, const Error& e) {
+  if (!e.file().empty()) return e;
+  const bool text = log.format == "carmen" || log.format == "odomscan_text";
+  return Error(e.message() + (text ? "" : " (message " + std::to_string(scan.source_index) + ")"), log.path,
+               text ? static_cast<int>(scan.source_index) : 0, e.field());
+}
+
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry) {
   std::stable_sort(odometry.begin(), odometry.end(),
                    [](const LogOdometry& a, const LogOdometry& b) { return a.stamp_us < b.stamp_us; });

@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "starnav/core/error.hpp"
 #include "starnav/core/geometry.hpp"
 
 namespace starnav {
@@ -87,6 +88,9 @@ std::vector<std::optional<Pose2>> scan_odometry(const RobotLog& log);
 // order; `progress(done, total)` every 100 scans and once at the end.
 void for_each_scan_with_odometry(const RobotLog& log, const std::function<void(const LogScan&, const Pose2&)>& fn,
                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
+// `e`, an error about one scan raised by code that knows nothing of files (a map or SLAM refusing
+// its pose), placed at the scan: the log's file with the scan's line (text logs) or message (bags).
+Error error_at_scan(const RobotLog& log, const LogScan& scan, const Error& e);
 // The readings in time order (stable: equal stamps keep the log's order).
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry);
 

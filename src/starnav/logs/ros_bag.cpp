@@ -11,6 +11,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/logs/decompress.hpp"
 
 namespace starnav {
@@ -298,8 +299,10 @@ DecodedOdometry decode_odometry(ByteReader& r) {
   d.odometry.rv_radps = r.get<double>("twist.angular.z");
   r.take(36 * 8, "twist.covariance");
   d.odometry.pose = Pose2(x, y, yaw_of_quaternion(qx, qy, qz, qw));
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(d.odometry.pose.yaw))
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(d.odometry.pose.yaw))
     r.fail("pose", "not finite");
+  if (!plausible_coordinate(x) || !plausible_coordinate(y) || !plausible_coordinate(z))
+    r.fail("pose.position", "lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position");
   d.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
   return d;
 }
@@ -325,6 +328,8 @@ void decode_tf(ByteReader& r, std::vector<StaticTransform>& out) {
     t.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(t.pose.yaw))
       r.fail("transforms", "not finite");
+    if (!plausible_coordinate(x) || !plausible_coordinate(y) || !plausible_coordinate(z))
+      r.fail("transforms", "a translation lies farther than " + format_number(kMaxCoordinateM) + " m: not a position");
     out.push_back(std::move(t));
   }
 }
