@@ -97,7 +97,7 @@ LoadedMap load_map(const std::string& path) {
   return out;
 }
 
-void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
+void check_map_writable(const LoadedMap& map, const std::string& path, MapFormat format) {
   const bool elevation_format = format == MapFormat::ElevationYaml || format == MapFormat::Asc ||
                                 format == MapFormat::Csv || format == MapFormat::UnityRaw ||
                                 format == MapFormat::GeoTiff;
@@ -105,6 +105,11 @@ void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
     throw Error(std::string("cannot write ") + (map.is_elevation() ? "an elevation map" : "an occupancy grid") +
                     " as " + map_format_name(format),
                 path);
+  if (format == MapFormat::GeoTiff) throw Error("writing GeoTIFF is not supported (read only)", path);
+}
+
+void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
+  check_map_writable(map, path, format);
   switch (format) {
     case MapFormat::MovingAi:
       if (map.movingai)
@@ -129,6 +134,7 @@ void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
 }
 
 std::vector<std::string> map_conversion_losses(const LoadedMap& map, MapFormat format) {
+  check_map_writable(map, {}, format);
   std::vector<std::string> losses;
   const GridGeometry& g = map.geometry();
   const bool placed = g.origin.x != 0.0 || g.origin.y != 0.0 || g.origin.yaw != 0.0;
