@@ -771,14 +771,17 @@ void write_elevation_csv(const ElevationMap& map, const std::string& path) {
 
 // ---- PNG16 + YAML ------------------------------------------------------------------------------
 
-ElevationMap read_elevation_yaml(const std::string& yaml_path) {
+ElevationMap read_elevation_yaml(const std::string& yaml_path, std::string* companion) {
   const InputFileScope reading_yaml_path(yaml_path);
   const YamlKeys y(yaml_path, read_yaml_file(yaml_path));
   // The sidecar of a Unity RAW export also has z_min/z_max: read the RAW it describes.
   if (y.has("format") && y.string("format") == "unity_raw") {
     const std::string suffix = ".yaml";
-    if (yaml_path.size() > suffix.size() && yaml_path.ends_with(suffix))
-      return read_unity_raw(yaml_path.substr(0, yaml_path.size() - suffix.size()));
+    if (yaml_path.size() > suffix.size() && yaml_path.ends_with(suffix)) {
+      const std::string raw = yaml_path.substr(0, yaml_path.size() - suffix.size());
+      if (companion) *companion = raw;
+      return read_unity_raw(raw);
+    }
     throw y.error("format", "a Unity RAW sidecar must be named <raw file>.yaml");
   }
   const std::string image_name = y.string("image");
@@ -798,6 +801,7 @@ ElevationMap read_elevation_yaml(const std::string& yaml_path) {
   if (!fs::is_regular_file(image_path, ec))
     throw Error(quote(image_name) + " not found (looked for " + image_path.string() + ")", yaml_path,
                 image_line, "image");
+  if (companion) *companion = image_path.string();
   const GrayImage image = read_gray_image(image_path.string());  // its errors name the image file
   if (image.channels != 1 || image.max_value != 65535) {
     std::string kind;

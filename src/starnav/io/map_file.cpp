@@ -75,6 +75,7 @@ LoadedMap load_map(const std::string& path) {
   const InputFileScope reading_path(path);
   LoadedMap out;
   out.format = detect_map_format(path);
+  out.files = {path};
   switch (out.format) {
     case MapFormat::MovingAi: {
       MovingAiMap m = read_movingai_map(path);
@@ -86,12 +87,30 @@ LoadedMap load_map(const std::string& path) {
       RosMapMetadata meta;
       out.map = read_ros_map(path, &meta);
       out.ros = meta;
+      out.files.push_back(ros_map_image_path(path, meta.image));
       break;
     }
-    case MapFormat::ElevationYaml: out.map = read_elevation_yaml(path); break;
-    case MapFormat::Asc: out.map = read_asc(path); break;
+    case MapFormat::ElevationYaml: {
+      std::string companion;
+      out.map = read_elevation_yaml(path, &companion);
+      if (!companion.empty()) out.files.push_back(companion);
+      break;
+    }
+    case MapFormat::Asc: {
+      out.map = read_asc(path);
+      for (const char* ext : {".prj", ".PRJ"}) {
+        std::filesystem::path prj(path);
+        prj.replace_extension(ext);
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(prj, ec)) out.files.push_back(prj.string());
+      }
+      break;
+    }
     case MapFormat::Csv: out.map = read_elevation_csv(path); break;
-    case MapFormat::UnityRaw: out.map = read_unity_raw(path); break;
+    case MapFormat::UnityRaw:
+      out.map = read_unity_raw(path);
+      out.files.push_back(unity_raw_sidecar_path(path));
+      break;
     case MapFormat::GeoTiff: out.map = read_geotiff(path); break;
   }
   return out;

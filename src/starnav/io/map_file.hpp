@@ -26,6 +26,7 @@ struct LoadedMap {
   std::variant<OccupancyGrid, ElevationMap> map;
   std::optional<MovingAiMap> movingai;     // the original characters, for MovingAI maps
   std::optional<RosMapMetadata> ros;       // thresholds and mode, for map_server maps
+  std::vector<std::string> files;          // every file read: the one named, then its companions
 
   bool is_elevation() const { return std::holds_alternative<ElevationMap>(map); }
   const OccupancyGrid& occupancy() const { return std::get<OccupancyGrid>(map); }
