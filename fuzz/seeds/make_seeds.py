@@ -416,6 +416,9 @@ def carmen_logs():
         + b"ODOMETRY 0.900000 0.6 0.25 3.1 0.2 0.0\n",
         "bad_count.clf": b"FLASER 99999 1.0\n",
         "crlf.clf": flaser.replace(b"\n", b"\r\n"),
+        "resolution_zero.clf": b"RAWLASER1 0 0 3 0 10 0.01 0 2 1 2 0 1.0 h 0\n",
+        "negative_range.clf": b"FLASER 3 1 -1 2 0 0 0 0 0 0 1.0 h 0\n",
+        "far_pose.clf": b"ODOM 1e19 0 0 0 0 0 1.0 h 0\n",
     }
 
 
@@ -474,7 +477,16 @@ def ros_bags():
     points = (connection(0, b"/tf_static", b"tf2_msgs/TFMessage") + message(0, 1, tf3)
               + connection(1, b"/points", b"sensor_msgs/PointCloud2") + connection(2, b"/odom", b"nav_msgs/Odometry")
               + message(2, 10, odom) + message(1, 10, cloud))
+    # Faulty scans: an increment of 0 with five beams, angle_min above angle_max, a negative reading.
+    def scan_bag(layout, readings):
+        bad = header(10, 500, b"laser") + struct.pack("<7f", *layout) + struct.pack("<I", len(readings))
+        bad += struct.pack(f"<{len(readings)}f", *readings) + struct.pack("<I", 0)
+        return bag_of(connection(1, b"/scan", b"sensor_msgs/LaserScan") + message(1, 10, bad))
+
     return {
+        "scan_increment_zero.bag": scan_bag((-1.0, 1.0, 0.0, 0.0, 0.0, 0.1, 30.0), (1.0, 2.0, 3.0, 4.0, 5.0)),
+        "scan_angles_reversed.bag": scan_bag((1.0, -1.0, 0.5, 0.0, 0.0, 0.1, 30.0), (1.0, 2.0, 3.0, 4.0, 5.0)),
+        "scan_negative_range.bag": scan_bag((-1.0, 1.0, 0.5, 0.0, 0.0, 0.1, 30.0), (1.0, -2.0, 3.0, 4.0, 5.0)),
         "points.bag": bag_of(points),
         "plain.bag": bag(b"none", inner),
         "bz2.bag": bag(b"bz2", bz2.compress(inner, 9)),

@@ -13,6 +13,7 @@
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
+#include "starnav/logs/log_file.hpp"
 
 namespace starnav {
 
@@ -250,7 +251,8 @@ std::optional<decltype(std::declval<Lerp>()(std::declval<const Sample&>(), std::
 }
 
 LidarRecording open_bag(const std::string& path, const LidarRecordingOptions& o) {
-  const auto bytes = std::make_shared<const std::string>(read_file_bytes(path));
+  // A bag is a robot log whatever it records: the log's size limit holds for it.
+  const auto bytes = std::make_shared<const std::string>(read_input_file(path, kMaxLogFileBytes));
   const auto index = std::make_shared<const PointCloudBagIndex>(index_point_cloud_bag(*bytes, path, o.bag));
   LidarRecording rec;
   rec.path = path;

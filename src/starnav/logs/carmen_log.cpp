@@ -74,8 +74,20 @@ class Fields {
   mutable std::string type_;
 };
 
-// Laser readings per line: far above any real scanner (the SICK LMS 1xx family has 1141).
-constexpr std::size_t kMaxBeams = 100000;
+constexpr std::size_t kMaxBeams = kMaxScanBeams;
+
+// A scan_fault in the words of CARMEN's fields, at the scan's line.
+void check_scan(const LogScan& s, const std::string& path, int line, const std::string& type) {
+  const std::optional<ScanFault> fault = scan_fault(s);
+  if (!fault) return;
+  const std::string& f = fault->field;
+  const std::string field = f == "angle_min"         ? "start_angle"
+                            : f == "angle_increment" ? "angular_resolution"
+                            : f == "range_max"       ? "maximum_range"
+                            : f == "ranges"          ? "range"
+                                                     : f;
+  throw Error(fault->what, path, line, type + " " + field);
+}
 
 bool blank_or_comment(std::string_view line) {
   const std::size_t i = line.find_first_not_of(" \t\r");
@@ -167,6 +179,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
       LogScan s = raw_laser(f, type == "ROBOTLASER1");
       if (o.range_max_m) s.range_max_m = *o.range_max_m;
       s.source_index = static_cast<std::size_t>(line_no);
+      check_scan(s, path, line_no, type);
       log.scans.push_back(std::move(s));
     } else if (type == "ODOM") {
       f.need(8, "x y theta tv rv accel ipc_timestamp");
@@ -194,6 +207,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
     }
   });
   if (!flaser.empty()) set_inferred_range_max(log, flaser, o);
+  for (std::size_t i : flaser) check_scan(log.scans[i], path, static_cast<int>(log.scans[i].source_index), "FLASER");
   return log;
 }
 
@@ -230,6 +244,7 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
     }
   });
   if (!scans.empty()) set_inferred_range_max(log, scans, o);
+  for (std::size_t i : scans) check_scan(log.scans[i], path, static_cast<int>(log.scans[i].source_index), "LASERSCAN");
   return log;
 }
 

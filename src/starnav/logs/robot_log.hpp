@@ -19,6 +19,10 @@
 
 namespace starnav {
 
+// The most readings one scan may have: far above any real scanner (the SICK LMS 1xx family has
+// 1141). Every reader refuses more before storing them.
+inline constexpr std::size_t kMaxScanBeams = 100000;
+
 struct LogScan {
   std::int64_t stamp_us = 0;        // CARMEN ipc_timestamp, bag header.stamp (rounded to 1 us)
   double angle_min_rad = 0.0;       // beam i at angle_min + i * angle_increment (sensor frame)
@@ -41,6 +45,18 @@ struct LogScan {
   // taking every k-th beam so that at most `max` beams are visited (a viewer's thinned scan).
   std::vector<Vec2> end_points(const Pose2& sensor, std::size_t max) const;
 };
+
+// What is wrong with a scan, in the words of sensor_msgs/LaserScan's fields (angle_min,
+// angle_increment, range_min, range_max, ranges), for its reader to place at its line or message:
+// more than kMaxScanBeams readings, angles that are not finite, an angle_increment of 0 with
+// several beams, beams spanning more than a turn, range_min not finite or negative, range_max not
+// above range_min (no reading could return), a negative reading (NaN and -inf, "too close" in
+// REP 117, are fine). nullopt for a sound scan.
+struct ScanFault {
+  std::string field;
+  std::string what;
+};
+std::optional<ScanFault> scan_fault(const LogScan& scan);
 
 struct LogOdometry {
   std::int64_t stamp_us = 0;
