@@ -261,6 +261,10 @@ OutputFolder check_out_dir(const std::string& dir, bool force) {
   return OutputFolder(dir, "--out");
 }
 
+void print_warning(const std::string& text) {
+  std::fprintf(stderr, "starnav: warning: %s\n", escape_control_characters(text).c_str());
+}
+
 void warn_if_served_beyond_loopback(const std::string& bind) {
   if (bind != "127.0.0.1" && bind != "localhost" && bind != "::1")
     std::fprintf(stderr, "starnav: warning: --bind %s: the run is served to every machine that can reach this address\n", bind.c_str());

@@ -54,6 +54,9 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
 // are registered.
 void apply_number_rules(CLI::App& app);
 
+// A library's warning (LogReadOptions::warn, ...) on stderr as `starnav: warning: TEXT`.
+void print_warning(const std::string& text);
+
 // The one warning for a server told to listen beyond this machine (--bind other than loopback).
 void warn_if_served_beyond_loopback(const std::string& bind);
 

@@ -64,6 +64,7 @@ void run_map_build(const MapBuildOptions& o, Context& ctx) {
     read.range_max_m = o.range_max;
   }
   read.flaser_beam_angles = o.flaser_angles;
+  read.warn = print_warning;
   const RobotLog log = read_robot_log(o.log, read);
   LogMapResult r;
   if (o.poses == "log") r = map_log(log, LogPoseSource::Log, params);

@@ -80,6 +80,7 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
   SlamRunRequest q;
   q.log = o.log;
   q.read.flaser_beam_angles = o.flaser_angles;
+  q.read.warn = print_warning;
   q.method = o.method;
   q.settings = parse_set_options(o.sets);
   q.relations = o.relations;

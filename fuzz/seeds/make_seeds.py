@@ -419,6 +419,8 @@ def carmen_logs():
         "resolution_zero.clf": b"RAWLASER1 0 0 3 0 10 0.01 0 2 1 2 0 1.0 h 0\n",
         "negative_range.clf": b"FLASER 3 1 -1 2 0 0 0 0 0 0 1.0 h 0\n",
         "far_pose.clf": b"ODOM 1e19 0 0 0 0 0 1.0 h 0\n",
+        "stray_above_saturation.clf": flaser * 12 + flaser.replace(b"81.91", b"81.92"),
+        "float_overflow.clf": flaser.replace(b"81.91", b"1e308"),
     }
 
 

@@ -132,6 +132,63 @@ TEST(CarmenLog, FlaserLayoutsAndTheRepeatedMaximumAsNoReturn) {
   EXPECT_NEAR(s361.angle_min_rad + 360 * s361.angle_increment_rad, deg_to_rad(90.0), 1e-12);
 }
 
+// A log of 20 scans of 180 beams, every ninth at the sensor's no-return value 81.91 m, the others
+// at 3.25 m; `edit` changes the reading of scan 3, beam 9 (a no-return one).
+std::string saturated_log(bool text_extract, const std::string& edit = "") {
+  std::string out;
+  for (int i = 0; i < 20; ++i) {
+    out += text_extract ? "LASERSCAN " + std::to_string(10 + i) + ".5 180" : std::string("FLASER 180");
+    for (int b = 0; b < 180; ++b) out += " " + (i == 3 && b == 9 && !edit.empty() ? edit : b % 9 == 0 ? std::string("81.91") : std::string("3.25"));
+    out += text_extract ? "\n" : " 0 0 0 0 0 0 " + std::to_string(10 + i) + ".5 h 0\n";
+  }
+  return out;
+}
+
+TEST(CarmenLog, TheNoReturnValueIsTheLargestRepeatedReadingWhateverStraysLieAbove) {
+  for (const bool text : {false, true}) {
+    SCOPED_TRACE(text ? "text extract" : "CARMEN");
+    const auto read = [&](const std::string& log_text, std::vector<std::string>* warnings) {
+      LogReadOptions o;
+      if (warnings) o.warn = [warnings](const std::string& w) { warnings->push_back(w); };
+      return text ? read_odomscan_text(log_text, "s.txt", o) : read_carmen_log(log_text, "s.clf", o);
+    };
+    std::vector<std::string> warnings;
+    const RobotLog clean = read(saturated_log(text), &warnings);
+    EXPECT_FLOAT_EQ(static_cast<float>(clean.scans[0].range_max_m), 81.91f);
+    EXPECT_TRUE(warnings.empty());
+    // One reading 0.01 m above the no-return value used to make every no-return reading a wall.
+    const RobotLog stray = read(saturated_log(text, "81.92"), &warnings);
+    EXPECT_FLOAT_EQ(static_cast<float>(stray.scans[0].range_max_m), 81.91f);
+    EXPECT_FALSE(stray.scans[3].returned(9));
+    EXPECT_FALSE(stray.scans[0].returned(0));
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("1 readings lie above the no-return value 81.91"), std::string::npos) << warnings[0];
+    // Nine repeats of a larger value are strays still (fewer than 10).
+    std::string nine = saturated_log(text);
+    for (int k = 0; k < 9; ++k) nine.replace(nine.find(" 3.25"), 5, " 90.5");
+    EXPECT_FLOAT_EQ(static_cast<float>(read(nine, nullptr).scans[0].range_max_m), 81.91f);
+    // A value beyond a float: an error at its line, not an infinite reading.
+    try {
+      read(saturated_log(text, "1e308"), nullptr);
+      ADD_FAILURE() << "accepted 1e308";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.line(), 4);
+      EXPECT_EQ(e.field(), text ? "LASERSCAN range" : "FLASER range");
+    }
+    // No value repeats at the top: every reading counts, and the reader says so.
+    std::string distinct;
+    for (int i = 0; i < 5; ++i) {
+      distinct += text ? "LASERSCAN " + std::to_string(i) + ".5 3" : std::string("FLASER 3");
+      for (int b = 0; b < 3; ++b) distinct += " " + std::to_string(1.0 + 0.01 * (3 * i + b));
+      distinct += text ? "\n" : " 0 0 0 0 0 0 " + std::to_string(i) + ".5 h 0\n";
+    }
+    warnings.clear();
+    EXPECT_TRUE(read(distinct, &warnings).scans[4].returned(2));
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("every reading counts as a return"), std::string::npos) << warnings[0];
+  }
+}
+
 TEST(OdomScanText, ReadsTheExtractFormat) {
   const std::string text =
       "# extract\nODOMETRY 1.000000 0.5 0.25 0.1 0.2 0.0\nLASERSCAN 1.100000 3 1.00 2.00 3.00\n"

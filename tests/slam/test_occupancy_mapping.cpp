@@ -233,6 +233,26 @@ TEST(OccupancyMapper, WildCoordinatesAreRefusedBeforeAnyCellIsTouched) {
   }
 }
 
+TEST(LogMapping, AStrayReadingAboveTheNoReturnValueLeavesTheMapAsItWas) {
+  // A robot turning in a round room of radius 3 m whose far half is open (no return, 81.91 m). One
+  // reading 0.01 m above 81.91 used to make every no-return beam a wall 81.91 m away.
+  const auto log_text = [](bool stray) {
+    std::string out;
+    for (int i = 0; i < 30; ++i) {
+      out += "FLASER 180";
+      for (int b = 0; b < 180; ++b) out += b < 90 ? " 3.00" : (stray && i == 7 && b == 100 ? " 81.92" : " 81.91");
+      out += " 0 0 " + std::to_string(0.2 * i) + " 0 0 " + std::to_string(0.2 * i) + " " + std::to_string(i) + ".0 h 0\n";
+    }
+    return out;
+  };
+  const LogMapResult clean = map_log(read_carmen_log(log_text(false), "clean.clf"), LogPoseSource::Log, {});
+  const LogMapResult stray = map_log(read_carmen_log(log_text(true), "stray.clf"), LogPoseSource::Log, {});
+  EXPECT_EQ(stray.grid.width(), clean.grid.width());
+  EXPECT_EQ(stray.grid.height(), clean.grid.height());
+  EXPECT_TRUE(std::equal(stray.grid.data().begin(), stray.grid.data().end(), clean.grid.data().begin()));
+  EXPECT_LT(clean.grid.width(), 200);  // the room, not a disc of 81.91 m
+}
+
 const char* kLoggedRoom =
     "PARAM robot_frontlaser_offset 0.2 h 0\n"
     "ODOM 1.0 1.0 0.0 0 0 0 1.000000 h 0\n"

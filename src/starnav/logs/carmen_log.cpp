@@ -4,7 +4,9 @@
 #include <charconv>
 #include <limits>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -96,23 +98,45 @@ bool blank_or_comment(std::string_view line) {
 
 void read_ranges(const Fields& f, std::size_t first, std::size_t n, LogScan& s) {
   s.ranges_m.resize(n);
-  for (std::size_t i = 0; i < n; ++i) s.ranges_m[i] = static_cast<float>(f.number(first + i, "range"));
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = f.number(first + i, "range");
+    if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+      f.fail("range", format_number(v) + " m is beyond what a reading holds (a float, at most 3.4e38)");
+    s.ranges_m[i] = static_cast<float>(v);
+  }
 }
 
 // The no-return value of logs that do not store it (see the header).
-void set_inferred_range_max(RobotLog& log, const std::vector<std::size_t>& scans, const LogReadOptions& o) {
-  double max_reading = 0.0;
-  std::size_t at_max = 0, readings = 0;
+void set_inferred_range_max(RobotLog& log, const std::vector<std::size_t>& scans, const LogReadOptions& o,
+                            const std::string& path) {
+  std::vector<float> values;
   for (std::size_t i : scans)
-    for (float r : log.scans[i].ranges_m) {
-      ++readings;
-      if (r > max_reading) max_reading = r, at_max = 0;
-      if (r == static_cast<float>(max_reading)) ++at_max;
-    }
-  double range_max = std::nextafter(max_reading, std::numeric_limits<double>::infinity());
-  if (at_max >= 10 && static_cast<double>(at_max) >= 0.001 * static_cast<double>(readings))
-    range_max = static_cast<float>(max_reading);
-  if (o.range_max_m) range_max = *o.range_max_m;
+    for (float r : log.scans[i].ranges_m)
+      if (std::isfinite(r)) values.push_back(r);
+  std::sort(values.begin(), values.end(), std::greater<>());
+  const std::size_t repeats = std::max<std::size_t>(10, (values.size() + 999) / 1000);
+  // From the top, the first value that repeats that often; the readings above it are strays.
+  std::optional<float> saturated;
+  std::size_t saturated_count = 0, above_saturated = 0;
+  for (std::size_t at = 0; at < values.size() && !saturated;) {
+    std::size_t end = at;
+    while (end < values.size() && values[end] == values[at]) ++end;
+    if (end - at >= repeats) saturated = values[at], saturated_count = end - at, above_saturated = at;
+    at = end;
+  }
+  double range_max = std::nextafter(values.empty() ? 0.0 : static_cast<double>(values.front()), kInfinity);
+  if (saturated) range_max = *saturated;
+  if (o.range_max_m) {
+    range_max = *o.range_max_m;
+  } else if (o.warn && !values.empty()) {
+    if (!saturated)
+      o.warn(path + ": no reading repeats at the top as a sensor's no-return value does: every reading counts as a return "
+                    "(--range-max says which readings returned nothing)");
+    else if (above_saturated > 0)
+      o.warn(path + ": " + std::to_string(above_saturated) + " readings lie above the no-return value " + format_number(*saturated) +
+             " m (repeated " + std::to_string(saturated_count) + " times; the largest is " + format_number(values.front()) +
+             " m): they count as no return too (--range-max overrides)");
+  }
   for (std::size_t i : scans) log.scans[i].range_max_m = range_max;
   log.params["range_max_m"] = std::to_string(range_max) + (o.range_max_m ? " (given)" : " (inferred)");
 }
@@ -206,7 +230,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
       ++log.skipped[type];
     }
   });
-  if (!flaser.empty()) set_inferred_range_max(log, flaser, o);
+  if (!flaser.empty()) set_inferred_range_max(log, flaser, o, path);
   for (std::size_t i : flaser) check_scan(log.scans[i], path, static_cast<int>(log.scans[i].source_index), "FLASER");
   return log;
 }
@@ -243,7 +267,7 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
       ++log.skipped[f.type()];
     }
   });
-  if (!scans.empty()) set_inferred_range_max(log, scans, o);
+  if (!scans.empty()) set_inferred_range_max(log, scans, o, path);
   for (std::size_t i : scans) check_scan(log.scans[i], path, static_cast<int>(log.scans[i].source_index), "LASERSCAN");
   return log;
 }
