@@ -15,6 +15,7 @@
 #include "bag_writer.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/logs/decompress.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/ros_bag.hpp"
 #include "support/test_support.hpp"
@@ -439,6 +440,39 @@ TEST(LogReaders, EveryReaderHoldsTheSameScanRules) {
   }
   // REP 117's special readings stay readable: -inf (too close), +inf (no return), NaN (erroneous).
   EXPECT_NO_THROW(bag_scan(test::laser_scan_fields(0.0f, 0.2f, 0.1f, 0.0f, 10.0f, {-INFINITY, INFINITY, NAN}))());
+}
+
+// `n` zero bytes as one gzip member (zlib's deflate, independent of the reader's inflate).
+std::string gzip_zeros(std::size_t n) {
+  const std::string raw(n, '\0');
+  z_stream z{};
+  EXPECT_EQ(deflateInit2(&z, 9, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY), Z_OK);
+  std::string out(deflateBound(&z, static_cast<uLong>(n)), '\0');
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(raw.data()));
+  z.avail_in = static_cast<uInt>(n);
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(out.size());
+  EXPECT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  return out;
+}
+
+TEST(Decompress, GzipStopsAtTheLimitWhileInflatingOrFromItsTrailer) {
+  constexpr std::size_t kLimit = std::size_t{1} << 20;
+  EXPECT_EQ(gunzip(gzip_zeros(kLimit), "exact.gz", kLimit).size(), kLimit);
+  // The trailer says 1 MiB + 1: refused before inflating.
+  const std::string over = gzip_zeros(kLimit + 1);
+  EXPECT_NE(test::error_of([&] { gunzip(over, "over.gz", kLimit); }).find("says it decompresses to 1048577 bytes"), std::string::npos);
+  // A trailer that lies (0), or members that each fit: refused while inflating, at the limit.
+  std::string lying = gzip_zeros(3 * kLimit);
+  lying.replace(lying.size() - 4, 4, std::string(4, '\0'));
+  const std::string members = gzip_zeros(kLimit / 2 + 1) + gzip_zeros(kLimit / 2);
+  for (const std::string* bytes : {static_cast<const std::string*>(&lying), &members}) {
+    const std::string what = test::error_of([&] { gunzip(*bytes, "many.gz", kLimit); });
+    EXPECT_NE(what.find("many.gz: gzip: decompresses to more than 1048576 bytes"), std::string::npos) << what;
+  }
+  EXPECT_EQ(gunzip(gzip_zeros(kLimit / 2) + gzip_zeros(kLimit / 2), "two.gz", kLimit).size(), kLimit);
 }
 
 TEST(LogFile, DetectsTheFormatUndoesGzipAndRefusesNonRegularFiles) {
