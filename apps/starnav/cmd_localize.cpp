@@ -56,6 +56,7 @@ void run_localize_command(const LocalizeOptions& o, Context& ctx) {
   LocalizeRunRequest q;
   q.log = o.log;
   q.read.flaser_beam_angles = o.flaser_angles;
+  q.read.warn = print_warning;
   q.map = o.map;
   q.reference = o.reference;
   q.initial = parse_localize_initial(o.initial, !o.reference.empty());

@@ -51,6 +51,7 @@ void register_log_commands(CLI::App& app, Context& ctx) {
     options.scan_topic = o->scan_topic;
     options.odom_topic = o->odom_topic;
     options.flaser_beam_angles = o->flaser_angles;
+    options.warn = print_warning;
     const RobotLog log = read_robot_log(o->file, options);
     std::cout << (o->json ? log_info_json(log) : log_info_text(log));
     ctx.exit_code = 0;

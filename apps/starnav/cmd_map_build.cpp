@@ -53,12 +53,18 @@ void run_map_build(const MapBuildOptions& o, Context& ctx) {
     for (const std::string& f : map_output_files(o.out, MapFormat::RosMap)) check_output_path(f, o.force, "--out");
   }
   if (!o.trajectory_out.empty()) check_output_path(o.trajectory_out, o.force, "--trajectory-out");
+  std::vector<CommandFile> files{{o.log, "LOG", false}};
+  if (o.poses != "log" && o.poses != "odometry" && o.poses != "truth") files.push_back({o.poses, "--poses", false});
+  add_map_files(files, o.out, MapFormat::RosMap, std::nullopt, "--out");
+  if (!o.trajectory_out.empty()) files.push_back({o.trajectory_out, "--trajectory-out"});
+  check_distinct_files(files);
   LogReadOptions read;
   if (o.range_max_opt->count() > 0) {
     if (!(o.range_max > 0)) throw Error("expected metres > 0", {}, 0, "--range-max");
     read.range_max_m = o.range_max;
   }
   read.flaser_beam_angles = o.flaser_angles;
+  read.warn = print_warning;
   const RobotLog log = read_robot_log(o.log, read);
   LogMapResult r;
   if (o.poses == "log") r = map_log(log, LogPoseSource::Log, params);

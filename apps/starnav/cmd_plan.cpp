@@ -101,6 +101,11 @@ void run_plan(PlanOptions& o, Context& ctx) {
   if (!o.out.empty()) check_output_path(o.out, o.force, "--out");
   if (!o.svg.empty()) check_output_path(o.svg, o.force, "--svg");
   const LoadedMap loaded = load_map(o.map);
+  std::vector<CommandFile> files;
+  add_map_files(files, loaded, "--map");
+  if (!o.out.empty()) files.push_back({o.out, "--out"});
+  if (!o.svg.empty()) files.push_back({o.svg, "--svg"});
+  check_distinct_files(files);
   if (loaded.is_elevation()) {
     run_plan_elevation(o, loaded, ctx);
     return;

@@ -80,6 +80,7 @@ void run_slam(const SlamRunOptions& o, Context& ctx) {
   SlamRunRequest q;
   q.log = o.log;
   q.read.flaser_beam_angles = o.flaser_angles;
+  q.read.warn = print_warning;
   q.method = o.method;
   q.settings = parse_set_options(o.sets);
   q.relations = o.relations;
@@ -176,6 +177,7 @@ void register_slam_commands(CLI::App& app, Context& ctx) {
   odo->add_flag("--force", od->force, "overwrite --out");
   odo->callback([od, &ctx] {
     check_output_path(od->out, od->force, "--out");
+    check_distinct_files({{od->log, "LOG", false}, {od->out, "--out"}});
     const std::vector<TrajectoryPose> t = odometry_trajectory(read_robot_log(od->log));
     if (t.empty()) throw Error("no scan has an odometry pose", od->log, 0, "LOG");
     write_text_file(od->out, trajectory_csv(t), "--out");

@@ -134,6 +134,14 @@ def scens():
     }
 
 
+def alias_bomb(levels=9):
+    """Nine nested levels of ten aliases: 10^9 nodes once expanded, in a few hundred bytes."""
+    out = b"l0: &l0 [x, x, x, x, x, x, x, x, x, x]\n"
+    for i in range(1, levels):
+        out += f"l{i}: &l{i} [".encode() + b", ".join([f"*l{i - 1}".encode()] * 10) + b"]\n"
+    return out
+
+
 def ros_yamls():
     image = b"P5\n3 2\n255\n\x00\xcd\xfe\x80\xff\x10"
     base = (b"image: m.pgm\nresolution: 0.05\norigin: [-10.0, -10.0, 0.0]\nnegate: 0\n"
@@ -160,6 +168,8 @@ def ros_yamls():
         "anchors.yaml": b"a: &x [0, 0, 0]\nimage: m.pgm\nresolution: 1\norigin: *x\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
         "empty.yaml": b"",
         "deep_nesting.yaml": b"image: " + b"[" * 3000 + b"\n",
+        "alias_bomb.yaml": base + alias_bomb() + SEP + image,
+        "alias_cycle.yaml": base.replace(b"[-10.0, -10.0, 0.0]", b"&o [0, 0, *o]") + SEP + image,
     }
 
 
@@ -236,6 +246,7 @@ def elevation_yamls():
         "bad_png.yaml": base + SEP + img16[:30],
         "nan_zmax.yaml": base.replace(b"10.0", b".nan") + SEP + img16,
         "deep_nesting.yaml": b"origin: " + b"{a: " * 2000 + b"\n" + SEP + img16,
+        "alias_bomb.yaml": base + alias_bomb() + SEP + img16,
     }
 
 
@@ -261,6 +272,7 @@ def unity_raws():
         "raw_nodata.raw": sidecar(3, 2, 3, extra="nodata: 0\n") + SEP + raw(3, lambda x, y: x * 30000),
         "raw_big_endian.raw": sidecar(2, 2, 2).replace(b"little", b"big") + SEP + raw(2, lambda x, y: 1),
         "raw_minimal_keys.raw": b"size: 3\nwidth: 3\nheight: 3\nresolution: 1\norigin: [0, 0, 0]\nz_min: 0\nz_max: 1\n" + SEP + raw(3, lambda x, y: 7),
+        "raw_alias_bomb.raw": sidecar(3, 3, 3) + alias_bomb() + SEP + raw(3, lambda x, y: 7),
     }
 
 
@@ -384,6 +396,8 @@ def scenarios():
         "empty.yaml": b"",
         "tabs.yaml": b"world:\t{}\n",
         "deep_nesting.yaml": b"world: " + b"[" * 3000 + b"\n",
+        "alias_bomb.yaml": alias_bomb() + sim,
+        "alias_cycle.yaml": b"world:\n  obstacles: &o [*o]\n" + sim,
     }
     out.update(scenario_files())
     return out
@@ -402,6 +416,11 @@ def carmen_logs():
         + b"ODOMETRY 0.900000 0.6 0.25 3.1 0.2 0.0\n",
         "bad_count.clf": b"FLASER 99999 1.0\n",
         "crlf.clf": flaser.replace(b"\n", b"\r\n"),
+        "resolution_zero.clf": b"RAWLASER1 0 0 3 0 10 0.01 0 2 1 2 0 1.0 h 0\n",
+        "negative_range.clf": b"FLASER 3 1 -1 2 0 0 0 0 0 0 1.0 h 0\n",
+        "far_pose.clf": b"ODOM 1e19 0 0 0 0 0 1.0 h 0\n",
+        "stray_above_saturation.clf": flaser * 12 + flaser.replace(b"81.91", b"81.92"),
+        "float_overflow.clf": flaser.replace(b"81.91", b"1e308"),
     }
 
 
@@ -460,7 +479,16 @@ def ros_bags():
     points = (connection(0, b"/tf_static", b"tf2_msgs/TFMessage") + message(0, 1, tf3)
               + connection(1, b"/points", b"sensor_msgs/PointCloud2") + connection(2, b"/odom", b"nav_msgs/Odometry")
               + message(2, 10, odom) + message(1, 10, cloud))
+    # Faulty scans: an increment of 0 with five beams, angle_min above angle_max, a negative reading.
+    def scan_bag(layout, readings):
+        bad = header(10, 500, b"laser") + struct.pack("<7f", *layout) + struct.pack("<I", len(readings))
+        bad += struct.pack(f"<{len(readings)}f", *readings) + struct.pack("<I", 0)
+        return bag_of(connection(1, b"/scan", b"sensor_msgs/LaserScan") + message(1, 10, bad))
+
     return {
+        "scan_increment_zero.bag": scan_bag((-1.0, 1.0, 0.0, 0.0, 0.0, 0.1, 30.0), (1.0, 2.0, 3.0, 4.0, 5.0)),
+        "scan_angles_reversed.bag": scan_bag((1.0, -1.0, 0.5, 0.0, 0.0, 0.1, 30.0), (1.0, 2.0, 3.0, 4.0, 5.0)),
+        "scan_negative_range.bag": scan_bag((-1.0, 1.0, 0.5, 0.0, 0.0, 0.1, 30.0), (1.0, -2.0, 3.0, 4.0, 5.0)),
         "points.bag": bag_of(points),
         "plain.bag": bag(b"none", inner),
         "bz2.bag": bag(b"bz2", bz2.compress(inner, 9)),

@@ -13,6 +13,7 @@
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
+#include "starnav/logs/log_file.hpp"
 
 namespace starnav {
 
@@ -55,6 +56,9 @@ std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
       if (columns == 13) e.t_s = v[0];
       e.pose = rigid_from_kitti_3x4(m, path, line_no, "pose");
     }
+    if (!(plausible_coordinate(e.pose.translation().x()) && plausible_coordinate(e.pose.translation().y()) &&
+          plausible_coordinate(e.pose.translation().z())))
+      throw Error("the position lies farther than " + format_number(kMaxCoordinateM) + " m from the origin", path, line_no, "pose");
     if (e.t_s && !out.empty() && out.back().t_s && !(*e.t_s > *out.back().t_s))
       throw Error("times must increase", path, line_no, "t");
     out.push_back(e);
@@ -247,7 +251,8 @@ std::optional<decltype(std::declval<Lerp>()(std::declval<const Sample&>(), std::
 }
 
 LidarRecording open_bag(const std::string& path, const LidarRecordingOptions& o) {
-  const auto bytes = std::make_shared<const std::string>(read_file_bytes(path));
+  // A bag is a robot log whatever it records: the log's size limit holds for it.
+  const auto bytes = std::make_shared<const std::string>(read_input_file(path, kMaxLogFileBytes));
   const auto index = std::make_shared<const PointCloudBagIndex>(index_point_cloud_bag(*bytes, path, o.bag));
   LidarRecording rec;
   rec.path = path;

@@ -99,6 +99,37 @@ std::string format_stamp_us(std::int64_t us) {
   return buffer;
 }
 
+std::optional<ScanFault> scan_fault(const LogScan& s) {
+  const std::size_t n = s.ranges_m.size();
+  if (n > kMaxScanBeams)
+    return ScanFault{"ranges", std::to_string(n) + " readings, more than the " + std::to_string(kMaxScanBeams) + " a scan may have"};
+  if (!std::isfinite(s.angle_min_rad)) return ScanFault{"angle_min", "not a finite angle"};
+  if (!std::isfinite(s.angle_increment_rad)) return ScanFault{"angle_increment", "not a finite angle"};
+  if (n > 1 && s.angle_increment_rad == 0.0)
+    return ScanFault{"angle_increment", "is 0 with " + std::to_string(n) + " beams: they would all point one way"};
+  // One increment of slack: a full turn of n beams spans n - 1 increments, some drivers count n.
+  const double span = std::abs(s.angle_increment_rad) * static_cast<double>(n > 0 ? n - 1 : 0);
+  if (span > 2.0 * kPi + std::abs(s.angle_increment_rad) + 1e-6)
+    return ScanFault{"angle_increment", std::to_string(n) + " beams " + format_number(s.angle_increment_rad) + " rad apart span " +
+                                            format_number(span) + " rad, more than a turn"};
+  if (!(std::isfinite(s.range_min_m) && s.range_min_m >= 0.0))
+    return ScanFault{"range_min", format_number(s.range_min_m) + " m is not a distance"};
+  if (!(s.range_max_m > s.range_min_m))
+    return ScanFault{"range_max", format_number(s.range_max_m) + " m is not above range_min " + format_number(s.range_min_m) +
+                                      " m: no reading could return"};
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::isfinite(s.ranges_m[i]) && s.ranges_m[i] < 0.0f)
+      return ScanFault{"ranges", "reading " + std::to_string(i) + " is " + format_number(s.ranges_m[i]) + " m: a range is never negative"};
+  return std::nullopt;
+}
+
+Error error_at_scan(const RobotLog& log, const LogScan& scan, const Error& e) {
+  if (!e.file().empty()) return e;
+  const bool text = log.format == "carmen" || log.format == "odomscan_text";
+  return Error(e.message() + (text ? "" : " (message " + std::to_string(scan.source_index) + ")"), log.path,
+               text ? static_cast<int>(scan.source_index) : 0, e.field());
+}
+
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry) {
   std::stable_sort(odometry.begin(), odometry.end(),
                    [](const LogOdometry& a, const LogOdometry& b) { return a.stamp_us < b.stamp_us; });

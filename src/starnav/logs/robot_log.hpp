@@ -14,9 +14,14 @@
 #include <string_view>
 #include <vector>
 
+#include "starnav/core/error.hpp"
 #include "starnav/core/geometry.hpp"
 
 namespace starnav {
+
+// The most readings one scan may have: far above any real scanner (the SICK LMS 1xx family has
+// 1141). Every reader refuses more before storing them.
+inline constexpr std::size_t kMaxScanBeams = 100000;
 
 struct LogScan {
   std::int64_t stamp_us = 0;        // CARMEN ipc_timestamp, bag header.stamp (rounded to 1 us)
@@ -40,6 +45,18 @@ struct LogScan {
   // taking every k-th beam so that at most `max` beams are visited (a viewer's thinned scan).
   std::vector<Vec2> end_points(const Pose2& sensor, std::size_t max) const;
 };
+
+// What is wrong with a scan, in the words of sensor_msgs/LaserScan's fields (angle_min,
+// angle_increment, range_min, range_max, ranges), for its reader to place at its line or message:
+// more than kMaxScanBeams readings, angles that are not finite, an angle_increment of 0 with
+// several beams, beams spanning more than a turn, range_min not finite or negative, range_max not
+// above range_min (no reading could return), a negative reading (NaN and -inf, "too close" in
+// REP 117, are fine). nullopt for a sound scan.
+struct ScanFault {
+  std::string field;
+  std::string what;
+};
+std::optional<ScanFault> scan_fault(const LogScan& scan);
 
 struct LogOdometry {
   std::int64_t stamp_us = 0;
@@ -87,6 +104,9 @@ std::vector<std::optional<Pose2>> scan_odometry(const RobotLog& log);
 // order; `progress(done, total)` every 100 scans and once at the end.
 void for_each_scan_with_odometry(const RobotLog& log, const std::function<void(const LogScan&, const Pose2&)>& fn,
                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
+// `e`, an error about one scan raised by code that knows nothing of files (a map or SLAM refusing
+// its pose), placed at the scan: the log's file with the scan's line (text logs) or message (bags).
+Error error_at_scan(const RobotLog& log, const LogScan& scan, const Error& e);
 // The readings in time order (stable: equal stamps keep the log's order).
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry);
 

@@ -11,6 +11,8 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/logs/decompress.hpp"
 
 namespace starnav {
@@ -247,14 +249,21 @@ DecodedScan decode_laser_scan(ByteReader& r) {
   LogScan& s = d.scan;
   s.stamp_us = h.stamp_us;
   s.angle_min_rad = r.get<float>("angle_min");
-  r.get<float>("angle_max");
+  const double angle_max = r.get<float>("angle_max");
   s.angle_increment_rad = r.get<float>("angle_increment");
   r.get<float>("time_increment");
   r.get<float>("scan_time");
   s.range_min_m = r.get<float>("range_min");
   s.range_max_m = r.get<float>("range_max");
   const std::uint32_t n = r.u32("ranges");
+  if (n > kMaxScanBeams)
+    r.fail("ranges", std::to_string(n) + " readings, more than the " + std::to_string(kMaxScanBeams) + " a scan may have");
   if (n > r.remaining() / 4) r.fail("ranges", std::to_string(n) + " ranges do not fit the message");
+  // The beams run from angle_min towards angle_max: the increment's sign says which way.
+  if (!std::isfinite(angle_max)) r.fail("angle_max", "not a finite angle");
+  if (n > 1 && (angle_max - s.angle_min_rad) * s.angle_increment_rad < 0)
+    r.fail("angle_max", "angle_min " + format_number(s.angle_min_rad) + " to angle_max " + format_number(angle_max) +
+                            " runs against angle_increment " + format_number(s.angle_increment_rad));
   s.ranges_m.resize(n);
   const std::string_view raw = r.take(std::size_t{n} * 4, "ranges");
   if (n > 0) std::memcpy(s.ranges_m.data(), raw.data(), raw.size());  // an empty vector's data() may be null
@@ -298,8 +307,10 @@ DecodedOdometry decode_odometry(ByteReader& r) {
   d.odometry.rv_radps = r.get<double>("twist.angular.z");
   r.take(36 * 8, "twist.covariance");
   d.odometry.pose = Pose2(x, y, yaw_of_quaternion(qx, qy, qz, qw));
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(d.odometry.pose.yaw))
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(d.odometry.pose.yaw))
     r.fail("pose", "not finite");
+  if (!plausible_coordinate(x) || !plausible_coordinate(y) || !plausible_coordinate(z))
+    r.fail("pose.position", "lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position");
   d.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
   return d;
 }
@@ -325,6 +336,8 @@ void decode_tf(ByteReader& r, std::vector<StaticTransform>& out) {
     t.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(t.pose.yaw))
       r.fail("transforms", "not finite");
+    if (!plausible_coordinate(x) || !plausible_coordinate(y) || !plausible_coordinate(z))
+      r.fail("transforms", "a translation lies farther than " + format_number(kMaxCoordinateM) + " m: not a position");
     out.push_back(std::move(t));
   }
 }
@@ -370,6 +383,9 @@ BagPointCloud decode_point_cloud2(ByteReader& r) {
   c.stamp_us = h.stamp_us;
   c.frame_id = h.frame_id;
   const std::uint64_t height = r.u32("height"), width = r.u32("width");
+  if (height * width > kMaxCloudPoints)
+    r.fail("width", std::to_string(height) + " x " + std::to_string(width) + " points, more than the " +
+                        std::to_string(kMaxCloudPoints) + " a cloud may have");
   const std::uint32_t nfields = r.u32("fields");
   if (nfields > r.remaining() / 13) r.fail("fields", std::to_string(nfields) + " fields do not fit the message");
   struct Field {
@@ -493,6 +509,7 @@ RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const Lo
       d.scan.source_index = index;
       if (o.range_max_m) d.scan.range_max_m = *o.range_max_m;
       if (o.flaser_beam_angles) set_flaser_beam_angles(d.scan, d.scan.ranges_m.size());
+      if (const std::optional<ScanFault> fault = scan_fault(d.scan)) r.fail(fault->field, fault->what);
       log.scans.push_back(std::move(d.scan));
     } else if (c.topic == odom_topic) {
       DecodedOdometry d = decode_odometry(r);

@@ -299,8 +299,18 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
 double run_slam_on_log(Slam& slam, const RobotLog& log, const std::function<void(std::size_t, std::size_t)>& progress) {
   const double t0 = thread_cpu_s();
   const Pose2 mount = log.laser_in_base.value_or(Pose2());
-  for_each_scan_with_odometry(log, [&](const LogScan& scan, const Pose2& odometry) { slam.add(scan, odometry, mount); }, progress);
-  slam.finish();
+  for_each_scan_with_odometry(log, [&](const LogScan& scan, const Pose2& odometry) {
+    try {
+      slam.add(scan, odometry, mount);
+    } catch (const Error& e) {
+      throw error_at_scan(log, scan, e);
+    }
+  }, progress);
+  try {
+    slam.finish();
+  } catch (const Error& e) {
+    throw e.file().empty() ? e.with_file(log.path) : e;
+  }
   return thread_cpu_s() - t0;
 }
 
