@@ -92,8 +92,10 @@ export function parseTrajectory(text) {
   const col = (name) => header.indexOf(name);
   // A simulation's (t_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,wz_radps) or a SLAM
   // run's (t_s,x_m,y_m,yaw_rad): what is missing is zero.
+  // Without t_s,x_m,y_m,yaw_rad it is not a base trajectory (3D SLAM's holds the sensor's poses as
+  // quaternions): null, and the steps' poses are drawn instead.
   const cols = ['t_s', 'x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad', 'vx_mps', 'vy_mps', 'wz_radps'].map(col);
-  if ([0, 1, 2, 6].some((i) => cols[i] < 0)) throw new Error('trajectory.csv: missing a column of t_s,x_m,y_m,yaw_rad');
+  if ([0, 1, 2, 6].some((i) => cols[i] < 0)) return null;
   const n = lines.length - 1;
   const t = new Float64Array(n);
   const pose = new Float32Array(n * 6);
