@@ -11,6 +11,7 @@
 
 #include <poll.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -153,14 +154,8 @@ TEST(RunServer, AStalledLiveClientHoldsBackNeitherThePublisherNorTheOthers) {
   server.start();
   const int port = server.port();
   // The stalled client: a small receive buffer, connected and never read from.
-  const int stalled = ::socket(AF_INET, SOCK_STREAM, 0);
-  int small = 4096;
-  ::setsockopt(stalled, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<std::uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(::connect(stalled, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const int stalled = test::connect_loopback(port, 4096);
+  ASSERT_GE(stalled, 0);
   const std::string request = "GET /events HTTP/1.1\r\nHost: x\r\n\r\n";
   ASSERT_EQ(::send(stalled, request.data(), request.size(), MSG_NOSIGNAL), static_cast<ssize_t>(request.size()));
   while (server.live_clients() < 1) std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -222,21 +217,17 @@ TEST(RunServer, RefusesLiveClientsBeyondItsLimitWith503) {
   for (std::thread& c : clients) c.join();
 }
 
-// A connected loopback socket (-1 when nothing listens).
-int connect_to(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<std::uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 void send_all(int fd, const std::string& bytes) { (void)::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL); }
+
+// `count` clients that have sent the start of a request's head and not its end.
+std::vector<int> unfinished_requests(int port, int count) {
+  std::vector<int> fds;
+  for (int i = 0; i < count; ++i) {
+    fds.push_back(test::connect_loopback(port));
+    if (fds.back() >= 0) send_all(fds.back(), "GET /run/world.json HTTP/1.1\r\nHost: x\r\n");
+  }
+  return fds;
+}
 
 // Everything the server sends until it closes, or until nothing arrives for timeout_ms.
 std::string read_until_closed(int fd, int timeout_ms) {
@@ -268,7 +259,7 @@ bool closed_by_server(int fd, int timeout_ms) {
 // A request whose head is `prefix` followed by `filler` bytes of 'a' (never ending the head),
 // sent from a thread while the answer is read here: what a client that keeps sending gets.
 std::string request_with_endless_head(int port, const std::string& prefix, std::size_t filler) {
-  const int fd = connect_to(port);
+  const int fd = test::connect_loopback(port);
   if (fd < 0) return "connect failed";
   std::thread sender([fd, prefix, filler] {
     send_all(fd, prefix);
@@ -324,11 +315,7 @@ TEST(RunServer, SlowAndIdleClientsHoldBackNoOtherClient) {
   server.start();
   const int port = server.port();
   // 30 clients sending their head a line at a time, a line every 200 ms (more clients than workers).
-  std::vector<int> slow;
-  for (int i = 0; i < 30; ++i) {
-    slow.push_back(connect_to(port));
-    send_all(slow.back(), "GET /run/world.json HTTP/1.1\r\nHost: x\r\n");
-  }
+  const std::vector<int> slow = unfinished_requests(port, 30);
   std::atomic<bool> done{false};
   std::thread trickle([&] {
     for (int line = 0; !done; ++line) {
@@ -340,7 +327,7 @@ TEST(RunServer, SlowAndIdleClientsHoldBackNoOtherClient) {
   for (int i = 0; i < 5; ++i) {
     const double s = seconds_for_a_get(port);
     EXPECT_GE(s, 0.0) << "a GET failed while 30 clients trickled their heads";
-    EXPECT_LT(s, 1.0) << "a GET waited behind the slow clients";
+    EXPECT_LT(s, 2.0) << "a GET waited behind the slow clients";
   }
   done = true;
   trickle.join();
@@ -350,7 +337,7 @@ TEST(RunServer, SlowAndIdleClientsHoldBackNoOtherClient) {
   // the server closes each after its answer, and a new client is served at once.
   std::vector<int> idle;
   for (int i = 0; i < 20; ++i) {
-    idle.push_back(connect_to(port));
+    idle.push_back(test::connect_loopback(port));
     send_all(idle.back(), "GET /run/world.json HTTP/1.1\r\nHost: x\r\n\r\n");
   }
   for (const int fd : idle) {
@@ -360,7 +347,7 @@ TEST(RunServer, SlowAndIdleClientsHoldBackNoOtherClient) {
   }
   const double s = seconds_for_a_get(port);
   EXPECT_GE(s, 0.0);
-  EXPECT_LT(s, 1.0) << "a GET waited behind idle keep-alive sockets";
+  EXPECT_LT(s, 2.0) << "a GET waited behind idle keep-alive sockets";
   for (const int fd : idle) ::close(fd);
 }
 
@@ -370,7 +357,7 @@ TEST(RunServer, AnUnfinishedRequestIsAnswered408AtItsDeadline) {
   o.request_timeout_s = 0.3;
   RunServer server(o);
   server.start();
-  const int fd = connect_to(server.port());
+  const int fd = test::connect_loopback(server.port());
   send_all(fd, "GET /run/world.json HTTP/1.1\r\nHost: x\r\n");
   const auto t0 = std::chrono::steady_clock::now();
   const std::string answer = read_until_closed(fd, 3000);
@@ -387,15 +374,11 @@ TEST(RunServer, ManyUnfinishedRequestsFromOnePeerDisplaceTheOldestNotTheNewest) 
   server.start();
   const int port = server.port();
   // 150 clients that start a request and never finish it (more than a peer's share).
-  std::vector<int> slow;
-  for (int i = 0; i < 150; ++i) {
-    slow.push_back(connect_to(port));
-    ASSERT_GE(slow.back(), 0);
-    send_all(slow.back(), "GET / HTTP/1.1\r\nHost: x\r\n");
-  }
+  const std::vector<int> slow = unfinished_requests(port, 150);
+  ASSERT_TRUE(std::all_of(slow.begin(), slow.end(), [](int fd) { return fd >= 0; }));
   const double s = seconds_for_a_get(port);
   EXPECT_GE(s, 0.0) << "no answer while 150 requests were unfinished";
-  EXPECT_LT(s, 1.0);
+  EXPECT_LT(s, 2.0);
   // The oldest were closed to make room; the newest are still open.
   EXPECT_TRUE(closed_by_server(slow.front(), 1000));
   EXPECT_FALSE(closed_by_server(slow.back(), 100));
@@ -411,14 +394,8 @@ TEST(RunServer, AResponseThatGoesOutTooSlowlyIsDropped) {
   RunServer server(o);
   server.start();
   // A client with a small receive buffer that reads 100 bytes every 20 ms (5 kB/s).
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  int small = 4096;
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<std::uint16_t>(server.port()));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const int fd = test::connect_loopback(server.port(), 4096);
+  ASSERT_GE(fd, 0);
   send_all(fd, "GET /run/big.bin HTTP/1.1\r\nHost: x\r\n\r\n");
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t got = 0;
