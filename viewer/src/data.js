@@ -257,12 +257,14 @@ export class OccupancyTimeline {
       this.changedSince.push(idx);
     }
   }
-  // Brings the grid to the state after step s (-1: the initial grid).
+  // Brings the grid to the state after step s (-1: the initial grid): back, or forward far past
+  // a checkpoint (more than two intervals: replaying is cheaper for less), from the last
+  // checkpoint at or before s; forward otherwise by replaying.
   seek(s) {
     if (s === this.at) return;
-    if (s < this.at) {
-      let cp = null;
-      for (const c of this.checkpoints) if (c.step <= s) cp = c;
+    let cp = null;
+    for (const c of this.checkpoints) if (c.step <= s) cp = c;
+    if (s < this.at || (cp && cp.step - this.at > 2 * this.every)) {
       // Back to the checkpoint (or the initial grid): every cell that differs is reset.
       for (let i = 0; i < this.cells.length; ++i) {
         if (this.cells[i] !== this.initial[i]) {
