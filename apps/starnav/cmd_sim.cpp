@@ -113,8 +113,8 @@ std::unique_ptr<RunServer> start_live_server(const Simulation& sim, const Naviga
   options.host = o.bind;
   options.port = o.port;
   options.live = true;
-  warn_if_served_beyond_loopback(o.bind);
-  auto server = std::make_unique<RunServer>(options);
+  auto server = std::make_unique<RunServer>(options);  // a --bind or --port it cannot listen on is the one error line
+  if (!server->loopback_only()) warn_if_served_beyond_loopback(o.bind);
   server->set_memory_file("world.json", world_json(sim, navigation));
   server->set_memory_file("run.json", live_run_manifest_json(sim, navigation ? "navigation" : "simulation"));
   server->start();

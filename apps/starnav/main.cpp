@@ -9,8 +9,8 @@
 #include <new>
 #include <stdexcept>
 #include <string>
-#include <vector>
 #include <system_error>
+#include <vector>
 
 #include "cli_util.hpp"
 #include "commands.hpp"

@@ -151,10 +151,18 @@ void OccupancyMapper::add_rays(const Pose2& sensor_pose, double angle_min, doubl
 
 namespace {
 
-// map_server's trinary reading of a log-odds value (thresholds 0.65 and 0.196, as write_ros_map).
-std::int8_t trinary_class(float log_odds) {
+// A log-odds value as the map stores it: the probability of occupancy in whole percent.
+std::int8_t occupancy_percent(float log_odds) {
   const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(log_odds)));
-  return p >= 0.65 ? 100 : (p <= 0.196 ? 0 : -1);
+  return static_cast<std::int8_t>(std::lround(100.0 * p));
+}
+
+// The class the written map file gives a cell: its percent as write_ros_map writes it with the
+// default thresholds (map_saver's rule: free at <= rint(19.6) = 20 %, occupied at >= 65 %), so
+// replaying the changes gives the written map's classes exactly, on the thresholds too.
+std::int8_t trinary_class(float log_odds) {
+  const int v = occupancy_percent(log_odds);
+  return v >= 65 ? 100 : (v <= 20 ? 0 : -1);
 }
 
 }  // namespace
@@ -204,8 +212,7 @@ OccupancyGrid OccupancyMapper::grid() const {
     for (int x = 0; x < g.width; ++x) {
       const Cell& c = cells_[static_cast<std::size_t>((by0 + y) * w_ + (bx0 + x))];
       if (!c.observed()) continue;
-      const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(c.log_odds)));
-      out(x, y) = static_cast<std::int8_t>(std::lround(100.0 * p));
+      out(x, y) = occupancy_percent(c.log_odds);
     }
   return out;
 }

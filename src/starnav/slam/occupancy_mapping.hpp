@@ -76,8 +76,9 @@ struct OccupancyMappingParams {
 const ParamTable<OccupancyMappingParams>& occupancy_mapping_params();
 
 // A cell whose class changed with one scan: its lattice index (the cell's corner is at
-// (ix, iy) * resolution) and its new value as map_server's trinary reading of the map gives it:
-// 100 occupied (p >= 0.65), 0 free (p <= 0.196), -1 neither (or never observed).
+// (ix, iy) * resolution) and its new value as map_server's trinary reading of the written map
+// gives it: 100 occupied (at least 65 %, the grid's rounded percent), 0 free (at most 20 %:
+// map_saver's rint(100 x 0.196)), -1 neither (or never observed).
 struct MapCellChange {
   std::int64_t ix = 0, iy = 0;
   std::int8_t value = -1;
