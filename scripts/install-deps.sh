@@ -8,7 +8,7 @@
 set -euo pipefail
 what=${1:-core}
 core=(build-essential cmake ninja-build pkg-config python3 curl libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
-      libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev libbz2-dev liblz4-dev
+      libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev
       libnanoflann-dev liboctomap-dev)
 if [ "${STARNAV_WITH_GDAL:-ON}" != "OFF" ]; then core+=(libgdal-dev); fi
 if [ "${STARNAV_WITH_PCL:-ON}" != "OFF" ]; then core+=(libpcl-dev); fi
