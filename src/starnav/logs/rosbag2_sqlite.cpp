@@ -26,6 +26,7 @@ int over_budget(void* p) {
 
 struct Rosbag2Sqlite::Db {
   sqlite3* db = nullptr;
+  std::string patched;  // a WAL database's bytes marked as a rollback-journal one
   std::uint64_t budget = 0;
   ~Db() {
     if (db) sqlite3_close(db);
@@ -78,6 +79,13 @@ Rosbag2Sqlite::Rosbag2Sqlite(std::string_view bytes, std::string path) : db_(std
   sqlite3_db_config(db_->db, SQLITE_DBCONFIG_DEFENSIVE, 1, nullptr);
   sqlite3_db_config(db_->db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, nullptr);
   sqlite3_limit(db_->db, SQLITE_LIMIT_LENGTH, static_cast<int>(std::min<std::size_t>(kMaxDecompressedBytes, 1'000'000'000)));
+  // A database in WAL mode (header bytes 18 and 19 are 2) cannot be opened from memory: its copy is
+  // marked as a rollback-journal one, which reads the same pages (the WAL file is not read anyway).
+  if (bytes.size() >= 20 && bytes[18] == 2 && bytes[19] == 2) {
+    db_->patched.assign(bytes);
+    db_->patched[18] = db_->patched[19] = 1;
+    bytes = db_->patched;
+  }
   // Read-only, and SQLite never writes into or frees the caller's buffer.
   auto* data = reinterpret_cast<unsigned char*>(const_cast<char*>(bytes.data()));
   if (sqlite3_deserialize(db_->db, "main", data, static_cast<sqlite3_int64>(bytes.size()), static_cast<sqlite3_int64>(bytes.size()),
