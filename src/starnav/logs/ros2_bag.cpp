@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <set>
 #include <system_error>
 
 #include "starnav/core/error.hpp"
@@ -536,7 +537,11 @@ void for_each_ros2_point_cloud(const std::string& path, const PointCloudBagIndex
 }
 
 bool decode_ros2_message(std::string_view type_name, std::string_view data, const std::string& path, const std::string& where) {
+  static const std::set<std::string, std::less<>> decoded = {"sensor_msgs/LaserScan",   "nav_msgs/Odometry",          "sensor_msgs/Imu",
+                                                             "tf2_msgs/TFMessage",      "geometry_msgs/PoseStamped",
+                                                             "geometry_msgs/PoseWithCovarianceStamped", "sensor_msgs/PointCloud2"};
   const std::string type = ros1_type_name(type_name);
+  if (!decoded.count(type)) return false;
   CdrReader r(data, path, where);
   std::vector<FrameTransform> transforms;
   if (type == "sensor_msgs/LaserScan") cdr_scan(r);
@@ -545,8 +550,7 @@ bool decode_ros2_message(std::string_view type_name, std::string_view data, cons
   else if (type == "tf2_msgs/TFMessage") cdr_tf(r, transforms);
   else if (type == "geometry_msgs/PoseStamped") cdr_pose_stamped(r, false);
   else if (type == "geometry_msgs/PoseWithCovarianceStamped") cdr_pose_stamped(r, true);
-  else if (type == "sensor_msgs/PointCloud2") cdr_point_cloud(r, false);
-  else return false;
+  else cdr_point_cloud(r, false);
   return true;
 }
 
