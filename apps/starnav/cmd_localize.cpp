@@ -13,6 +13,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "nav2_flags.hpp"
 #include "log_flags.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
@@ -30,6 +31,7 @@ struct LocalizeOptions {
   std::string reference;
   std::vector<std::string> sets;
   std::string seed = "1";
+  std::string nav2_params;
   LogReadFlags read;
   bool json = false;
   bool force = false;
@@ -62,6 +64,16 @@ void run_localize_command(const LocalizeOptions& o, Context& ctx) {
   q.reference = o.reference;
   q.initial = parse_localize_initial(o.initial, !o.reference.empty());
   q.seed = parse_unsigned(o.seed, "--seed", "a seed (a non-negative integer)");
+  if (!o.nav2_params.empty()) {
+    Nav2Target target;
+    target.kind = Nav2Target::Kind::Localize;
+    const Nav2Params nav2 = read_nav2_params(o.nav2_params, target);
+    for (ParamSetting s : nav2.settings()) {
+      s.key = s.key.substr(5);  // "amcl."
+      q.settings.push_back(std::move(s));
+    }
+    print_nav2_summary(nav2);
+  }
   for (ParamSetting s : parse_set_options(o.sets)) {
     if (s.key.rfind("amcl.", 0) != 0 || s.key.size() == 5)
       throw Error("expected amcl.KEY=VALUE (keys: starnav params, section amcl), got '" + printable(s.key, 60) + "'", {}, 0, s.field);
@@ -112,6 +124,9 @@ void register_localize_command(CLI::App& app, Context& ctx) {
                   "10000 particles, recovery alphas 0.001 / 0.1 and the scan proposal (docs/localization.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--seed", o->seed, "random seed (default 1)");
+  cmd->add_option("--params", o->nav2_params,
+                  "a Nav2 parameter file (nav2_params.yaml): its amcl keys mapped to the localizer's parameters before --set\n"
+                  "(docs/ros2.md; starnav params --nav2 FILE lists the mapping)");
   add_log_read_flags(cmd, o->read);
   cmd->add_flag("--json", o->json, "print the summary as one JSON object");
   cmd->add_flag("--force", o->force, "overwrite the outputs in --out");

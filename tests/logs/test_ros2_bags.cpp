@@ -16,6 +16,7 @@
 #include <set>
 
 #include "logs/bag_writer.hpp"
+#include "logs/cdr_writer.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/logs/bag_log.hpp"
@@ -348,53 +349,23 @@ TEST(BagTopics, Fr079OdometryFromItsTfTopicEqualsItsOdomTopic) {
 
 // ---- CDR ------------------------------------------------------------------------------------------
 
-// A CDR writer of either byte order, written from the XCDR1 rules for the test (alignment counted
-// from the byte after the 4-byte encapsulation header).
-class TestCdr {
- public:
-  explicit TestCdr(bool big) : big_(big) { s_ = big ? std::string("\x00\x00\x00\x00", 4) : std::string("\x00\x01\x00\x00", 4); }
-  template <class T>
-  TestCdr& put(T v) {
-    while ((s_.size() - 4) % sizeof(T) != 0) s_.push_back('\0');
-    char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    if (big_) std::reverse(b, b + sizeof(T));
-    s_.append(b, sizeof(T));
-    return *this;
-  }
-  TestCdr& str(const std::string& v) {
-    put(static_cast<std::uint32_t>(v.size() + 1));
-    s_ += v;
-    s_.push_back('\0');
-    return *this;
-  }
-  TestCdr& header(std::int32_t sec, std::uint32_t nsec, const std::string& frame) {
-    put(sec).put(nsec);
-    return str(frame);
-  }
-  std::string s_;
-
- private:
-  bool big_;
-};
-
 std::string cdr_scan(bool big, std::uint32_t nsec, const std::string& frame, const std::vector<float>& ranges, float increment = 0.25f,
                      float range_max = 8.0f) {
-  TestCdr c(big);
+  test::CdrBytes c(big);
   c.header(100, nsec, frame);
   c.put(-0.5f).put(0.5f).put(increment).put(0.0f).put(0.1f).put(0.05f).put(range_max);
   c.put(static_cast<std::uint32_t>(ranges.size()));
   for (float r : ranges) c.put(r);
   c.put(std::uint32_t{1}).put(7.0f);  // one intensity
-  return c.s_;
+  return c.bytes;
 }
 
 std::string cdr_tf(bool big, const std::string& parent, const std::string& child, double x, double yaw) {
-  TestCdr c(big);
+  test::CdrBytes c(big);
   c.put(std::uint32_t{1});
   c.header(100, 0, parent).str(child);
   c.put(x).put(0.0).put(0.0).put(0.0).put(0.0).put(std::sin(yaw / 2)).put(std::cos(yaw / 2));
-  return c.s_;
+  return c.bytes;
 }
 
 TEST(Ros2Cdr, BothByteOrdersAndOddFrameLengthsDecodeAlike) {
@@ -431,23 +402,23 @@ TEST(Ros2Cdr, MalformedMessagesNameTheFieldAndPlace) {
   };
   std::string no_nul = cdr_scan(false, 0, "abc", {1.0f});
   no_nul[4 + 8 + 4 + 3] = 'x';  // the frame's terminator
-  TestCdr too_many(false);
+  test::CdrBytes too_many(false);
   too_many.header(0, 0, "l").put(0.0f).put(0.0f).put(0.1f).put(0.0f).put(0.0f).put(0.0f).put(5.0f).put(std::uint32_t{200000});
-  TestCdr more_than_left(false);
+  test::CdrBytes more_than_left(false);
   more_than_left.header(0, 0, "l").put(0.0f).put(0.0f).put(0.1f).put(0.0f).put(0.0f).put(0.0f).put(5.0f).put(std::uint32_t{1000});
-  TestCdr tfs(false);
+  test::CdrBytes tfs(false);
   tfs.put(std::uint32_t{4000000});
   const std::vector<Row> rows = {
       {"sensor_msgs/msg/LaserScan", std::string("\x00\x01", 2), "encapsulation"},
       {"sensor_msgs/msg/LaserScan", std::string("\x00\x07\x00\x00", 4) + std::string(60, '\0'), "encapsulation"},
       {"sensor_msgs/msg/LaserScan", cdr_scan(false, 0, "l", {1.0f}).substr(0, 20), "angle_min"},
       {"sensor_msgs/msg/LaserScan", no_nul, "header.frame_id"},
-      {"sensor_msgs/msg/LaserScan", too_many.s_, "ranges"},
-      {"sensor_msgs/msg/LaserScan", more_than_left.s_, "ranges"},
+      {"sensor_msgs/msg/LaserScan", too_many.bytes, "ranges"},
+      {"sensor_msgs/msg/LaserScan", more_than_left.bytes, "ranges"},
       {"sensor_msgs/msg/LaserScan", cdr_scan(false, 0, "l", {1.0f, 2.0f}, 0.0f), "angle_increment"},
       {"sensor_msgs/msg/LaserScan", cdr_scan(false, 0, "l", {1.0f}, 0.1f, 0.0f), "range_max"},
       {"sensor_msgs/msg/LaserScan", cdr_scan(false, 1'000'000'000, "l", {1.0f}), "header.stamp.nanosec"},
-      {"tf2_msgs/msg/TFMessage", tfs.s_, "transforms"},
+      {"tf2_msgs/msg/TFMessage", tfs.bytes, "transforms"},
       {"nav_msgs/msg/Odometry", cdr_tf(false, "a", "b", 0, 0), "pose.covariance"},
   };
   for (const Row& r : rows) {
