@@ -73,7 +73,9 @@ TEST(CliExportMcap, ANavigationRunWithMovingObstaclesPlansAndMaps) {
     const auto j = nlohmann::json::parse(c.out);
     EXPECT_GT(j["topics"]["/plan"]["messages"].get<int>(), 0) << c.out;
     EXPECT_EQ(j["topics"]["/map"]["messages"], 2) << c.out;  // the navigation grid at the start and the end
-    if (!ros2) EXPECT_GT(j["topics"]["/world"]["messages"].get<int>(), 1) << c.out;  // moving obstacles: one update per step
+    if (!ros2) {
+      EXPECT_GT(j["topics"]["/world"]["messages"].get<int>(), 1) << c.out;  // moving obstacles: one update per step
+    }
   }
 }
 

@@ -50,7 +50,7 @@ TEST(CliNav2Params, TheShippedFileAndErrors) {
   EXPECT_GT(j["ignored"].size(), 100u);
   const test::CliResult text = test::run_cli({"params", "--nav2", shipped, "--scenario", test::scenario_path("amcl_indoor.yaml")});
   ASSERT_EQ(text.exit_code, 0) << text.err;
-  EXPECT_NE(text.out.find("mapped  amcl.update_min_a = 0.2  ->  localization.amcl.update_min_a_deg = 11.459155902616464  (rad -> deg)"),
+  EXPECT_NE(text.out.find("mapped  amcl.update_min_a = 0.2  ->  localization.amcl.update_min_a_deg = 11.459155902616466  (rad -> deg)"),
             std::string::npos)
       << text.out;
 

@@ -60,7 +60,9 @@ TEST(Nav2Params, TheShippedFileLeavesNoAmclInflationOrControllerKeyUnaccountedFo
       for (const std::string& k : *set) {
         const bool m = mapped.count(k) > 0, i = ignored.count(k) > 0;
         EXPECT_TRUE(m != i) << k << " is " << (m ? "mapped and ignored" : "neither mapped nor ignored");
-        if (i) EXPECT_FALSE(ignored.at(k)->note.empty()) << k << " ignored without a reason";
+        if (i) {
+          EXPECT_FALSE(ignored.at(k)->note.empty()) << k << " ignored without a reason";
+        }
       }
     // Nothing mapped that the file does not hold, each at its line.
     for (const Nav2Key& k : p.mapped) {
@@ -77,18 +79,18 @@ TEST(Nav2Params, TheShippedFileLeavesNoAmclInflationOrControllerKeyUnaccountedFo
     EXPECT_EQ(mapped.at("amcl.max_particles")->converted, "2000");
     EXPECT_TRUE(ignored.count("amcl.laser_min_range"));  // -1: the laser's own
     EXPECT_TRUE(ignored.count("amcl.base_frame_id"));
-    // The shipped controller is MPPI: starnav has none, so its keys are ignored and say so.
-    EXPECT_NE(ignored.at("controller_server.FollowPath.vx_max")->note.find("MPPI"), std::string::npos);
     if (target.kind == Nav2Target::Kind::Scenario) {
+      // The shipped controller is MPPI: starnav has none, so its keys are ignored and say so.
+      EXPECT_NE(ignored.at("controller_server.FollowPath.vx_max")->note.find("MPPI"), std::string::npos);
       EXPECT_EQ(mapped.at("controller_server.general_goal_checker.xy_goal_tolerance")->starnav, "navigation.goal_tolerance_m");
       EXPECT_NEAR(std::stod(mapped.at("controller_server.general_goal_checker.yaw_goal_tolerance")->converted), rad_to_deg(0.25), 1e-12);
-      EXPECT_EQ(mapped.at("global_costmap.global_costmap.robot_radius")->starnav, "navigation.map.barrier_distance_m");
+      EXPECT_EQ(mapped.at("global_costmap.robot_radius")->starnav, "navigation.map.barrier_distance_m");
       if (target.controller == "dwa") {
-        EXPECT_EQ(mapped.at("local_costmap.local_costmap.inflation_layer.inflation_radius")->starnav, "navigation.dwa.inflation_radius_m");
-        EXPECT_EQ(mapped.at("local_costmap.local_costmap.inflation_layer.cost_scaling_factor")->converted, "3");
+        EXPECT_EQ(mapped.at("local_costmap.inflation_layer.inflation_radius")->starnav, "navigation.dwa.inflation_radius_m");
+        EXPECT_EQ(mapped.at("local_costmap.inflation_layer.cost_scaling_factor")->converted, "3");
         EXPECT_NEAR(std::stod(mapped.at("controller_server.controller_frequency")->converted), 0.05, 1e-15);
       } else {
-        EXPECT_NE(ignored.at("local_costmap.local_costmap.inflation_layer.inflation_radius")->note.find("path_follower"), std::string::npos);
+        EXPECT_NE(ignored.at("local_costmap.inflation_layer.inflation_radius")->note.find("path_follower"), std::string::npos);
       }
     } else {
       EXPECT_EQ(ignored.at("controller_server.general_goal_checker.xy_goal_tolerance")->note, "localize runs AMCL only");
@@ -181,7 +183,9 @@ TEST(Nav2Params, ValuesOutOfRangeNameTheFileLineAndBothKeys) {
     test::write_text(file, r.yaml);
     const std::string what = test::error_of([&] { read_nav2_params(file, scenario("amcl", "dwa")); });
     EXPECT_NE(what.find(r.expect), std::string::npos) << what;
-    if (r.line > 0) EXPECT_NE(what.find("bad.yaml:" + std::to_string(r.line) + ":"), std::string::npos) << what;
+    if (r.line > 0) {
+      EXPECT_NE(what.find("bad.yaml:" + std::to_string(r.line) + ":"), std::string::npos) << what;
+    }
   }
 }
 

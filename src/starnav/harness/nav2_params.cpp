@@ -31,9 +31,19 @@ struct Leaf {
   bool scalar = true;
 };
 
+// The value under `key` of a map node, or an undefined node (never yaml-cpp's invalid node, which
+// throws on use).
+YAML::Node child(const YAML::Node& n, const std::string& key) {
+  if (!n.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  for (const auto& kv : n)
+    if (kv.first.IsScalar() && kv.first.Scalar() == key) return kv.second;
+  return YAML::Node(YAML::NodeType::Undefined);
+}
+
 void flatten(const YAML::Node& n, const std::string& prefix, std::vector<Leaf>& out, int depth) {
   if (depth > 16) throw Error("nested deeper than 16 maps", {}, n.Mark().line + 1);
   for (const auto& kv : n) {
+    if (!kv.first.IsScalar()) throw Error("a key that is not a name", {}, kv.first.Mark().line + 1);
     const std::string key = prefix.empty() ? kv.first.Scalar() : prefix + "." + kv.first.Scalar();
     const YAML::Node& v = kv.second;
     if (v.IsMap()) {
@@ -336,20 +346,24 @@ Nav2Params read_nav2_params(const std::string& path, const Nav2Target& target) {
   if (!root.IsMap()) throw Error("expected a map of Nav2 nodes (NODE: ros__parameters: ...)", path);
   nav2_detail::Mapper mapper(path, target);
   int nodes = 0;
-  for (const auto& kv : root) {
-    const std::string name = kv.first.Scalar();
-    YAML::Node params = kv.second.IsMap() ? kv.second["ros__parameters"] : YAML::Node();
-    // Costmaps nest their node: local_costmap: local_costmap: ros__parameters.
-    if (!params && kv.second.IsMap() && kv.second[name] && kv.second[name].IsMap()) params = kv.second[name]["ros__parameters"];
-    if (!params || !params.IsMap()) continue;
-    std::vector<nav2_detail::Leaf> leaves;
-    try {
-      nav2_detail::flatten(params, "", leaves, 0);
-    } catch (const Error& e) {
-      throw Error(e.message(), path, e.line(), name);
+  try {
+    for (const auto& kv : root) {
+      const std::string name = kv.first.IsScalar() ? kv.first.Scalar() : std::string();
+      YAML::Node params = nav2_detail::child(kv.second, "ros__parameters");
+      // Costmaps nest their node: local_costmap: local_costmap: ros__parameters.
+      if (!params.IsMap()) params = nav2_detail::child(nav2_detail::child(kv.second, name), "ros__parameters");
+      if (!params.IsMap()) continue;
+      std::vector<nav2_detail::Leaf> leaves;
+      try {
+        nav2_detail::flatten(params, "", leaves, 0);
+      } catch (const Error& e) {
+        throw Error(e.message(), path, e.line(), name);
+      }
+      mapper.node(name, leaves);
+      ++nodes;
     }
-    mapper.node(name, leaves);
-    ++nodes;
+  } catch (const YAML::Exception& e) {
+    throw Error(one_line(e.msg, 200), path, e.mark.line + 1);
   }
   if (nodes == 0) throw Error("has no NODE: ros__parameters: map: not a Nav2 parameter file", path);
   return mapper.take();
