@@ -4,8 +4,8 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "starnav/core/component.hpp"
 #include "nav2_flags.hpp"
+#include "starnav/core/component.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/experiment/limits_docs.hpp"
 #include "starnav/experiment/metrics.hpp"
