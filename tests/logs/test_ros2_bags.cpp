@@ -180,7 +180,9 @@ void expect_same_log(const RobotLog& ros1, const RobotLog& ros2, std::size_t pre
   const auto pa = scan_odometry(cut), pb = scan_odometry(ros2);
   for (std::size_t i = 0; i < pa.size(); ++i) {
     ASSERT_EQ(pa[i].has_value(), pb[i].has_value()) << what << " scan " << i;
-    if (pa[i]) ASSERT_EQ(pa[i]->x, pb[i]->x) << what << " scan " << i;
+    if (pa[i]) {
+      ASSERT_EQ(pa[i]->x, pb[i]->x) << what << " scan " << i;
+    }
   }
 }
 
