@@ -42,7 +42,10 @@
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/logs/carmen_log.hpp"
+#include "starnav/logs/mcap.hpp"
+#include "starnav/logs/ros2_bag.hpp"
 #include "starnav/logs/ros_bag.hpp"
+#include "starnav/logs/rosbag2_sqlite.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "starnav/sweep/manifest.hpp"
 
@@ -483,6 +486,53 @@ inline void fuzz_ros_bag(std::string_view data) {
   }
 }
 
+// ROS 2 recordings in one file, as read_robot_log reads them (with and without scans required),
+// then the MCAP reader's record-by-record path on the same bytes (it must agree with the indexed one).
+inline void fuzz_ros2_file(std::string_view data, const char* name) {
+  LogReadOptions o;
+  o.allow_no_scans = true;
+  try {
+    check_log(read_ros2_bag_bytes(data, name, o));
+  } catch (const Error&) {
+  }
+  try {
+    check_log(read_ros2_bag_bytes(data, name));
+  } catch (const Error&) {
+  }
+}
+
+inline void fuzz_mcap(std::string_view data) {
+  fuzz_ros2_file(data, "fuzz.mcap");
+  try {
+    McapReader indexed(data, "fuzz.mcap");
+    std::size_t from_index = 0, from_scan = 0;
+    indexed.for_each_message([](const McapChannel&) { return true; }, [&](const McapMessageView&) { ++from_index; });
+    McapReader scanned(data, "fuzz.mcap");
+    scanned.ignore_summary();
+    scanned.for_each_message([](const McapChannel&) { return true; }, [&](const McapMessageView& m) {
+      require(m.channel != nullptr, "an MCAP message without its channel");
+      ++from_scan;
+    });
+    if (indexed.indexed()) require(from_index <= from_scan, "the indexed path read more messages than the file holds");
+  } catch (const Error&) {
+  }
+}
+
+inline void fuzz_rosbag2_sqlite(std::string_view data) { fuzz_ros2_file(data, "fuzz.db3"); }
+
+// The first byte picks a message type, the rest is its CDR serialisation.
+inline void fuzz_cdr(std::string_view data) {
+  static constexpr const char* kTypes[] = {"sensor_msgs/msg/LaserScan", "nav_msgs/msg/Odometry", "sensor_msgs/msg/Imu",
+                                           "tf2_msgs/msg/TFMessage", "geometry_msgs/msg/PoseStamped",
+                                           "geometry_msgs/msg/PoseWithCovarianceStamped", "sensor_msgs/msg/PointCloud2"};
+  if (data.empty()) return;
+  const char* type = kTypes[static_cast<unsigned char>(data[0]) % std::size(kTypes)];
+  try {
+    require(decode_ros2_message(type, data.substr(1), "fuzz.cdr", "fuzz message,"), "a decoded type was not decoded");
+  } catch (const Error&) {
+  }
+}
+
 inline void check_cloud(const PointCloudFile& f) {
   require(f.points.size() + f.dropped_non_finite <= kMaxCloudPoints, "a cloud larger than its limit");
   for (const Vec3& p : f.points) require(p.allFinite(), "a non-finite point was kept");
@@ -574,6 +624,9 @@ inline constexpr Target kTargets[] = {
     {"fuzz_ros_bag", fuzz_ros_bag},
     {"fuzz_point_cloud", fuzz_point_cloud},
     {"fuzz_sweep_file", fuzz_sweep_file},
+    {"fuzz_mcap", fuzz_mcap},
+    {"fuzz_rosbag2_sqlite", fuzz_rosbag2_sqlite},
+    {"fuzz_cdr", fuzz_cdr},
 };
 
 inline const Target* find_target(std::string_view name) {

@@ -225,6 +225,7 @@ ProgressBar::ProgressBar(std::string label, std::size_t total, bool quiet)
 
 void ProgressBar::update(std::size_t done, const std::string& what) {
   if (!enabled_ || total_ == 0) return;
+  release_warnings();
   if (!tty_) {
     // One line per tenth of the work, and at the end.
     if (done < next_line_ && done != total_) return;
@@ -324,8 +325,29 @@ OutputFolder check_out_dir(const std::string& dir, bool force) {
   return OutputFolder(dir, "--out");
 }
 
+namespace {
+// Warnings wait until the command gets past its inputs (its long work starts, or it ends without an
+// error): a command that refuses its input says one error line, not the warnings of the reading.
+std::vector<std::string>& held_warnings() {
+  static std::vector<std::string> held;
+  return held;
+}
+bool& warnings_released() {
+  static bool released = false;
+  return released;
+}
+}  // namespace
+
 void print_warning(const std::string& text) {
-  std::fprintf(stderr, "starnav: warning: %s\n", escape_control_characters(text).c_str());
+  const std::string line = "starnav: warning: " + escape_control_characters(text) + "\n";
+  if (warnings_released()) std::fputs(line.c_str(), stderr);
+  else held_warnings().push_back(line);
+}
+
+void release_warnings() {
+  warnings_released() = true;
+  for (const std::string& line : held_warnings()) std::fputs(line.c_str(), stderr);
+  held_warnings().clear();
 }
 
 void warn_if_served_beyond_loopback(const std::string& bind) {

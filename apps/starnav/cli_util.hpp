@@ -55,8 +55,10 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
 // are registered.
 void apply_number_rules(CLI::App& app);
 
-// A library's warning (LogReadOptions::warn, ...) on stderr as `starnav: warning: TEXT`.
+// A library's warning (LogReadOptions::warn, ...) on stderr as `starnav: warning: TEXT`, held until release_warnings() (the command's long work starts or it
+// ends without an error; main releases them), so a refused input is one error line.
 void print_warning(const std::string& text);
+void release_warnings();
 
 // The one warning for a server told to listen beyond this machine (--bind other than loopback).
 void warn_if_served_beyond_loopback(const std::string& bind);

@@ -81,7 +81,7 @@ void run_map_convert(const MapConvertOptions& o) {
   add_map_files(files, m, "IN");
   add_map_files(files, o.out, target, m.ros, "OUT");
   check_distinct_files(files);
-  for (const std::string& loss : map_conversion_losses(m, target)) std::cerr << "starnav: warning: " << o.out << ": " << loss << "\n";
+  for (const std::string& loss : map_conversion_losses(m, target)) print_warning(o.out + ": " + loss);
   save_map(m, o.out, target);
   std::cout << "wrote " << o.out << " (" << map_format_name(target) << ")\n";
 }

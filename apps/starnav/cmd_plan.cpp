@@ -116,7 +116,7 @@ void run_plan(PlanOptions& o, Context& ctx) {
     // The registry says which map a planner needs; an old spelling works with a warning.
     std::string warning;
     const GlobalPlannerDef& def = find_global_planner(o.request.planner, "--planner", &warning);
-    if (!warning.empty()) std::cerr << "starnav: warning: --planner: " << warning << "\n";
+    if (!warning.empty()) print_warning("--planner: " + warning);
     if (def.info.has(Capability::NeedsElevation))
       throw Error("'" + o.request.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
   }

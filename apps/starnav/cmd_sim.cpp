@@ -17,6 +17,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "nav2_flags.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/harness/navigation_pictures.hpp"
 #include "starnav/harness/navigation_run.hpp"
@@ -51,6 +52,7 @@ struct SimOptions {
   std::string planner;
   std::string controller;
   std::vector<std::string> sets;
+  std::string nav2_params;
   bool compare_astar = false;
   bool step_all_hits = false;
   std::vector<double> controller_pictures;
@@ -151,7 +153,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   if (!o.dwa_pictures.empty() && !o.controller_pictures.empty())
     throw Error("give --controller-pictures only (--dwa-pictures is its old name)", "", 0, "--dwa-pictures");
   if (!o.dwa_pictures.empty())
-    std::fprintf(stderr, "starnav: warning: --dwa-pictures is deprecated; use --controller-pictures\n");
+    print_warning("--dwa-pictures is deprecated; use --controller-pictures");
   for (const double t : pictures)
     if (!std::isfinite(t) || t < 0.0 || t > spec.duration_s)
       throw Error("each time must be in [0, sim.duration_s]", "", 0, pictures_flag);
@@ -165,7 +167,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 #if STARNAV_HAVE_HTTP
   if (o.live) live = start_live_server(run.simulation(), &run, o);
 #endif
-  for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
+  for (const std::string& w : run.navigator().warnings()) print_warning(w);
   const OutputListing listing(o.out);
   prepare_out_dir(o.out);
   add_cloud_writer(run.simulation(), spec, o.out);
@@ -247,6 +249,15 @@ void run_sim(const SimOptions& o, Context& ctx) {
     owned.push_back({"navigation.follower.motion_mode", "--motion-mode gives it"});
   }
   check_user_overrides(overrides, owned);
+  if (!o.nav2_params.empty()) {
+    // The Nav2 file's settings go first, so that --set overrides them; which sections they reach
+    // depends on the scenario's components.
+    const Nav2Params nav2 = read_nav2_params(o.nav2_params, scenario_nav2_target(load_scenario(o.scenario, overrides), o.controller));
+    std::vector<ScenarioOverride> mapped;
+    for (const ParamSetting& s : nav2.settings()) mapped.push_back({s.key, s.value});
+    overrides.insert(overrides.begin(), mapped.begin(), mapped.end());
+    print_nav2_summary(nav2);
+  }
   ScenarioSpec spec = load_scenario(o.scenario, overrides);
   if (!o.seed.empty()) spec.seed = parse_unsigned(o.seed, "--seed", "a non-negative integer");
   if (!o.duration.empty()) {
@@ -361,6 +372,9 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
   sim->add_option("--motion-mode", o->motion_mode,
                   "navigation: auto | turn_then_drive | holonomic | pure_pursuit (overrides motion_mode)");
   sim->add_option("--planner", o->planner, "navigation: a global planner (overrides navigation.planner; list below)");
+  sim->add_option("--params", o->nav2_params,
+                  "a Nav2 parameter file (nav2_params.yaml): its amcl, controller and costmap keys mapped to the scenario's\n"
+                  "parameters before --set (docs/ros2.md; starnav params --nav2 FILE lists the mapping)");
   sim->add_option("--controller", o->controller, "navigation: a local controller (overrides navigation.controller; list below)");
   sim->add_option("--set", o->sets,
                   "KEY=VALUE: set any scenario key before it is read, e.g. navigation.follower.look_ahead_m=0.4 "

@@ -172,6 +172,8 @@ void run_run(const RunCliOptions& o, Context& ctx) {
               << r.ok << " with a result, " << r.failed << " failed";
     if (r.interrupted) std::cout << ", " << r.interrupted << " interrupted";
     std::cout << ")";
+    // Stopped between tasks, none is interrupted: the stop is said either way.
+    if (r.stopped) std::cout << "; stopped before the end (a signal): the same command runs the rest";
     if (r.already_ok || r.already_failed)
       std::cout << "; done before: " << r.already_ok << " with a result, " << r.already_failed << " failed"
                 << (r.already_failed ? " (--retry-failed runs them again)" : "");
@@ -248,7 +250,7 @@ void run_merge(const MergeCliOptions& o, Context& ctx) {
   }
   OutputFolder claim(out, "--out");
   const MergeReport r = merge_sweep(sweep, out);
-  for (const std::string& w : r.warnings) std::cerr << "starnav: warning: " << escape_control_characters(w) << "\n";
+  for (const std::string& w : r.warnings) print_warning(w);
   if (o.json) {
     std::cout << read_input_file(out + "/summary.json");
   } else {

@@ -136,6 +136,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_slam3d_command(app, ctx);
   starnav::cli::register_view_command(app, ctx);
   starnav::cli::register_sweep_commands(app, ctx);
+  starnav::cli::register_export_commands(app, ctx);
   starnav::cli::apply_number_rules(app);
 
   if (const std::string unknown = unknown_command_message(app, argc, argv); !unknown.empty()) {
@@ -176,6 +177,7 @@ int main(int argc, char** argv) {
     std::cerr << "starnav: error: " << internal_error_message() << "\n";
     return 2;
   }
+  starnav::cli::release_warnings();
   // A report that did not reach standard output (a full disk, a closed pipe) is a failure.
   std::cout.flush();
   if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {

@@ -2,7 +2,8 @@
 """Writes the hand-made seed inputs of every fuzz target into fuzz/corpus/<target>/.
 
 All of these are written here from scratch (nothing is copied from ../shared/), except that
-fuzz_scenario also gets the repository's own scenarios/*.yaml without their comments. They are small
+fuzz_scenario also gets the repository's own scenarios/*.yaml without their comments, and the ROS 2
+targets two of rosbag2's own test bags from tests/data/rosbag2. They are small
 valid files of each format plus a few interesting invalid ones. scripts/fuzz.sh runs this only when
 a target's corpus folder is empty; the committed corpus is what `-merge=1` kept afterwards.
 Usage: fuzz/seeds/make_seeds.py [CORPUS_DIR]   (default: fuzz/corpus beside this script)
@@ -497,6 +498,143 @@ def ros_bags():
     }
 
 
+class Cdr:
+    """Little-endian plain CDR (XCDR1): fields aligned to their size after the 4-byte header."""
+
+    def __init__(self):
+        self.b = bytearray(b"\x00\x01\x00\x00")
+
+    def put(self, fmt, *v):
+        size = struct.calcsize("<" + fmt.lstrip("0123456789"))
+        while (len(self.b) - 4) % size:
+            self.b.append(0)
+        self.b += struct.pack("<" + fmt, *v)
+        return self
+
+    def string(self, s):
+        self.put("I", len(s) + 1)
+        self.b += s + b"\x00"
+        return self
+
+    def header(self, sec, nsec, frame):
+        return self.put("i", sec).put("I", nsec).string(frame)
+
+
+def ros2_messages():
+    scan = Cdr().header(10, 500, b"laser").put("7f", -1.0, 1.0, 0.5, 0.0, 0.0, 0.1, 30.0)
+    scan.put("I", 5).put("5f", 1.0, 2.0, 30.0, 4.0, 5.0).put("I", 0)
+    odom = Cdr().header(10, 0, b"odom").string(b"base_link").put("7d", 1, 2, 0, 0, 0, 0.2, 0.98)
+    odom.put("36d", *([0.0] * 36)).put("6d", 0.3, 0, 0, 0, 0, 0.1).put("36d", *([0.0] * 36))
+    tf = Cdr().put("I", 1).header(0, 0, b"base_link").string(b"laser").put("7d", 0.04, 0, 0, 0, 0, 0, 1)
+    imu = Cdr().header(10, 0, b"imu").put("4d", 0, 0, 0, 1).put("9d", *([0.0] * 9)).put("3d", 0, 0, 0.1)
+    imu.put("9d", *([0.0] * 9)).put("3d", 0, 0, 9.8).put("9d", *([0.0] * 9))
+    pose = Cdr().header(10, 0, b"map").put("7d", 1, 2, 0, 0, 0, 0, 1)
+    pose_cov = Cdr().header(10, 0, b"map").put("7d", 1, 2, 0, 0, 0, 0, 1).put("36d", *([0.0] * 36))
+    cloud = Cdr().header(10, 0, b"lidar").put("I", 1).put("I", 2).put("I", 3)
+    for name, off in ((b"x", 0), (b"y", 4), (b"z", 8)):
+        cloud.string(name).put("I", off).put("B", 7).put("I", 1)
+    cloud.put("B", 0).put("I", 12).put("I", 24).put("I", 24).put("6f", 1, 2, 3, 4, 5, 6).put("B", 1)
+    return {"scan": bytes(scan.b), "odom": bytes(odom.b), "imu": bytes(imu.b), "tf": bytes(tf.b), "pose": bytes(pose.b),
+            "pose_cov": bytes(pose_cov.b), "cloud": bytes(cloud.b)}
+
+
+def cdrs():
+    """fuzz_cdr: a type byte (fuzz_drivers.hpp's order), then the message."""
+    order = ["scan", "odom", "imu", "tf", "pose", "pose_cov", "cloud"]
+    m = ros2_messages()
+    return {f"{name}.cdr": bytes([i]) + m[name] for i, name in enumerate(order)}
+
+
+MCAP_TYPES = {"scan": (b"/scan", b"sensor_msgs/msg/LaserScan"), "odom": (b"/odom", b"nav_msgs/msg/Odometry"),
+              "tf": (b"/tf_static", b"tf2_msgs/msg/TFMessage"), "imu": (b"/imu", b"sensor_msgs/msg/Imu")}
+
+
+def mcaps():
+    """MCAP files written from the specification: chunked (plain) with message indexes and a
+    summary, unchunked without summary, and one cut short. Compressed chunks need modules Python
+    lacks; the unit tests and the converter cover them."""
+
+    def rec(op, body):
+        return struct.pack("<BQ", op, len(body)) + body
+
+    def s(b):
+        return struct.pack("<I", len(b)) + b
+
+    m = ros2_messages()
+    magic = b"\x89MCAP0\r\n"
+    header = rec(1, s(b"ros2") + s(b"seed"))
+    defs, msgs = b"", []
+    for i, name in enumerate(("tf", "odom", "scan", "imu")):
+        topic, kind = MCAP_TYPES[name]
+        defs += rec(3, struct.pack("<H", i + 1) + s(kind) + s(b"ros2msg") + s(b""))
+        defs += rec(4, struct.pack("<HH", i, i + 1) + s(topic) + s(b"cdr") + s(b""))
+        msgs.append(rec(5, struct.pack("<HIQQ", i, 0, 10 + i, 10 + i) + m[name]))
+    unchunked = magic + header + defs + b"".join(msgs) + rec(15, struct.pack("<I", 0))
+    unchunked += rec(2, struct.pack("<QQI", 0, 0, 0)) + magic
+    records = defs + b"".join(msgs)
+    offsets, at = {}, len(defs)
+    for i, r in enumerate(msgs):
+        offsets[i] = at
+        at += len(r)
+    chunk_body = struct.pack("<QQQI", 10, 13, len(records), zlib.crc32(records)) + s(b"") + struct.pack("<Q", len(records)) + records
+    data = magic + header
+    chunk_at = len(data)
+    data += rec(6, chunk_body)
+    chunk_len = len(data) - chunk_at
+    index_at = {}
+    for i in range(4):
+        index_at[i] = len(data)
+        data += rec(7, struct.pack("<H", i) + struct.pack("<I", 16) + struct.pack("<QQ", 10 + i, offsets[i]))
+    index_len = len(data) - index_at[0]
+    data += rec(15, struct.pack("<I", 0))
+    summary_start = len(data)
+    data += defs
+    counts = b"".join(struct.pack("<HQ", i, 1) for i in range(4))
+    data += rec(11, struct.pack("<QHIIIIQQ", 4, 4, 4, 0, 0, 1, 10, 13) + s(counts))
+    mio = b"".join(struct.pack("<HQ", i, index_at[i]) for i in range(4))
+    data += rec(8, struct.pack("<QQQQ", 10, 13, chunk_at, chunk_len) + s(mio) + struct.pack("<Q", index_len) + s(b"")
+                + struct.pack("<QQ", len(records), len(records)))
+    footer = struct.pack("<BQQQ", 2, 20, summary_start, 0)
+    crc = zlib.crc32(data[summary_start:] + footer)
+    chunked = data + footer + struct.pack("<I", crc) + magic
+    out = {"chunked.mcap": chunked, "unchunked.mcap": unchunked, "cut.mcap": chunked[: len(chunked) * 2 // 3],
+           "magic_only.mcap": magic}
+    here = os.path.dirname(os.path.abspath(__file__))
+    for name in ("mcap/talker/talker.mcap", "mcap/cdr_test/cdr_test_0.mcap"):
+        with open(os.path.join(here, "..", "..", "tests", "data", "rosbag2", name), "rb") as f:
+            out["rosbag2-" + os.path.basename(name)] = f.read()
+    return out
+
+
+def sqlites():
+    """rosbag2 SQLite3 databases made with Python's sqlite3 (a temporary file), and rosbag2's own."""
+    import sqlite3
+    import tempfile
+
+    m = ros2_messages()
+    out = {}
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "bag.db3")
+        db = sqlite3.connect(path)
+        db.executescript("PRAGMA page_size=512;"
+                         "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
+                         " serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+                         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL,"
+                         " data BLOB NOT NULL);")
+        for i, name in enumerate(("tf", "odom", "scan", "imu")):
+            topic, kind = MCAP_TYPES[name]
+            db.execute("INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')", (i + 1, topic.decode(), kind.decode()))
+            db.execute("INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)", (i + 1, 10 + i, m[name]))
+        db.commit()
+        db.close()
+        with open(path, "rb") as f:
+            out["bag.db3"] = f.read()
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, "..", "..", "tests", "data", "rosbag2", "sqlite3", "cdr_test", "cdr_test_0.db3"), "rb") as f:
+        out["rosbag2-cdr_test_0.db3"] = f.read()
+    return out
+
+
 def point_clouds():
     xyz = [(1.5, -2.25, 0.125), (0.0, 0.0, 0.0), (-3.5, 4.75, 10.0)]
     header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\n"
@@ -558,6 +696,9 @@ TARGETS = {
     "fuzz_ros_bag": ros_bags,
     "fuzz_point_cloud": point_clouds,
     "fuzz_sweep_file": sweep_files,
+    "fuzz_mcap": mcaps,
+    "fuzz_rosbag2_sqlite": sqlites,
+    "fuzz_cdr": cdrs,
 }
 
 

@@ -148,7 +148,7 @@ TEST(SweepCli, CtrlCStopsTheRunAndTheNextRunFinishes) {
   while (!(e = runner.try_wait())) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   EXPECT_EQ(e->exit_code, 130) << test::read_text(dir.file("err.txt"));
   const std::string out = test::read_text(dir.file("out.txt"));
-  EXPECT_NE(out.find("interrupted)"), std::string::npos) << out;
+  EXPECT_NE(out.find("stopped before the end"), std::string::npos) << out;
   const test::CliResult rest = run_cli({"sweep", "run", dir.file("s"), "--jobs", "2", "--json"});
   ASSERT_EQ(rest.exit_code, 0) << rest.err;
   const nlohmann::json r = nlohmann::json::parse(rest.out);

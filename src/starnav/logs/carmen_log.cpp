@@ -106,6 +106,9 @@ void read_ranges(const Fields& f, std::size_t first, std::size_t n, LogScan& s) 
   }
 }
 
+// Finite readings from which a missing no-return value is worth a warning (above).
+constexpr std::size_t kNoReturnEvidenceReadings = 50000;
+
 // The no-return value of logs that do not store it (see the header).
 void set_inferred_range_max(RobotLog& log, const std::vector<std::size_t>& scans, const LogReadOptions& o,
                             const std::string& path) {
@@ -129,7 +132,10 @@ void set_inferred_range_max(RobotLog& log, const std::vector<std::size_t>& scans
   if (o.range_max_m) {
     range_max = *o.range_max_m;
   } else if (o.warn && !values.empty()) {
-    if (!saturated)
+    // Without a repeated top value every reading counts as a return; worth a word only in a log
+    // long enough that a sensor's no-return readings would have shown (a few hundred scans), not
+    // in a short hand-made one.
+    if (!saturated && values.size() >= kNoReturnEvidenceReadings)
       o.warn(path + ": no reading repeats at the top as a sensor's no-return value does: every reading counts as a return "
                     "(--range-max says which readings returned nothing)");
     else if (above_saturated > 0)

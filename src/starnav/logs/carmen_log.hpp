@@ -33,8 +33,15 @@ namespace starnav {
 
 struct LogReadOptions {
   std::optional<double> range_max_m;  // readings at or beyond it returned nothing
-  std::string scan_topic;              // bags: the LaserScan topic (default: the only one)
-  std::string odom_topic;              // bags: the Odometry topic (default: the only one)
+  // Bags (ROS 1 and ROS 2; logs/bag_log.hpp): the topics read, each by name or, empty, by type.
+  std::string scan_topic;   // the LaserScan topic (default: the only one)
+  std::string odom_topic;   // an Odometry topic, or a TFMessage topic (/tf: the odom -> base transforms);
+                            // default: the only Odometry topic, else /tf when it holds odom -> base
+  std::string imu_topic;    // the Imu topic (default: the only one)
+  std::string truth_topic;  // the ground truth: an Odometry, PoseStamped or PoseWithCovarianceStamped
+                            // topic (default: none)
+  // A bag without a LaserScan topic is read (its topics listed) rather than refused: `log info`.
+  bool allow_no_scans = false;
   // Bags converted from FLASER logs: the beam angles of FLASER (above) instead of the messages'
   // angle_min and angle_increment, which such converters invented.
   bool flaser_beam_angles = false;

@@ -195,6 +195,7 @@ RobotLogSummary summarise_log(const RobotLog& log) {
   s.scans = log.scans.size();
   s.odometry = log.odometry.size();
   s.truth = log.truth.size();
+  s.imu = log.imu.size();
   bool any = false;
   auto span = [&](std::int64_t t) {
     s.first_us = any ? std::min(s.first_us, t) : t;
@@ -250,14 +251,23 @@ std::string log_info_text(const RobotLog& log) {
   if (s.odometry_out_of_order > 0)
     out << "            " << s.odometry_out_of_order << " odometry stamps earlier than the one before\n";
   if (s.truth > 0) out << "truth:      " << s.truth << " poses\n";
+  if (s.imu > 0) out << "imu:        " << s.imu << " readings\n";
   if (s.scans + s.odometry > 0)
     out << "time:       " << format_stamp_us(s.first_us) << " .. " << format_stamp_us(s.last_us) << " s ("
         << format_fixed(static_cast<double>(s.last_us - s.first_us) * 1e-6, 3) << " s)\n";
   out << "laser pose: " << (log.laser_in_base ? pose_text(*log.laser_in_base) + " on the base" : std::string("not in the log"))
       << "\n";
   for (const auto& [k, v] : log.params)
-    if (k == "scan_topic" || k == "odom_topic" || k == "range_max_m" || k == "laser_frame") out << k << ": " << v << "\n";
+    if (k == "scan_topic" || k == "odom_topic" || k == "imu_topic" || k == "truth_topic" || k == "range_max_m" || k == "laser_frame")
+      out << k << ": " << v << "\n";
   for (const auto& [k, n] : log.skipped) out << "skipped:    " << n << " x " << k << "\n";
+  if (!log.topics.empty()) {
+    out << "topics:\n";
+    for (const LogTopic& t : log.topics)
+      out << "  " << t.name << "  " << t.type << "  " << t.messages << " message" << (t.messages == 1 ? "" : "s")
+          << (t.use.empty() ? "" : " (read as " + t.use + ")") << "\n";
+  }
+  for (const std::string& w : log.warnings) out << "warning:    " << w << "\n";
   return out.str();
 }
 
@@ -279,6 +289,7 @@ std::string log_info_json(const RobotLog& log) {
   j["odometry_out_of_order"] = s.odometry_out_of_order;
   j["scan_odometry_in_line"] = s.scan_odometry_in_line;
   j["truth"] = s.truth;
+  j["imu"] = s.imu;
   j["first_stamp"] = format_stamp_us(s.first_us);
   j["last_stamp"] = format_stamp_us(s.last_us);
   j["duration_s"] = static_cast<double>(s.last_us - s.first_us) * 1e-6;
@@ -292,6 +303,10 @@ std::string log_info_json(const RobotLog& log) {
   nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
   for (const auto& [k, n] : log.skipped) skipped[k] = n;
   j["skipped"] = skipped;
+  nlohmann::ordered_json topics = nlohmann::ordered_json::array();
+  for (const LogTopic& t : log.topics) topics.push_back({{"name", t.name}, {"type", t.type}, {"messages", t.messages}, {"use", t.use}});
+  j["topics"] = topics;
+  j["warnings"] = log.warnings;
   // Names from a log may hold invalid UTF-8: replaced, not thrown on.
   return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
