@@ -44,6 +44,9 @@ TEST(ErrorLinesCli, UsageMistakesAreNamedForWhatTheyAre) {
       {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--bogus", "3"}, "unknown option --bogus"},
       // An option given twice, in plain words.
       {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--goal", "2,2"}, "--goal: given 2 times; give it once"},
+      // Which planners take a weight is their capability (the registry's word, not the CLI's).
+      {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--planner", "astar", "--weight", "2"},
+       "--weight: 'astar' takes no weight (planners that do: wastar)"},
       {{"sim", ".", "--out", dir.file("o")}, "is a directory"},
       // A misspelt command is named, with the commands it may have meant.
       {{"simulate", "scenarios/e1_terrain_platform.yaml"}, "unknown command 'simulate' for starnav (did you mean 'sim'?)"},

@@ -372,6 +372,7 @@ LocalControllerDef dwa_controller() {
   d.info.section = "dwa";
   d.info.summary = "Dynamic Window Approach (Fox et al. 1997) with Nav2 DWB's critics; samples vy on a Mecanum base";
   d.info.capabilities = {Capability::GoalHeading, Capability::ChecksFootprint, Capability::VelocitySpace};
+  d.info.nav2_counterpart = "dwb_core::DWBLocalPlanner";
   d.info.params = dwa_params().specs();
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const DwaConfig c = configured(dwa_params(), settings, ctx.file);

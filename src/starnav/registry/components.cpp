@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "starnav/core/error.hpp"
+#include "starnav/slam/graph_slam_3d.hpp"
 #include "starnav/terrain/rough_terrain_planners.hpp"
 
 namespace starnav {
@@ -231,5 +232,7 @@ std::vector<std::string> component_names(Role role) {
     if (c.role == role) names.push_back(c.name);
   return names;
 }
+
+std::vector<ParamSpec> graph_slam_3d_param_specs() { return graph_slam_3d_params().specs(); }
 
 }  // namespace starnav
