@@ -38,7 +38,8 @@ namespace starnav {
   X(graph_slam) /* slam/graph_slam.cpp */
 
 #define STARNAV_GOAL_CHECKERS(X) \
-  X(latching_goal_checker) /* control/latching_goal_checker.cpp */
+  X(latching_goal_checker) /* control/latching_goal_checker.cpp */ \
+  X(stopped_goal_checker)  /* control/stopped_goal_checker.cpp */
 
 #define STARNAV_PROGRESS_CHECKERS(X) \
   X(simple_progress_checker) /* control/simple_progress_checker.cpp */
