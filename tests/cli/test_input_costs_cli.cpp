@@ -115,5 +115,21 @@ TEST(InputCostsCli, LargeYamlIsRefusedBeforeItIsBuiltByEveryReader) {
 #endif
 }
 
+// Parameters inside their own ranges whose product is the cost: refused naming them, before the
+// window is built.
+TEST(InputCostsCli, ParameterProductsAreBoundedByWhatTheyCost) {
+#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#else
+  test::ScratchDir dir;
+  const std::vector<CostCase> cases = {
+      {{"sim", test::scenario_path("dwa_doorway.yaml"), "--out", dir.file("d1"), "--quiet", "--duration", "3", "--set",
+        "navigation.dwa.window_m=50", "--set", "navigation.map.resolution_m=0.005"},
+       "navigation.dwa.window_m (--set): window_m / the map's resolution_m gives a window of 10000 x 10000 cells, more than 4000000"},
+  };
+  expect_refused_within(cases, 1024 * 1024, dir);
+#endif
+}
+
 }  // namespace
 }  // namespace starnav
