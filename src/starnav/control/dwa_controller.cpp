@@ -6,6 +6,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -377,6 +378,13 @@ LocalControllerDef dwa_controller() {
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const DwaConfig c = configured(dwa_params(), settings, ctx.file);
     try {
+      if (ctx.map_resolution_m > 0.0 && c.window_m > 0.0) {
+        const double side = std::ceil(c.window_m / ctx.map_resolution_m);
+        if (side * side > kMaxDwaWindowCells)
+          throw Error("window_m / the map's resolution_m gives a window of " + format_number(side) + " x " + format_number(side) +
+                          " cells, more than " + format_number(kMaxDwaWindowCells) + ": shrink window_m or coarsen the map",
+                      "", 0, "window_m");
+      }
       return std::make_unique<DwaController>(c, ctx.robot);
     } catch (const Error& e) {
       rethrow_at_setting(e, settings, ctx.file);

@@ -433,7 +433,7 @@ NavigatorParts make_navigator_parts(const NavigationComponents& components, cons
   const ComponentChoice& c = components.controller;
   const LocalControllerDef& controller =
       at_choice(c, [&]() -> const LocalControllerDef& { return find_local_controller(c.name, c.field); });
-  parts.controller = controller.make({robot, c.file}, c.settings);
+  parts.controller = controller.make({robot, c.file, config.geometry.resolution}, c.settings);
   parts.controller_capabilities = controller.info.capabilities;
   const ComponentChoice& g = components.goal_checker;
   parts.goal_checker = at_choice(g, [&] { return find_goal_checker(g.name, g.field).make({g.file}, g.settings); });
