@@ -134,4 +134,50 @@ class BagLogAssembler {
   std::map<std::string, std::vector<LogOdometry>> tf_odometry_;
 };
 
+// One message of a bag handed to the assembler as its topic is used, decoded by `Decode` (the
+// serialisation's decoders on a reader `r`: scan, odometry, pose_stamped, imu, tf), so that ROS 1
+// and ROS 2 recordings share the dispatch. `topic_type` is the topic's type as the bag writes it.
+template <class Decode, class Reader>
+void assemble_bag_message(BagLogAssembler& log, BagTopicUse use, std::string_view topic_type, Reader& r, std::size_t index,
+                          std::vector<FrameTransform>& transforms) {
+  switch (use) {
+    case BagTopicUse::Scan: {
+      auto d = Decode::scan(r);
+      d.scan.source_index = index;
+      log.add_scan(std::move(d.scan), d.frame_id);
+      break;
+    }
+    case BagTopicUse::Odometry: {
+      auto d = Decode::odometry(r);
+      d.odometry.source_index = index;
+      log.add_odometry(d.odometry, d.child_frame_id);
+      break;
+    }
+    case BagTopicUse::Truth: {
+      const std::string type = ros1_type_name(topic_type);
+      if (type == "nav_msgs/Odometry") {
+        const auto d = Decode::odometry(r);
+        log.add_truth(d.odometry.stamp_us, d.odometry.pose);
+      } else {
+        const auto [stamp, pose] = Decode::pose_stamped(r, type == "geometry_msgs/PoseWithCovarianceStamped");
+        log.add_truth(stamp, pose);
+      }
+      break;
+    }
+    case BagTopicUse::Imu: {
+      LogImu imu = Decode::imu(r);
+      imu.source_index = index;
+      log.add_imu(imu);
+      break;
+    }
+    case BagTopicUse::OdometryTf:
+    case BagTopicUse::TfStatic:
+      transforms.clear();
+      Decode::tf(r, transforms);
+      log.add_transforms(transforms, use, index);
+      break;
+    case BagTopicUse::Skip: break;
+  }
+}
+
 }  // namespace starnav

@@ -415,6 +415,15 @@ void Ros2Bag::for_each_message(const std::function<bool(const Ros2Topic&)>& want
 
 namespace {
 
+// ROS 2's (CDR) decoders, for assemble_bag_message.
+struct CdrDecode {
+  static CdrScan scan(CdrReader& r) { return cdr_scan(r); }
+  static CdrOdometry odometry(CdrReader& r) { return cdr_odometry(r); }
+  static std::pair<std::int64_t, Pose2> pose_stamped(CdrReader& r, bool with_covariance) { return cdr_pose_stamped(r, with_covariance); }
+  static LogImu imu(CdrReader& r) { return cdr_imu(r); }
+  static void tf(CdrReader& r, std::vector<FrameTransform>& out) { cdr_tf(r, out); }
+};
+
 RobotLog assemble(Ros2Bag& bag, const LogReadOptions& o) {
   std::vector<BagTopic> topics;
   for (const Ros2Topic& t : bag.topics()) topics.push_back({t.name, t.type});
@@ -428,44 +437,7 @@ RobotLog assemble(Ros2Bag& bag, const LogReadOptions& o) {
                          const std::string& topic = m.topic->name;
                          CdrReader r(m.data, *m.file, topic + " message " + std::to_string(index) + " (" + m.where + "),");
                          const BagTopicUse use = log.use(topic);
-                         switch (use) {
-                           case BagTopicUse::Scan: {
-                             CdrScan d = cdr_scan(r);
-                             d.scan.source_index = index;
-                             log.add_scan(std::move(d.scan), d.frame_id);
-                             break;
-                           }
-                           case BagTopicUse::Odometry: {
-                             CdrOdometry d = cdr_odometry(r);
-                             d.odometry.source_index = index;
-                             log.add_odometry(d.odometry, d.child_frame_id);
-                             break;
-                           }
-                           case BagTopicUse::Truth: {
-                             const std::string type = ros1_type_name(m.topic->type);
-                             if (type == "nav_msgs/Odometry") {
-                               const CdrOdometry d = cdr_odometry(r);
-                               log.add_truth(d.odometry.stamp_us, d.odometry.pose);
-                             } else {
-                               const auto [stamp, pose] = cdr_pose_stamped(r, type == "geometry_msgs/PoseWithCovarianceStamped");
-                               log.add_truth(stamp, pose);
-                             }
-                             break;
-                           }
-                           case BagTopicUse::Imu: {
-                             LogImu imu = cdr_imu(r);
-                             imu.source_index = index;
-                             log.add_imu(imu);
-                             break;
-                           }
-                           case BagTopicUse::OdometryTf:
-                           case BagTopicUse::TfStatic:
-                             transforms.clear();
-                             cdr_tf(r, transforms);
-                             log.add_transforms(transforms, use, index);
-                             break;
-                           case BagTopicUse::Skip: break;
-                         }
+                         assemble_bag_message<CdrDecode>(log, use, m.topic->type, r, index, transforms);
                        });
   for (const std::string& w : bag.warnings()) log.warn(w);
   return log.finish();

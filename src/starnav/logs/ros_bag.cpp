@@ -408,6 +408,15 @@ std::vector<BagConnection> bag_connections(std::string_view bytes, const std::st
   return w.connections();
 }
 
+// ROS 1's decoders, for assemble_bag_message.
+struct Ros1Decode {
+  static DecodedScan scan(ByteReader& r) { return decode_laser_scan(r); }
+  static DecodedOdometry odometry(ByteReader& r) { return decode_odometry(r); }
+  static std::pair<std::int64_t, Pose2> pose_stamped(ByteReader& r, bool with_covariance) { return decode_pose_stamped(r, with_covariance); }
+  static LogImu imu(ByteReader& r) { return decode_imu(r); }
+  static void tf(ByteReader& r, std::vector<FrameTransform>& out) { decode_tf(r, out); }
+};
+
 RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const LogReadOptions& o) {
   BagLogAssembler log(bag_topics(bag_connections(bytes, path)), o, path, "ros1_bag");
   std::size_t index = 0;
@@ -420,44 +429,7 @@ RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const Lo
     if (use == BagTopicUse::Skip) return;
     ByteReader r(m.data, path, 0, c.topic + " message " + std::to_string(index) + " (record at file byte " +
                                       std::to_string(m.file_offset) + "),");
-    switch (use) {
-      case BagTopicUse::Scan: {
-        DecodedScan d = decode_laser_scan(r);
-        d.scan.source_index = index;
-        log.add_scan(std::move(d.scan), d.frame_id);
-        break;
-      }
-      case BagTopicUse::Odometry: {
-        DecodedOdometry d = decode_odometry(r);
-        d.odometry.source_index = index;
-        log.add_odometry(d.odometry, d.child_frame_id);
-        break;
-      }
-      case BagTopicUse::Truth: {
-        const std::string type = ros1_type_name(c.type);
-        if (type == "nav_msgs/Odometry") {
-          const DecodedOdometry d = decode_odometry(r);
-          log.add_truth(d.odometry.stamp_us, d.odometry.pose);
-        } else {
-          const auto [stamp, pose] = decode_pose_stamped(r, type == "geometry_msgs/PoseWithCovarianceStamped");
-          log.add_truth(stamp, pose);
-        }
-        break;
-      }
-      case BagTopicUse::Imu: {
-        LogImu imu = decode_imu(r);
-        imu.source_index = index;
-        log.add_imu(imu);
-        break;
-      }
-      case BagTopicUse::OdometryTf:
-      case BagTopicUse::TfStatic:
-        transforms.clear();
-        decode_tf(r, transforms);
-        log.add_transforms(transforms, use, index);
-        break;
-      case BagTopicUse::Skip: break;
-    }
+    assemble_bag_message<Ros1Decode>(log, use, c.type, r, index, transforms);
   });
   return log.finish();
 }
