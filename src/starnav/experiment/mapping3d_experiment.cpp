@@ -172,7 +172,7 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
       const auto t0 = std::chrono::steady_clock::now();
       slot.slam->finish();
       slot.mapping_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const std::vector<Rigid3> est = slot.slam->trajectory();
+      const std::vector<Rigid3> est = slot.slam->sensor_poses();
       const Slam3dErrors e = slam3d_errors(est, truth);
       Mapping3dRun run;
       run.seed = seed;

@@ -1,0 +1,79 @@
+#include "starnav/harness/slam_run.hpp"
+
+#include <chrono>
+
+#include "starnav/core/cpu_time.hpp"
+#include "starnav/registry/components.hpp"
+
+namespace starnav {
+
+std::unique_ptr<Slam> make_slam(const SlamChoice& choice) {
+  const SlamDef& def = find_slam(choice.method, choice.field);
+  SlamContext ctx;
+  ctx.file = choice.file;
+  ctx.seed = choice.seed;
+  ctx.matcher = choice.matcher;
+  return def.make(ctx, choice.settings);
+}
+
+namespace {
+
+// Adds the wall time of a scope to a total.
+class WallTimer {
+ public:
+  explicit WallTimer(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~WallTimer() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  WallTimer(const WallTimer&) = delete;
+  WallTimer& operator=(const WallTimer&) = delete;
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+SlamDriveTimes drive_slam(Slam& slam, SensorSource& source, const SlamStreams& streams, const SlamProgress& progress) {
+  SlamDriveTimes times;
+  SensorBus bus;
+  bus.subscribe<OdometryMessage>(streams.odometry, [&](const OdometryMessage& m) {
+    const WallTimer timer(times.slam_wall_s);
+    slam.on_odometry(m);
+  });
+  bus.subscribe<ImuMessage>(streams.imu, [&](const ImuMessage& m) {
+    const WallTimer timer(times.slam_wall_s);
+    slam.on_imu(m);
+  });
+  switch (slam.space()) {
+    case SlamSpace::Planar:
+      bus.subscribe<ScanMessage>(streams.scan, [&](const ScanMessage& m) {
+        const WallTimer timer(times.slam_wall_s);
+        slam.on_scan(m);
+      });
+      break;
+    case SlamSpace::ThreeD:
+      bus.subscribe<CloudMessage>(streams.cloud, [&](const CloudMessage& m) {
+        const WallTimer timer(times.slam_wall_s);
+        slam.on_cloud(m);
+      });
+      break;
+  }
+  const std::size_t total = source.readings();
+  const double cpu0 = thread_cpu_s();
+  const auto wall0 = std::chrono::steady_clock::now();
+  if (progress) progress(0, total);
+  source.play(bus, [&](std::size_t done) {
+    bus.deliver_all();
+    if (progress) progress(done, total);
+  });
+  bus.deliver_all();
+  {
+    const WallTimer timer(times.slam_wall_s);
+    slam.finish();
+  }
+  times.cpu_s = thread_cpu_s() - cpu0;
+  times.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return times;
+}
+
+}  // namespace starnav
