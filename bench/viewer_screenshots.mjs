@@ -1,7 +1,9 @@
 // The pictures of docs/viewer.md: each run served by `starnav view`, opened in headless chromium
 // at 1280 x 720, brought to a time, and captured.
 //
-//   node viewer_screenshots.mjs STARNAV OUT_DIR NAME=RUN_DIR@TIME[:overview|:close] ...
+//   node viewer_screenshots.mjs STARNAV OUT_DIR NAME=RUN_DIR@TIME[:overview|:close|:first|:top] ...
+//
+// first: the camera the page opens with (on the robot); top: that camera looking straight down.
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import path from 'node:path';
@@ -13,7 +15,7 @@ const { chromium } = require('playwright-core');
 
 const [starnav, outDir, ...shots] = process.argv.slice(2);
 if (!shots.length) {
-  console.error('usage: node viewer_screenshots.mjs STARNAV OUT_DIR NAME=RUN_DIR@TIME[:overview|:close] ...');
+  console.error('usage: node viewer_screenshots.mjs STARNAV OUT_DIR NAME=RUN_DIR@TIME[:overview|:close|:first|:top] ...');
   process.exit(2);
 }
 const browser = await chromium.launch({
@@ -22,7 +24,7 @@ const browser = await chromium.launch({
 });
 const context = await browser.newContext({ viewport: { width: 1280, height: 720 } });
 for (const shot of shots) {
-  const [, name, run, time, view] = shot.match(/^([^=]+)=(.+)@([0-9.]+|end)(?::(overview|close))?$/) || [];
+  const [, name, run, time, view] = shot.match(/^([^=]+)=(.+)@([0-9.]+|end)(?::(overview|close|first|top))?$/) || [];
   if (!name) throw new Error(`bad shot ${shot}`);
   const child = spawn(starnav, ['view', run, '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
   const address = await new Promise((resolve, reject) => {
@@ -40,7 +42,8 @@ for (const shot of shots) {
   await page.evaluate(([t, v]) => {
     window.starnav.setTime(t === 'end' ? window.starnav.state.duration : Number(t));
     if (v === 'close') window.starnav.closeUp();
-    else window.starnav.overview();
+    else if (v === 'top') window.starnav.setTopDown(true);
+    else if (v !== 'first') window.starnav.overview();
   }, [time, view || 'overview']);
   await page.waitForTimeout(200);
   await page.screenshot({ path: path.join(outDir, `${name}.png`) });

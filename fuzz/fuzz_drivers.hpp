@@ -33,6 +33,7 @@
 
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/number_text.hpp"
 #include "starnav/io/elevation_io.hpp"
 #include "starnav/io/image.hpp"
 #include "starnav/io/movingai.hpp"
@@ -41,8 +42,12 @@
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/logs/carmen_log.hpp"
+#include "starnav/logs/mcap.hpp"
+#include "starnav/logs/ros2_bag.hpp"
 #include "starnav/logs/ros_bag.hpp"
+#include "starnav/logs/rosbag2_sqlite.hpp"
 #include "starnav/sim/scenario.hpp"
+#include "starnav/sweep/manifest.hpp"
 
 namespace starnav::fuzz {
 
@@ -481,6 +486,53 @@ inline void fuzz_ros_bag(std::string_view data) {
   }
 }
 
+// ROS 2 recordings in one file, as read_robot_log reads them (with and without scans required),
+// then the MCAP reader's record-by-record path on the same bytes (it must agree with the indexed one).
+inline void fuzz_ros2_file(std::string_view data, const char* name) {
+  LogReadOptions o;
+  o.allow_no_scans = true;
+  try {
+    check_log(read_ros2_bag_bytes(data, name, o));
+  } catch (const Error&) {
+  }
+  try {
+    check_log(read_ros2_bag_bytes(data, name));
+  } catch (const Error&) {
+  }
+}
+
+inline void fuzz_mcap(std::string_view data) {
+  fuzz_ros2_file(data, "fuzz.mcap");
+  try {
+    McapReader indexed(data, "fuzz.mcap");
+    std::size_t from_index = 0, from_scan = 0;
+    indexed.for_each_message([](const McapChannel&) { return true; }, [&](const McapMessageView&) { ++from_index; });
+    McapReader scanned(data, "fuzz.mcap");
+    scanned.ignore_summary();
+    scanned.for_each_message([](const McapChannel&) { return true; }, [&](const McapMessageView& m) {
+      require(m.channel != nullptr, "an MCAP message without its channel");
+      ++from_scan;
+    });
+    if (indexed.indexed()) require(from_index <= from_scan, "the indexed path read more messages than the file holds");
+  } catch (const Error&) {
+  }
+}
+
+inline void fuzz_rosbag2_sqlite(std::string_view data) { fuzz_ros2_file(data, "fuzz.db3"); }
+
+// The first byte picks a message type, the rest is its CDR serialisation.
+inline void fuzz_cdr(std::string_view data) {
+  static constexpr const char* kTypes[] = {"sensor_msgs/msg/LaserScan", "nav_msgs/msg/Odometry", "sensor_msgs/msg/Imu",
+                                           "tf2_msgs/msg/TFMessage", "geometry_msgs/msg/PoseStamped",
+                                           "geometry_msgs/msg/PoseWithCovarianceStamped", "sensor_msgs/msg/PointCloud2"};
+  if (data.empty()) return;
+  const char* type = kTypes[static_cast<unsigned char>(data[0]) % std::size(kTypes)];
+  try {
+    require(decode_ros2_message(type, data.substr(1), "fuzz.cdr", "fuzz message,"), "a decoded type was not decoded");
+  } catch (const Error&) {
+  }
+}
+
 inline void check_cloud(const PointCloudFile& f) {
   require(f.points.size() + f.dropped_non_finite <= kMaxCloudPoints, "a cloud larger than its limit");
   for (const Vec3& p : f.points) require(p.allFinite(), "a non-finite point was kept");
@@ -512,6 +564,46 @@ inline void fuzz_point_cloud(std::string_view data) {
   }
 }
 
+// parse_sweep_file on the YAML text (globs are never resolved: no file system is read), then the
+// first tasks of its expansion: ids, columns, and the manifest's brace escaping undone exactly.
+inline void fuzz_sweep_file(std::string_view data) {
+  sweep::SweepSpec spec;
+  try {
+    spec = sweep::parse_sweep_file(data, "fuzz_sweep.yaml");
+  } catch (const Error&) {
+    return;
+  }
+  const std::uint64_t n = spec.task_count();
+  require(n <= sweep::kMaxSweepTasks, "sweep: more tasks than the limit");
+  const std::size_t columns = spec.axis_columns().size();
+  for (std::uint64_t i = 0; i < std::min<std::uint64_t>(n, 64); ++i) {
+    const sweep::SweepTask t = sweep::make_task(spec, i);
+    require(t.id.size() == 16 && t.id.find_first_not_of("0123456789abcdef") == std::string::npos, "sweep: a task id not 16 hex digits");
+    require(t.values.size() == columns, "sweep: task values do not match the columns");
+    const std::vector<std::string> argv = sweep::command_for_run(t.argv, "/o");
+    require(argv.size() == t.argv.size() && argv[0] == "starnav" && argv.size() >= spec.command.size() + 1, "sweep: argv size");
+    for (std::size_t k = 0; k < spec.command.size(); ++k) {
+      std::string expected;
+      for (const sweep::TemplatePart& p : spec.command[k].parts)
+        expected += p.kind == sweep::TemplatePart::Kind::Text ? p.text
+                    : p.kind == sweep::TemplatePart::Kind::Out ? std::string("/o")
+                                                               : t.values.at([&] {
+                                                                   std::size_t col = 0;
+                                                                   for (std::size_t a = 0; a < p.axis; ++a) col += spec.axes[a].width();
+                                                                   return col + p.field;
+                                                                 }());
+      require(argv[k + 1] == expected, "sweep: the manifest's braces do not come back as written");
+    }
+  }
+  for (const sweep::SweepAxis& a : spec.axes)
+    if (a.kind == sweep::SweepAxis::Kind::Range && a.size() > 0)
+      require(parse_real_text(a.value(0)).has_value() && parse_real_text(a.value(a.size() - 1)).has_value(), "sweep: a range value is not a number");
+  try {
+    sweep::check_axis_values(spec);
+  } catch (const Error&) {
+  }
+}
+
 struct Target {
   const char* name;
   void (*run)(std::string_view);
@@ -531,6 +623,10 @@ inline constexpr Target kTargets[] = {
     {"fuzz_carmen_log", fuzz_carmen_log},
     {"fuzz_ros_bag", fuzz_ros_bag},
     {"fuzz_point_cloud", fuzz_point_cloud},
+    {"fuzz_sweep_file", fuzz_sweep_file},
+    {"fuzz_mcap", fuzz_mcap},
+    {"fuzz_rosbag2_sqlite", fuzz_rosbag2_sqlite},
+    {"fuzz_cdr", fuzz_cdr},
 };
 
 inline const Target* find_target(std::string_view name) {

@@ -49,10 +49,13 @@ declare -A MAX_LEN=(
   [fuzz_carmen_log]=16384
   [fuzz_ros_bag]=16384
   [fuzz_point_cloud]=16384
+  [fuzz_mcap]=16384
+  [fuzz_rosbag2_sqlite]=32768
+  [fuzz_cdr]=4096
 )
 ALL_TARGETS=(fuzz_movingai_map fuzz_movingai_scen fuzz_pgm fuzz_png fuzz_ros_yaml fuzz_asc
              fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw fuzz_scenario fuzz_carmen_log fuzz_ros_bag
-             fuzz_point_cloud)
+             fuzz_point_cloud fuzz_mcap fuzz_rosbag2_sqlite fuzz_cdr)
 COMMON_FLAGS=(-rss_limit_mb=2048 -timeout=5)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:symbolize=1}

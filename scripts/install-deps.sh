@@ -3,12 +3,12 @@
 # quick, then the viewer's npm packages when viewer/package-lock.json is newer than what is installed.
 # Usage: scripts/install-deps.sh [core|fuzz|ci|all]   (default core)
 #   core  what make build / test / demo need; fuzz  plus clang-16 for the sanitizer build;
-#   ci    everything .ci/run uses (with chromium for the browser tests); all  plus the developer
-#   tools (clang-format)
+#   ci    everything .ci/run uses (with chromium for the browser tests, slurm-wlm and munge for the
+#   sweep's end-to-end test on a single-node Slurm cluster); all  plus the developer tools (clang-format)
 set -euo pipefail
 what=${1:-core}
 core=(build-essential cmake ninja-build pkg-config python3 curl libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
-      libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev libbz2-dev liblz4-dev
+      libgtest-dev libgmock-dev libbenchmark-dev libpng-dev zlib1g-dev libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev
       libnanoflann-dev liboctomap-dev)
 if [ "${STARNAV_WITH_GDAL:-ON}" != "OFF" ]; then core+=(libgdal-dev); fi
 if [ "${STARNAV_WITH_PCL:-ON}" != "OFF" ]; then core+=(libpcl-dev); fi
@@ -17,7 +17,7 @@ fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
 case "$what" in
   core) pkgs=("${core[@]}") ;;
   fuzz) pkgs=("${core[@]}" "${fuzz[@]}") ;;
-  ci) pkgs=("${core[@]}" "${fuzz[@]}" chromium) ;;
+  ci) pkgs=("${core[@]}" "${fuzz[@]}" chromium slurm-wlm munge) ;;
   all)  pkgs=("${core[@]}" "${fuzz[@]}" clang-format) ;;
   *) echo "usage: $0 [core|fuzz|ci|all]" >&2; exit 2 ;;
 esac
@@ -45,5 +45,17 @@ if [ "${STARNAV_WITH_VIEWER:-ON}" != "OFF" ] && [ -f "$viewer/package-lock.json"
     echo "starnav: installing the viewer's npm packages (npm ci)" >&2
     (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
     touch "$viewer/node_modules/.package-lock.json"
+  fi
+fi
+
+# The ROS 2 tests' independent tools (tools/ros2-convert: the ROS 1 -> ROS 2 converter and the MCAP
+# checker on @mcap/core, @foxglove/* and better-sqlite3), pinned by their lock file, the same way.
+# Without them the tests that use them skip.
+ros2tools="$(cd "$(dirname "$0")/.." && pwd)/tools/ros2-convert"
+if [ "${STARNAV_WITH_ROS2_TOOLS:-ON}" != "OFF" ] && [ -f "$ros2tools/package-lock.json" ] && command -v npm >/dev/null 2>&1; then
+  if [ ! -f "$ros2tools/node_modules/.package-lock.json" ] || [ "$ros2tools/package-lock.json" -nt "$ros2tools/node_modules/.package-lock.json" ]; then
+    echo "starnav: installing tools/ros2-convert's npm packages (npm ci)" >&2
+    (cd "$ros2tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+    touch "$ros2tools/node_modules/.package-lock.json"
   fi
 fi

@@ -1,5 +1,6 @@
 #include "cli_util.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -132,6 +133,67 @@ void check_output_path(const std::string& path, bool force, const std::string& f
   if (!parent.empty() && !fs::is_directory(parent)) throw Error("folder does not exist", path, 0, flag);
 }
 
+void add_map_files(std::vector<CommandFile>& files, const std::string& path, MapFormat format,
+                   const std::optional<RosMapMetadata>& ros, const std::string& flag) {
+  const std::vector<std::string> written = map_output_files(path, format, ros);
+  for (std::size_t i = 0; i < written.size(); ++i)
+    files.push_back({written[i], i == 0 ? flag : flag + " (written beside " + path + ")", true});
+}
+
+void add_map_files(std::vector<CommandFile>& files, const LoadedMap& map, const std::string& flag) {
+  for (std::size_t i = 0; i < map.files.size(); ++i)
+    files.push_back({map.files[i], i == 0 ? flag : flag + " (read with " + map.files[0] + ")", false});
+}
+
+namespace {
+
+// What makes two names one file: the device and inode of an existing file (after links), else
+// the canonical path of a file still to be written.
+struct FileIdentity {
+  bool exists = false;
+  dev_t device = 0;
+  ino_t inode = 0;
+  std::string path;
+  bool operator==(const FileIdentity& o) const {
+    return exists == o.exists && (exists ? device == o.device && inode == o.inode : path == o.path);
+  }
+};
+
+FileIdentity identity_of(const std::string& path) {
+  FileIdentity id;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    id.exists = true;
+    id.device = st.st_dev;
+    id.inode = st.st_ino;
+    return id;
+  }
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(absolute, ec);
+  id.path = (ec ? absolute.lexically_normal() : canonical).string();
+  return id;
+}
+
+}  // namespace
+
+void check_distinct_files(const std::vector<CommandFile>& files) {
+  std::vector<FileIdentity> ids;
+  ids.reserve(files.size());
+  for (const CommandFile& f : files) ids.push_back(identity_of(f.path));
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (!files[i].output) continue;
+    for (std::size_t j = 0; j < files.size(); ++j) {
+      if (j == i || (files[j].output && j > i) || !(ids[i] == ids[j])) continue;
+      // Named by the later output, against the earlier output or against the input it would replace.
+      if (files[j].output)
+        throw Error("the same file as " + files[j].what + ": each output needs a file of its own", files[i].path, 0, files[i].what);
+      throw Error("the same file as the input " + files[j].what + ": an output never replaces an input", files[i].path, 0,
+                  files[i].what);
+    }
+  }
+}
+
 void write_text_file(const std::string& path, const std::string& text, const std::string& flag) {
   try {
     write_file_atomically(path, text);
@@ -163,6 +225,7 @@ ProgressBar::ProgressBar(std::string label, std::size_t total, bool quiet)
 
 void ProgressBar::update(std::size_t done, const std::string& what) {
   if (!enabled_ || total_ == 0) return;
+  release_warnings();
   if (!tty_) {
     // One line per tenth of the work, and at the end.
     if (done < next_line_ && done != total_) return;
@@ -260,6 +323,31 @@ OutputFolder check_out_dir(const std::string& dir, bool force) {
     if (!empty && !force) throw Error("folder exists and is not empty (use --force to overwrite)", dir, 0, "--out");
   }
   return OutputFolder(dir, "--out");
+}
+
+namespace {
+// Warnings wait until the command gets past its inputs (its long work starts, or it ends without an
+// error): a command that refuses its input says one error line, not the warnings of the reading.
+std::vector<std::string>& held_warnings() {
+  static std::vector<std::string> held;
+  return held;
+}
+bool& warnings_released() {
+  static bool released = false;
+  return released;
+}
+}  // namespace
+
+void print_warning(const std::string& text) {
+  const std::string line = "starnav: warning: " + escape_control_characters(text) + "\n";
+  if (warnings_released()) std::fputs(line.c_str(), stderr);
+  else held_warnings().push_back(line);
+}
+
+void release_warnings() {
+  warnings_released() = true;
+  for (const std::string& line : held_warnings()) std::fputs(line.c_str(), stderr);
+  held_warnings().clear();
 }
 
 void warn_if_served_beyond_loopback(const std::string& bind) {

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,6 +55,11 @@ std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, c
 // are registered.
 void apply_number_rules(CLI::App& app);
 
+// A library's warning (LogReadOptions::warn, ...) on stderr as `starnav: warning: TEXT`, held until release_warnings() (the command's long work starts or it
+// ends without an error; main releases them), so a refused input is one error line.
+void print_warning(const std::string& text);
+void release_warnings();
+
 // The one warning for a server told to listen beyond this machine (--bind other than loopback).
 void warn_if_served_beyond_loopback(const std::string& bind);
 
@@ -62,6 +68,24 @@ std::string executable_path();
 
 // Throws Error when `path` exists and `force` is false, or its folder does not exist.
 void check_output_path(const std::string& path, bool force, const std::string& flag);
+// A file a command reads or writes, named for errors by `what`: the flag or positional ("--svg",
+// "LOG"), or for a companion the flag and the file it goes with.
+struct CommandFile {
+  std::string path;
+  std::string what;
+  bool output = true;
+};
+// The files of a map written to `path` as `format` (the named one and its companions, as
+// map_output_files), or read by `map` (LoadedMap::files), named after `flag`.
+void add_map_files(std::vector<CommandFile>& files, const std::string& path, MapFormat format,
+                   const std::optional<RosMapMetadata>& ros, const std::string& flag);
+void add_map_files(std::vector<CommandFile>& files, const LoadedMap& map, const std::string& flag);
+// Refuses two entries that are one file where one of them is an output (two outputs, or an output
+// and an input or its companion): compared by device and inode where the files exist (links and
+// hard links followed), else by their canonical paths. One Error naming the file and both; --force
+// does not lift it (it would lose an output or replace an input).
+void check_distinct_files(const std::vector<CommandFile>& files);
+
 // Writes `text` to `path`; an Error naming the file and `flag` when it cannot.
 void write_text_file(const std::string& path, const std::string& text, const std::string& flag);
 

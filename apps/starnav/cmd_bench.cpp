@@ -107,6 +107,13 @@ int run_bench_movingai(const MovingAiBenchOptions& o) {
   config.pairs = find_pairs(o);
   if (!o.csv.empty()) {
     check_output_path(o.csv, o.force, "--csv");
+    std::vector<CommandFile> files;
+    for (const auto& pair : config.pairs) {
+      files.push_back({pair.map_path, "--map", false});
+      files.push_back({pair.scen_path, "--scen", false});
+    }
+    files.push_back({o.csv, "--csv"});
+    check_distinct_files(files);
     config.csv_rows = true;
   }
   Progress progress(o.quiet, config.pairs.size(), config.planners.size());

@@ -2,7 +2,8 @@
 // corrected poses.
 //
 //   starnav localize LOG --map MAP.yaml --out DIR [--initial x,y,yaw_deg|global|first]
-//       [--reference CORRECTED_LOG] [--set amcl.KEY=VALUE ...] [--seed N] [--flaser-angles] [--json] [--force] [--quiet]
+//       [--reference CORRECTED_LOG] [--set amcl.KEY=VALUE ...] [--seed N] [--flaser-angles] [--range-max M]
+//       [--scan-topic T] [--odom-topic T] [--imu-topic T] [--truth-topic T] [--json] [--force] [--quiet]
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -12,6 +13,8 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "nav2_flags.hpp"
+#include "log_flags.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/experiment/localize_report.hpp"
@@ -28,7 +31,8 @@ struct LocalizeOptions {
   std::string reference;
   std::vector<std::string> sets;
   std::string seed = "1";
-  bool flaser_angles = false;
+  std::string nav2_params;
+  LogReadFlags read;
   bool json = false;
   bool force = false;
   bool quiet = false;
@@ -55,11 +59,21 @@ void run_localize_command(const LocalizeOptions& o, Context& ctx) {
   namespace fs = std::filesystem;
   LocalizeRunRequest q;
   q.log = o.log;
-  q.read.flaser_beam_angles = o.flaser_angles;
+  q.read = log_read_options(o.read);
   q.map = o.map;
   q.reference = o.reference;
   q.initial = parse_localize_initial(o.initial, !o.reference.empty());
   q.seed = parse_unsigned(o.seed, "--seed", "a seed (a non-negative integer)");
+  if (!o.nav2_params.empty()) {
+    Nav2Target target;
+    target.kind = Nav2Target::Kind::Localize;
+    const Nav2Params nav2 = read_nav2_params(o.nav2_params, target);
+    for (ParamSetting s : nav2.settings()) {
+      s.key = s.key.substr(5);  // "amcl."
+      q.settings.push_back(std::move(s));
+    }
+    print_nav2_summary(nav2);
+  }
   for (ParamSetting s : parse_set_options(o.sets)) {
     if (s.key.rfind("amcl.", 0) != 0 || s.key.size() == 5)
       throw Error("expected amcl.KEY=VALUE (keys: starnav params, section amcl), got '" + printable(s.key, 60) + "'", {}, 0, s.field);
@@ -97,7 +111,7 @@ void register_localize_command(CLI::App& app, Context& ctx) {
       "localize",
       "AMCL on a recorded 2D laser log and a known map (the amcl localizer's parameters), evaluated against a log of\n"
       "corrected poses (scans paired by identical ranges); writes trajectory.csv, errors.csv, summary.json, map.png");
-  cmd->add_option("LOG", o->log, "the log (CARMEN .clf/.gz, ROS 1 .bag, text extract) with scans and odometry")->required();
+  cmd->add_option("LOG", o->log, "the log (CARMEN .clf/.gz, ROS 1 .bag, ROS 2 .mcap/.db3/folder, text extract) with scans and odometry")->required();
   cmd->add_option("--map", o->map, "the map (map_server YAML, e.g. from starnav map build --poses log on the corrected log)")->required();
   cmd->add_option("--out", o->out, "output folder")->required();
   cmd->add_option("--initial", o->initial,
@@ -110,7 +124,10 @@ void register_localize_command(CLI::App& app, Context& ctx) {
                   "10000 particles, recovery alphas 0.001 / 0.1 and the scan proposal (docs/localization.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--seed", o->seed, "random seed (default 1)");
-  cmd->add_flag("--flaser-angles", o->flaser_angles, "bags converted from CARMEN FLASER logs: FLASER's beam angles");
+  cmd->add_option("--params", o->nav2_params,
+                  "a Nav2 parameter file (nav2_params.yaml): its amcl keys mapped to the localizer's parameters before --set\n"
+                  "(docs/ros2.md; starnav params --nav2 FILE lists the mapping)");
+  add_log_read_flags(cmd, o->read);
   cmd->add_flag("--json", o->json, "print the summary as one JSON object");
   cmd->add_flag("--force", o->force, "overwrite the outputs in --out");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");

@@ -75,8 +75,13 @@ struct MapConvertOptions {
 void run_map_convert(const MapConvertOptions& o) {
   const LoadedMap m = load_map(o.in);
   const MapFormat target = output_map_format(o.out, m.is_elevation());
+  check_map_writable(m, o.out, target);
   for (const std::string& f : map_output_files(o.out, target, m.ros)) check_output_path(f, o.force, "OUT");
-  for (const std::string& loss : map_conversion_losses(m, target)) std::cerr << "starnav: warning: " << o.out << ": " << loss << "\n";
+  std::vector<CommandFile> files;
+  add_map_files(files, m, "IN");
+  add_map_files(files, o.out, target, m.ros, "OUT");
+  check_distinct_files(files);
+  for (const std::string& loss : map_conversion_losses(m, target)) print_warning(o.out + ": " + loss);
   save_map(m, o.out, target);
   std::cout << "wrote " << o.out << " (" << map_format_name(target) << ")\n";
 }

@@ -2,7 +2,8 @@
 // docs/slam.md), saved as map_server YAML + PGM.
 //
 //   starnav map build LOG --poses log|odometry|truth|TRAJECTORY.csv --out map.yaml
-//                     [--resolution R] [--set key=value ...] [--range-max M] [--flaser-angles]
+//                     [--resolution R] [--set key=value ...] [--range-max M] [--flaser-angles] [--scan-topic T]
+//                     [--odom-topic T] [--imu-topic T] [--truth-topic T]
 //                     [--trajectory-out FILE.csv] [--json] [--force]
 #include <filesystem>
 #include <iostream>
@@ -14,6 +15,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "log_flags.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/io/ros_map.hpp"
@@ -31,9 +33,7 @@ struct MapBuildOptions {
   std::string trajectory_out;
   double resolution = OccupancyMappingParams{}.resolution_m;
   std::vector<std::string> sets;
-  double range_max = 0.0;
-  CLI::Option* range_max_opt = nullptr;
-  bool flaser_angles = false;
+  LogReadFlags read;
   bool json = false;
   bool force = false;
 };
@@ -53,13 +53,12 @@ void run_map_build(const MapBuildOptions& o, Context& ctx) {
     for (const std::string& f : map_output_files(o.out, MapFormat::RosMap)) check_output_path(f, o.force, "--out");
   }
   if (!o.trajectory_out.empty()) check_output_path(o.trajectory_out, o.force, "--trajectory-out");
-  LogReadOptions read;
-  if (o.range_max_opt->count() > 0) {
-    if (!(o.range_max > 0)) throw Error("expected metres > 0", {}, 0, "--range-max");
-    read.range_max_m = o.range_max;
-  }
-  read.flaser_beam_angles = o.flaser_angles;
-  const RobotLog log = read_robot_log(o.log, read);
+  std::vector<CommandFile> files{{o.log, "LOG", false}};
+  if (o.poses != "log" && o.poses != "odometry" && o.poses != "truth") files.push_back({o.poses, "--poses", false});
+  add_map_files(files, o.out, MapFormat::RosMap, std::nullopt, "--out");
+  if (!o.trajectory_out.empty()) files.push_back({o.trajectory_out, "--trajectory-out"});
+  check_distinct_files(files);
+  const RobotLog log = read_robot_log(o.log, log_read_options(o.read));
   LogMapResult r;
   if (o.poses == "log") r = map_log(log, LogPoseSource::Log, params);
   else if (o.poses == "odometry") r = map_log(log, LogPoseSource::Odometry, params);
@@ -95,7 +94,7 @@ void run_map_build(const MapBuildOptions& o, Context& ctx) {
 void register_map_build(CLI::App& map, Context& ctx) {
   auto o = std::make_shared<MapBuildOptions>();
   auto* cmd = map.add_subcommand("build", "an occupancy map from a robot log with known poses (map_server YAML + PGM)");
-  cmd->add_option("LOG", o->log, "the log (CARMEN .clf/.log/.gz, ROS 1 .bag, text extract)")->required();
+  cmd->add_option("LOG", o->log, "the log (CARMEN .clf/.log/.gz, ROS 1 .bag, ROS 2 .mcap/.db3/folder, text extract)")->required();
   cmd->add_option("--poses", o->poses,
                   "log (the laser poses its lines carry, e.g. a corrected log's; else odometry), odometry, truth "
                   "(TRUEPOS), or a trajectory CSV t_s,x_m,y_m,yaw_rad (default log)");
@@ -103,8 +102,7 @@ void register_map_build(CLI::App& map, Context& ctx) {
   cmd->add_option("--resolution", o->resolution, "cell size, metres (default 0.05)");
   cmd->add_option("--set", o->sets, "a mapping parameter key=value (repeatable; keys in docs/slam.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  o->range_max_opt = cmd->add_option("--range-max", o->range_max, "readings at or beyond M metres returned nothing");
-  cmd->add_flag("--flaser-angles", o->flaser_angles, "bags converted from FLASER logs: FLASER's beam angles");
+  add_log_read_flags(cmd, o->read);
   cmd->add_option("--trajectory-out", o->trajectory_out, "also write the base poses of the mapped scans (CSV)");
   cmd->add_flag("--json", o->json, "one JSON object instead of text");
   cmd->add_flag("--force", o->force, "overwrite existing outputs");

@@ -28,6 +28,10 @@ void run_map_render(const MapRenderOptions& o) {
   if (o.pixels_per_cell < 0.0) throw Error("must be positive", {}, 0, "--pixels-per-cell");
   if (o.width_px < 0) throw Error("must be positive", {}, 0, "--width");
   const LoadedMap m = load_map(o.file);
+  std::vector<CommandFile> files;
+  add_map_files(files, m, "FILE");
+  files.push_back({o.out, "--out"});
+  check_distinct_files(files);
   viz::PictureOptions options;
   options.title = o.title.empty() ? std::filesystem::path(o.file).filename().string() : o.title;
   options.pixels_per_cell = png ? 0.0 : o.pixels_per_cell;

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "nav2_flags.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/experiment/limits_docs.hpp"
@@ -34,6 +35,7 @@ void register_params_command(CLI::App& app, Context& ctx) {
     bool markdown = false;
     bool json = false;
     std::string role;
+    std::string nav2, scenario;
   };
   auto o = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("params", "list every component (planners, controllers, localizers) and its declared parameters");
@@ -42,7 +44,22 @@ void register_params_command(CLI::App& app, Context& ctx) {
   std::string roles;
   for (Role r : kAllRoles) roles += std::string(roles.empty() ? "" : ", ") + role_name(r);
   cmd->add_option("--role", o->role, "only the components of this role (" + roles + "): summary, capabilities, parameters");
+  cmd->add_option("--nav2", o->nav2,
+                  "a Nav2 parameter file: print which keys map to which starnav parameters (converted) and which are ignored\n"
+                  "and why, as localize reads it, or as sim reads it for --scenario (docs/ros2.md)");
+  cmd->add_option("--scenario", o->scenario, "with --nav2: the scenario whose components decide the mapping");
   cmd->callback([o, &ctx, roles] {
+    if (!o->scenario.empty() && o->nav2.empty()) throw Error("only with --nav2", o->scenario, 0, "--scenario");
+    if (!o->nav2.empty()) {
+      if (!o->role.empty()) throw Error("--nav2 lists a Nav2 file's mapping; --role a role's components", {}, 0, "--role");
+      Nav2Target target;
+      target.kind = Nav2Target::Kind::Localize;
+      if (!o->scenario.empty()) target = scenario_nav2_target(load_scenario(o->scenario), "");
+      const Nav2Params p = read_nav2_params(o->nav2, target);
+      std::cout << (o->json ? nav2_params_json(p) : nav2_params_text(p));
+      ctx.exit_code = 0;
+      return;
+    }
     if (!o->role.empty()) {
       const std::optional<Role> role = role_from_name(o->role);
       if (!role) throw Error("unknown role '" + o->role + "' (roles: " + roles + ")", {}, 0, "--role");

@@ -101,6 +101,11 @@ void run_plan(PlanOptions& o, Context& ctx) {
   if (!o.out.empty()) check_output_path(o.out, o.force, "--out");
   if (!o.svg.empty()) check_output_path(o.svg, o.force, "--svg");
   const LoadedMap loaded = load_map(o.map);
+  std::vector<CommandFile> files;
+  add_map_files(files, loaded, "--map");
+  if (!o.out.empty()) files.push_back({o.out, "--out"});
+  if (!o.svg.empty()) files.push_back({o.svg, "--svg"});
+  check_distinct_files(files);
   if (loaded.is_elevation()) {
     run_plan_elevation(o, loaded, ctx);
     return;
@@ -111,7 +116,7 @@ void run_plan(PlanOptions& o, Context& ctx) {
     // The registry says which map a planner needs; an old spelling works with a warning.
     std::string warning;
     const GlobalPlannerDef& def = find_global_planner(o.request.planner, "--planner", &warning);
-    if (!warning.empty()) std::cerr << "starnav: warning: --planner: " << warning << "\n";
+    if (!warning.empty()) print_warning("--planner: " + warning);
     if (def.info.has(Capability::NeedsElevation))
       throw Error("'" + o.request.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
   }

@@ -17,6 +17,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "nav2_flags.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/harness/navigation_pictures.hpp"
 #include "starnav/harness/navigation_run.hpp"
@@ -51,9 +52,11 @@ struct SimOptions {
   std::string planner;
   std::string controller;
   std::vector<std::string> sets;
+  std::string nav2_params;
   bool compare_astar = false;
   bool step_all_hits = false;
-  std::vector<double> dwa_pictures;
+  std::vector<double> controller_pictures;
+  std::vector<double> dwa_pictures;  // the old name of --controller-pictures
   bool png = false;
   bool force = false;
   bool json = false;
@@ -112,8 +115,8 @@ std::unique_ptr<RunServer> start_live_server(const Simulation& sim, const Naviga
   options.host = o.bind;
   options.port = o.port;
   options.live = true;
-  warn_if_served_beyond_loopback(o.bind);
-  auto server = std::make_unique<RunServer>(options);
+  auto server = std::make_unique<RunServer>(options);  // a --bind or --port it cannot listen on is the one error line
+  if (!server->loopback_only()) warn_if_served_beyond_loopback(o.bind);
   server->set_memory_file("world.json", world_json(sim, navigation));
   server->set_memory_file("run.json", live_run_manifest_json(sim, navigation ? "navigation" : "simulation"));
   server->start();
@@ -145,10 +148,16 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
   if (!o.controller.empty()) options.controller = o.controller;
   options.compare_astar = o.compare_astar;
   options.step_all_hits = o.step_all_hits;
-  for (const double t : o.dwa_pictures)
+  const char* pictures_flag = o.dwa_pictures.empty() ? "--controller-pictures" : "--dwa-pictures";
+  const std::vector<double>& pictures = o.dwa_pictures.empty() ? o.controller_pictures : o.dwa_pictures;
+  if (!o.dwa_pictures.empty() && !o.controller_pictures.empty())
+    throw Error("give --controller-pictures only (--dwa-pictures is its old name)", "", 0, "--dwa-pictures");
+  if (!o.dwa_pictures.empty())
+    print_warning("--dwa-pictures is deprecated; use --controller-pictures");
+  for (const double t : pictures)
     if (!std::isfinite(t) || t < 0.0 || t > spec.duration_s)
-      throw Error("each time must be in [0, sim.duration_s]", "", 0, "--dwa-pictures");
-  options.dwa_snapshot_times_s = o.dwa_pictures;
+      throw Error("each time must be in [0, sim.duration_s]", "", 0, pictures_flag);
+  options.controller_snapshot_times_s = pictures;
 #if STARNAV_HAVE_HTTP
   // The server is made once the run exists (it serves the run's world); steps before that: none.
   std::unique_ptr<RunServer> live;
@@ -158,7 +167,7 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
 #if STARNAV_HAVE_HTTP
   if (o.live) live = start_live_server(run.simulation(), &run, o);
 #endif
-  for (const std::string& w : run.navigator().warnings()) std::fprintf(stderr, "starnav: warning: %s\n", w.c_str());
+  for (const std::string& w : run.navigator().warnings()) print_warning(w);
   const OutputListing listing(o.out);
   prepare_out_dir(o.out);
   add_cloud_writer(run.simulation(), spec, o.out);
@@ -182,11 +191,15 @@ void run_navigation_scenario(const ScenarioSpec& spec, const SimOptions& o, Cont
     write_navigation_scene(run, (dir / "scene.png").string());
     write_navigation_overlay(run, (dir / "overlay.png").string());
   }
-  if (run.navigator().controller().name() == "dwa") {
+  // A controller that commands velocities under acceleration limits: its speed profile.
+  if (run.navigator().controller_capabilities().has(Capability::VelocitySpace))
     speed_profile_plot(run.simulation().trajectory(), spec.name + ": achieved velocities").write_svg((dir / "speed.svg").string());
-    for (const DwaSnapshot& s : run.dwa_snapshots()) {
-      const std::string stem = "dwa_" + format_fixed(s.step.t_s, 2) + "s";
-      const viz::MapPicture pic = dwa_step_picture(s, spec.name + ": DWA at t = " + format_fixed(s.step.t_s, 2) + " s");
+  {
+    const std::string controller(run.navigator().controller().name());
+    for (const ControllerSnapshot& s : run.controller_snapshots()) {
+      const std::string stem = "controller_" + format_fixed(s.step.t_s, 2) + "s";
+      const viz::MapPicture pic =
+          controller_step_picture(s, spec.name + ": " + controller + " at t = " + format_fixed(s.step.t_s, 2) + " s");
       pic.write_svg((dir / (stem + ".svg")).string());
       if (o.png) {
         pic.write_png((dir / (stem + ".png")).string());
@@ -236,6 +249,15 @@ void run_sim(const SimOptions& o, Context& ctx) {
     owned.push_back({"navigation.follower.motion_mode", "--motion-mode gives it"});
   }
   check_user_overrides(overrides, owned);
+  if (!o.nav2_params.empty()) {
+    // The Nav2 file's settings go first, so that --set overrides them; which sections they reach
+    // depends on the scenario's components.
+    const Nav2Params nav2 = read_nav2_params(o.nav2_params, scenario_nav2_target(load_scenario(o.scenario, overrides), o.controller));
+    std::vector<ScenarioOverride> mapped;
+    for (const ParamSetting& s : nav2.settings()) mapped.push_back({s.key, s.value});
+    overrides.insert(overrides.begin(), mapped.begin(), mapped.end());
+    print_nav2_summary(nav2);
+  }
   ScenarioSpec spec = load_scenario(o.scenario, overrides);
   if (!o.seed.empty()) spec.seed = parse_unsigned(o.seed, "--seed", "a non-negative integer");
   if (!o.duration.empty()) {
@@ -251,6 +273,7 @@ void run_sim(const SimOptions& o, Context& ctx) {
     for (const auto& [flag, given] : {std::pair{"--motion-mode", !o.motion_mode.empty()}, std::pair{"--planner", !o.planner.empty()},
                                       std::pair{"--controller", !o.controller.empty()},
                                       std::pair{"--compare-astar", o.compare_astar}, std::pair{"--all-hits", o.step_all_hits},
+                                      std::pair{"--controller-pictures", !o.controller_pictures.empty()},
                                       std::pair{"--dwa-pictures", !o.dwa_pictures.empty()}})
       if (given) throw Error("only for navigation scenarios (the scenario has no navigation section)", o.scenario, 0, flag);
   }
@@ -349,15 +372,20 @@ void register_sim_commands(CLI::App& app, Context& ctx) {
   sim->add_option("--motion-mode", o->motion_mode,
                   "navigation: auto | turn_then_drive | holonomic | pure_pursuit (overrides motion_mode)");
   sim->add_option("--planner", o->planner, "navigation: a global planner (overrides navigation.planner; list below)");
+  sim->add_option("--params", o->nav2_params,
+                  "a Nav2 parameter file (nav2_params.yaml): its amcl, controller and costmap keys mapped to the scenario's\n"
+                  "parameters before --set (docs/ros2.md; starnav params --nav2 FILE lists the mapping)");
   sim->add_option("--controller", o->controller, "navigation: a local controller (overrides navigation.controller; list below)");
   sim->add_option("--set", o->sets,
                   "KEY=VALUE: set any scenario key before it is read, e.g. navigation.follower.look_ahead_m=0.4 "
                   "(repeatable; checked as if written in the file)");
   sim->add_flag("--compare-astar", o->compare_astar, "navigation with an incremental planner (dstar_lite): also run A* from scratch at every plan");
   sim->add_flag("--all-hits", o->step_all_hits, "navigation: steps.jsonl holds every LiDAR return, not only obstacle hits");
-  sim->add_option("--dwa-pictures", o->dwa_pictures,
-                  "navigation with dwa: T1,T2,... (s): draw the DWA step at each time (dwa_T.svg: local map, every sample, the chosen one)")
+  sim->add_option("--controller-pictures", o->controller_pictures,
+                  "navigation: T1,T2,... (s): draw the controller's step at each time (controller_T.svg: local map, every\n"
+                  "candidate it scored, the chosen one, its own points such as a local goal)")
       ->delimiter(',');
+  sim->add_option("--dwa-pictures", o->dwa_pictures, "the old name of --controller-pictures (deprecated)")->delimiter(',');
   sim->add_flag("--png", o->png, "navigation: also write scene.png and overlay.png");
   sim->add_flag("--force", o->force, "write into a non-empty output folder");
   sim->add_flag("--json", o->json, "print metrics.json to stdout");

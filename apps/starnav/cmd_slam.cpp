@@ -3,6 +3,7 @@
 //   starnav slam eval TRAJECTORY RELATIONS [--laser-offset X[,Y[,YAW_DEG]] | --log LOG] [--json]
 //   starnav slam odometry LOG --out TRAJECTORY.csv [--force]     (the odometry-only baseline)
 //   starnav slam run LOG --out DIR [--set key=value ...] [--relations FILE] [--flaser-angles] [--json] [--force]
+//   (every command reading a log takes log_flags.hpp's --scan-topic, --odom-topic, --imu-topic, --truth-topic)
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
@@ -14,6 +15,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "log_flags.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/io/ros_map.hpp"
@@ -34,6 +36,7 @@ struct SlamEvalOptions {
   std::string relations;
   std::string laser_offset;
   std::string log;
+  LogReadFlags read;
   bool json = false;
 };
 
@@ -48,7 +51,11 @@ void run_slam_eval(const SlamEvalOptions& o, Context& ctx) {
   if (!o.laser_offset.empty() && !o.log.empty()) throw Error("give --laser-offset or --log, not both", {}, 0, "--log");
   std::optional<Pose2> offset;
   if (!o.laser_offset.empty()) offset = parse_offset(o.laser_offset);
-  if (!o.log.empty()) offset = read_robot_log(o.log).laser_in_base.value_or(Pose2());
+  if (!o.log.empty()) {
+    LogReadOptions read = log_read_options(o.read);
+    read.allow_no_scans = true;  // the mount may come from a bag's /tf_static alone
+    offset = read_robot_log(o.log, read).laser_in_base.value_or(Pose2());
+  }
   const std::vector<TrajectoryPose> trajectory = read_trajectory_csv(o.trajectory);
   const std::vector<PoseRelation> relations = read_relations(o.relations);
   const RelativePoseError base = relative_pose_error(trajectory, relations);
@@ -60,6 +67,7 @@ void run_slam_eval(const SlamEvalOptions& o, Context& ctx) {
 
 struct SlamOdometryOptions {
   std::string log;
+  LogReadFlags read;
   std::string out;
   bool force = false;
 };
@@ -70,7 +78,7 @@ struct SlamRunOptions {
   std::vector<std::string> sets;
   std::string relations;
   std::string method = "graph";
-  bool flaser_angles = false;
+  LogReadFlags read;
   bool json = false;
   bool force = false;
   bool quiet = false;
@@ -79,7 +87,7 @@ struct SlamRunOptions {
 void run_slam(const SlamRunOptions& o, Context& ctx) {
   SlamRunRequest q;
   q.log = o.log;
-  q.read.flaser_beam_angles = o.flaser_angles;
+  q.read = log_read_options(o.read);
   q.method = o.method;
   q.settings = parse_set_options(o.sets);
   q.relations = o.relations;
@@ -120,19 +128,20 @@ void register_slam_commands(CLI::App& app, Context& ctx) {
   eval->add_option("RELATIONS", e->relations, "relation file: t_i t_j dx dy dz droll dpitch dyaw per line")->required();
   eval->add_option("--laser-offset", e->laser_offset, "the laser's mount on the base, X[,Y[,YAW_DEG]]: also evaluate the laser poses");
   eval->add_option("--log", e->log, "take the laser's mount from this log (PARAM robot_frontlaser_offset, /tf_static)");
+  add_log_read_flags(eval, e->read, LogFlagSet::Topics);
   eval->add_flag("--json", e->json, "one JSON object instead of text");
   eval->callback([e, &ctx] { run_slam_eval(*e, ctx); });
 
   auto ro = std::make_shared<SlamRunOptions>();
   auto* run = slam->add_subcommand("run", "2D SLAM on a robot log: local matching, submaps, loop closure, pose graph (docs/slam.md);\n"
                                           "writes trajectory.csv, map.yaml + pgm, pose_graph.json, map.png, summary.json");
-  run->add_option("LOG", ro->log, "the log (CARMEN .clf/.gz, ROS 1 .bag, text extract)")->required();
+  run->add_option("LOG", ro->log, "the log (CARMEN .clf/.gz, ROS 1 .bag, ROS 2 .mcap/.db3/folder, text extract)")->required();
   run->add_option("--out", ro->out, "output folder")->required();
   run->add_option("--set", ro->sets, "a parameter key=value (repeatable; keys in docs/slam.md)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   run->add_option("--relations", ro->relations, "also evaluate against this benchmark relation file");
   run->add_option("--method", ro->method, "the SLAM method (starnav params --role slam)")->default_str("graph");
-  run->add_flag("--flaser-angles", ro->flaser_angles, "bags converted from CARMEN FLASER logs: FLASER's beam angles");
+  add_log_read_flags(run, ro->read);
   run->add_flag("--json", ro->json, "print the summary as one JSON object");
   run->add_flag("--force", ro->force, "overwrite the outputs in --out");
   run->add_flag("--quiet", ro->quiet, "no progress on stderr");
@@ -174,9 +183,11 @@ void register_slam_commands(CLI::App& app, Context& ctx) {
   odo->add_option("LOG", od->log, "the log")->required();
   odo->add_option("--out", od->out, "trajectory CSV t_s,x_m,y_m,yaw_rad")->required();
   odo->add_flag("--force", od->force, "overwrite --out");
+  add_log_read_flags(odo, od->read);
   odo->callback([od, &ctx] {
     check_output_path(od->out, od->force, "--out");
-    const std::vector<TrajectoryPose> t = odometry_trajectory(read_robot_log(od->log));
+    check_distinct_files({{od->log, "LOG", false}, {od->out, "--out"}});
+    const std::vector<TrajectoryPose> t = odometry_trajectory(read_robot_log(od->log, log_read_options(od->read)));
     if (t.empty()) throw Error("no scan has an odometry pose", od->log, 0, "LOG");
     write_text_file(od->out, trajectory_csv(t), "--out");
     std::cout << "wrote " << od->out << " (" << t.size() << " poses)\n";

@@ -7,12 +7,14 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/experiment/slam3d_record.hpp"
 #include "starnav/experiment/slam3d_run.hpp"
 #include "starnav/io/ros_map.hpp"
 
@@ -76,6 +78,8 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
   write_text_file((d / "keyframes.csv").string(), slam3d_keyframes_csv(r), "--out");
   write_text_file((d / "summary.json").string(), slam3d_summary_json(r), "--out");
   std::string plan_line;
+  std::optional<OccupancyGrid> grid;
+  std::vector<Vec2> path;
   if (!o.no_map) {
     Slam3dMapConfig mc;
     mc.octree.resolution_m = o.map_resolution_m;
@@ -83,12 +87,11 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
     mc.grid.max_height_m = o.band_max_m;
     const OctreeMap octree = slam3d_octree(r.keyframes, mc);
     octree.write((d / "map.bt").string());
-    const OccupancyGrid grid = octree.project_to_grid(mc.grid);
-    write_ros_map(grid, (d / "map.yaml").string());
-    std::vector<Vec2> path;
+    grid = octree.project_to_grid(mc.grid);
+    write_ros_map(*grid, (d / "map.yaml").string());
     if (!o.plan_to.empty()) {
       const std::vector<double> g = parse_number_list(o.plan_to, "--plan-to", 2, "X,Y (metres, map frame)");
-      const PlanOutcome p = slam3d_plan(grid, r.keyframes.front().pose.translation().head<2>(), Vec2(g[0], g[1]), o.inflation_m);
+      const PlanOutcome p = slam3d_plan(*grid, r.keyframes.front().pose.translation().head<2>(), Vec2(g[0], g[1]), o.inflation_m);
       if (p.result.found()) {
         path = p.path();
         std::string csv = "x_m,y_m\n";
@@ -99,9 +102,11 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
         plan_line = "; improved A*: no path";
       }
     }
-    write_slam3d_picture(r, grid, path, (d / "map.svg").string());
-    write_slam3d_picture(r, grid, path, (d / "map.png").string());
+    write_slam3d_picture(r, *grid, path, (d / "map.svg").string());
+    write_slam3d_picture(r, *grid, path, (d / "map.png").string());
   }
+  // The run record `starnav view` reads; last, as run.json lists the folder.
+  write_slam3d_run_record(o.out, o.input, r, grid ? &*grid : nullptr, path);
   if (o.json) {
     std::cout << slam3d_summary_json(r);
   } else {
@@ -130,7 +135,8 @@ void register_slam3d_command(CLI::App& app, Context& ctx) {
       "the trajectory, the key frames with their floors, the octree and the 2D grid, and the error against the\n"
       "reference when the recording has one (docs/mapping3d.md)");
   cmd->add_option("INPUT", o->input, "a frames folder, a simulator run folder, a folder of cloud files or a ROS 1 bag")->required();
-  cmd->add_option("--out", o->out, "folder for trajectory.csv, keyframes.csv and summary.json")->required();
+  cmd->add_option("--out", o->out, "folder for trajectory.csv, keyframes.csv, summary.json and the run record `starnav view` reads")
+      ->required();
   cmd->add_option("--matcher", o->matcher, "icp, gicp, ndt or ndt_mt")->default_str("ndt_mt");
   cmd->add_option("--set", o->sets, "a SLAM parameter key=value (repeatable; docs/parameters.md, \"3D graph SLAM\")")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);

@@ -103,6 +103,10 @@ void run_terrain_generate(const TerrainGenerateOptions& o) {
   for (const std::string& f : map_output_files(o.out, format)) check_output_path(f, o.force, "--out");
   const std::string meta_path = o.out + ".terrain.json";
   check_output_path(meta_path, o.force, "--out");
+  std::vector<CommandFile> files;
+  add_map_files(files, o.out, format, std::nullopt, "--out");
+  files.push_back({meta_path, "--out (written beside " + o.out + ")"});
+  check_distinct_files(files);
 
   // Geometry errors name the CLI flags.
   try {

@@ -39,7 +39,6 @@ void run_view(const ViewOptions& o, Context& ctx) {
     return;
   }
 #if STARNAV_HAVE_HTTP
-  warn_if_served_beyond_loopback(o.bind);
   // Ctrl-C and SIGTERM are taken by this thread (sigwait), not by the server's threads.
   sigset_t signals;
   sigemptyset(&signals);
@@ -51,7 +50,8 @@ void run_view(const ViewOptions& o, Context& ctx) {
   options.viewer_dir = viewer;
   options.host = o.bind;
   options.port = o.port;
-  RunServer server(options);
+  RunServer server(options);  // a --bind or --port it cannot listen on is the one error line
+  if (!server.loopback_only()) warn_if_served_beyond_loopback(o.bind);
   server.start();
   std::printf("starnav: viewing %s at %s (Ctrl-C stops)\n", o.run_dir.c_str(), server.url().c_str());
   std::fflush(stdout);
@@ -68,9 +68,11 @@ void run_view(const ViewOptions& o, Context& ctx) {
 
 void register_view_command(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<ViewOptions>();
-  auto* view = app.add_subcommand("view", "view a run folder (starnav sim --out) in the browser: 3D world, robot, LiDAR, "
-                                          "paths and map over a timeline (docs/viewer.md)");
-  view->add_option("run_dir", o->run_dir, "RUN_DIR: a folder written by starnav sim (it holds run.json)")->required();
+  auto* view = app.add_subcommand("view", "view a run folder (the --out of sim, slam run, localize or slam3d) in the browser: "
+                                          "3D world, robot, LiDAR, paths and map over a timeline (docs/viewer.md)");
+  view->add_option("run_dir", o->run_dir,
+                   "RUN_DIR: a folder written by starnav sim, slam run, localize or slam3d (it holds run.json)")
+      ->required();
   view->add_option("--port", o->port, "TCP port to serve on (0: any free port; default 8765)")->check(CLI::Range(0, 65535));
   view->add_option("--bind", o->bind, "address to listen on (default 127.0.0.1, this machine only; anything else is warned about)");
   view->add_option("--export", o->export_path, "FILE.html: write one self-contained page (viewer and run) instead of serving");

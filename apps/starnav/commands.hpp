@@ -30,5 +30,7 @@ void register_slam_commands(CLI::App& app, Context& ctx);     // cmd_slam.cpp
 void register_localize_command(CLI::App& app, Context& ctx);  // cmd_localize.cpp
 void register_slam3d_command(CLI::App& app, Context& ctx);    // cmd_slam3d.cpp
 void register_view_command(CLI::App& app, Context& ctx);      // cmd_view.cpp
+void register_sweep_commands(CLI::App& app, Context& ctx);    // cmd_sweep.cpp
+void register_export_commands(CLI::App& app, Context& ctx);   // cmd_export.cpp
 
 }  // namespace starnav::cli

@@ -4,9 +4,12 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <new>
+#include <stdexcept>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "cli_util.hpp"
@@ -104,6 +107,15 @@ std::string out_of_memory_message() {
   return starnav::escape_control_characters(file) + ": out of memory while reading it";
 }
 
+// An exception that is not a starnav::Error escaped the checks meant to turn every fault into
+// one. Its what() is the implementation's wording ("std::get: wrong index for variant"), which
+// never reaches the user as it is: main says what kind of failure it was instead.
+std::string internal_error_message() {
+  const std::string file = starnav::input_file_left_by_exception();
+  return "internal error" + (file.empty() ? std::string() : " while reading " + starnav::escape_control_characters(file)) +
+         " (a fault of starnav, not of the input: please report the command line)";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -123,6 +135,8 @@ int main(int argc, char** argv) {
   starnav::cli::register_localize_command(app, ctx);
   starnav::cli::register_slam3d_command(app, ctx);
   starnav::cli::register_view_command(app, ctx);
+  starnav::cli::register_sweep_commands(app, ctx);
+  starnav::cli::register_export_commands(app, ctx);
   starnav::cli::apply_number_rules(app);
 
   if (const std::string unknown = unknown_command_message(app, argc, argv); !unknown.empty()) {
@@ -148,10 +162,22 @@ int main(int argc, char** argv) {
   } catch (const std::bad_alloc&) {
     std::cerr << "starnav: error: " << out_of_memory_message() << "\n";
     return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "starnav: error: " << starnav::escape_control_characters(e.what()) << "\n";
+  } catch (const std::length_error&) {
+    // A size beyond what can be allocated ("cannot create std::vector larger than max_size()").
+    std::cerr << "starnav: error: " << out_of_memory_message() << "\n";
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    const std::string what = e.path1().empty() ? e.code().message() : e.path1().string() + ": " + e.code().message();
+    std::cerr << "starnav: error: " << starnav::escape_control_characters(what) << "\n";
+    return 2;
+  } catch (const std::system_error& e) {
+    std::cerr << "starnav: error: " << starnav::escape_control_characters(e.code().message()) << "\n";
+    return 2;
+  } catch (...) {
+    std::cerr << "starnav: error: " << internal_error_message() << "\n";
     return 2;
   }
+  starnav::cli::release_warnings();
   // A report that did not reach standard output (a full disk, a closed pipe) is a failure.
   std::cout.flush();
   if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {

@@ -2,7 +2,8 @@
 """Writes the hand-made seed inputs of every fuzz target into fuzz/corpus/<target>/.
 
 All of these are written here from scratch (nothing is copied from ../shared/), except that
-fuzz_scenario also gets the repository's own scenarios/*.yaml without their comments. They are small
+fuzz_scenario also gets the repository's own scenarios/*.yaml without their comments, and the ROS 2
+targets two of rosbag2's own test bags from tests/data/rosbag2. They are small
 valid files of each format plus a few interesting invalid ones. scripts/fuzz.sh runs this only when
 a target's corpus folder is empty; the committed corpus is what `-merge=1` kept afterwards.
 Usage: fuzz/seeds/make_seeds.py [CORPUS_DIR]   (default: fuzz/corpus beside this script)
@@ -134,6 +135,14 @@ def scens():
     }
 
 
+def alias_bomb(levels=9):
+    """Nine nested levels of ten aliases: 10^9 nodes once expanded, in a few hundred bytes."""
+    out = b"l0: &l0 [x, x, x, x, x, x, x, x, x, x]\n"
+    for i in range(1, levels):
+        out += f"l{i}: &l{i} [".encode() + b", ".join([f"*l{i - 1}".encode()] * 10) + b"]\n"
+    return out
+
+
 def ros_yamls():
     image = b"P5\n3 2\n255\n\x00\xcd\xfe\x80\xff\x10"
     base = (b"image: m.pgm\nresolution: 0.05\norigin: [-10.0, -10.0, 0.0]\nnegate: 0\n"
@@ -160,6 +169,8 @@ def ros_yamls():
         "anchors.yaml": b"a: &x [0, 0, 0]\nimage: m.pgm\nresolution: 1\norigin: *x\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n",
         "empty.yaml": b"",
         "deep_nesting.yaml": b"image: " + b"[" * 3000 + b"\n",
+        "alias_bomb.yaml": base + alias_bomb() + SEP + image,
+        "alias_cycle.yaml": base.replace(b"[-10.0, -10.0, 0.0]", b"&o [0, 0, *o]") + SEP + image,
     }
 
 
@@ -236,6 +247,7 @@ def elevation_yamls():
         "bad_png.yaml": base + SEP + img16[:30],
         "nan_zmax.yaml": base.replace(b"10.0", b".nan") + SEP + img16,
         "deep_nesting.yaml": b"origin: " + b"{a: " * 2000 + b"\n" + SEP + img16,
+        "alias_bomb.yaml": base + alias_bomb() + SEP + img16,
     }
 
 
@@ -261,6 +273,7 @@ def unity_raws():
         "raw_nodata.raw": sidecar(3, 2, 3, extra="nodata: 0\n") + SEP + raw(3, lambda x, y: x * 30000),
         "raw_big_endian.raw": sidecar(2, 2, 2).replace(b"little", b"big") + SEP + raw(2, lambda x, y: 1),
         "raw_minimal_keys.raw": b"size: 3\nwidth: 3\nheight: 3\nresolution: 1\norigin: [0, 0, 0]\nz_min: 0\nz_max: 1\n" + SEP + raw(3, lambda x, y: 7),
+        "raw_alias_bomb.raw": sidecar(3, 3, 3) + alias_bomb() + SEP + raw(3, lambda x, y: 7),
     }
 
 
@@ -384,6 +397,8 @@ def scenarios():
         "empty.yaml": b"",
         "tabs.yaml": b"world:\t{}\n",
         "deep_nesting.yaml": b"world: " + b"[" * 3000 + b"\n",
+        "alias_bomb.yaml": alias_bomb() + sim,
+        "alias_cycle.yaml": b"world:\n  obstacles: &o [*o]\n" + sim,
     }
     out.update(scenario_files())
     return out
@@ -402,6 +417,11 @@ def carmen_logs():
         + b"ODOMETRY 0.900000 0.6 0.25 3.1 0.2 0.0\n",
         "bad_count.clf": b"FLASER 99999 1.0\n",
         "crlf.clf": flaser.replace(b"\n", b"\r\n"),
+        "resolution_zero.clf": b"RAWLASER1 0 0 3 0 10 0.01 0 2 1 2 0 1.0 h 0\n",
+        "negative_range.clf": b"FLASER 3 1 -1 2 0 0 0 0 0 0 1.0 h 0\n",
+        "far_pose.clf": b"ODOM 1e19 0 0 0 0 0 1.0 h 0\n",
+        "stray_above_saturation.clf": flaser * 12 + flaser.replace(b"81.91", b"81.92"),
+        "float_overflow.clf": flaser.replace(b"81.91", b"1e308"),
     }
 
 
@@ -460,13 +480,159 @@ def ros_bags():
     points = (connection(0, b"/tf_static", b"tf2_msgs/TFMessage") + message(0, 1, tf3)
               + connection(1, b"/points", b"sensor_msgs/PointCloud2") + connection(2, b"/odom", b"nav_msgs/Odometry")
               + message(2, 10, odom) + message(1, 10, cloud))
+    # Faulty scans: an increment of 0 with five beams, angle_min above angle_max, a negative reading.
+    def scan_bag(layout, readings):
+        bad = header(10, 500, b"laser") + struct.pack("<7f", *layout) + struct.pack("<I", len(readings))
+        bad += struct.pack(f"<{len(readings)}f", *readings) + struct.pack("<I", 0)
+        return bag_of(connection(1, b"/scan", b"sensor_msgs/LaserScan") + message(1, 10, bad))
+
     return {
+        "scan_increment_zero.bag": scan_bag((-1.0, 1.0, 0.0, 0.0, 0.0, 0.1, 30.0), (1.0, 2.0, 3.0, 4.0, 5.0)),
+        "scan_angles_reversed.bag": scan_bag((1.0, -1.0, 0.5, 0.0, 0.0, 0.1, 30.0), (1.0, 2.0, 3.0, 4.0, 5.0)),
+        "scan_negative_range.bag": scan_bag((-1.0, 1.0, 0.5, 0.0, 0.0, 0.1, 30.0), (1.0, -2.0, 3.0, 4.0, 5.0)),
         "points.bag": bag_of(points),
         "plain.bag": bag(b"none", inner),
         "bz2.bag": bag(b"bz2", bz2.compress(inner, 9)),
         "unknown_compression.bag": bag(b"zip", inner),
         "magic_only.bag": b"#ROSBAG V2.0\n",
     }
+
+
+class Cdr:
+    """Little-endian plain CDR (XCDR1): fields aligned to their size after the 4-byte header."""
+
+    def __init__(self):
+        self.b = bytearray(b"\x00\x01\x00\x00")
+
+    def put(self, fmt, *v):
+        size = struct.calcsize("<" + fmt.lstrip("0123456789"))
+        while (len(self.b) - 4) % size:
+            self.b.append(0)
+        self.b += struct.pack("<" + fmt, *v)
+        return self
+
+    def string(self, s):
+        self.put("I", len(s) + 1)
+        self.b += s + b"\x00"
+        return self
+
+    def header(self, sec, nsec, frame):
+        return self.put("i", sec).put("I", nsec).string(frame)
+
+
+def ros2_messages():
+    scan = Cdr().header(10, 500, b"laser").put("7f", -1.0, 1.0, 0.5, 0.0, 0.0, 0.1, 30.0)
+    scan.put("I", 5).put("5f", 1.0, 2.0, 30.0, 4.0, 5.0).put("I", 0)
+    odom = Cdr().header(10, 0, b"odom").string(b"base_link").put("7d", 1, 2, 0, 0, 0, 0.2, 0.98)
+    odom.put("36d", *([0.0] * 36)).put("6d", 0.3, 0, 0, 0, 0, 0.1).put("36d", *([0.0] * 36))
+    tf = Cdr().put("I", 1).header(0, 0, b"base_link").string(b"laser").put("7d", 0.04, 0, 0, 0, 0, 0, 1)
+    imu = Cdr().header(10, 0, b"imu").put("4d", 0, 0, 0, 1).put("9d", *([0.0] * 9)).put("3d", 0, 0, 0.1)
+    imu.put("9d", *([0.0] * 9)).put("3d", 0, 0, 9.8).put("9d", *([0.0] * 9))
+    pose = Cdr().header(10, 0, b"map").put("7d", 1, 2, 0, 0, 0, 0, 1)
+    pose_cov = Cdr().header(10, 0, b"map").put("7d", 1, 2, 0, 0, 0, 0, 1).put("36d", *([0.0] * 36))
+    cloud = Cdr().header(10, 0, b"lidar").put("I", 1).put("I", 2).put("I", 3)
+    for name, off in ((b"x", 0), (b"y", 4), (b"z", 8)):
+        cloud.string(name).put("I", off).put("B", 7).put("I", 1)
+    cloud.put("B", 0).put("I", 12).put("I", 24).put("I", 24).put("6f", 1, 2, 3, 4, 5, 6).put("B", 1)
+    return {"scan": bytes(scan.b), "odom": bytes(odom.b), "imu": bytes(imu.b), "tf": bytes(tf.b), "pose": bytes(pose.b),
+            "pose_cov": bytes(pose_cov.b), "cloud": bytes(cloud.b)}
+
+
+def cdrs():
+    """fuzz_cdr: a type byte (fuzz_drivers.hpp's order), then the message."""
+    order = ["scan", "odom", "imu", "tf", "pose", "pose_cov", "cloud"]
+    m = ros2_messages()
+    return {f"{name}.cdr": bytes([i]) + m[name] for i, name in enumerate(order)}
+
+
+MCAP_TYPES = {"scan": (b"/scan", b"sensor_msgs/msg/LaserScan"), "odom": (b"/odom", b"nav_msgs/msg/Odometry"),
+              "tf": (b"/tf_static", b"tf2_msgs/msg/TFMessage"), "imu": (b"/imu", b"sensor_msgs/msg/Imu")}
+
+
+def mcaps():
+    """MCAP files written from the specification: chunked (plain) with message indexes and a
+    summary, unchunked without summary, and one cut short. Compressed chunks need modules Python
+    lacks; the unit tests and the converter cover them."""
+
+    def rec(op, body):
+        return struct.pack("<BQ", op, len(body)) + body
+
+    def s(b):
+        return struct.pack("<I", len(b)) + b
+
+    m = ros2_messages()
+    magic = b"\x89MCAP0\r\n"
+    header = rec(1, s(b"ros2") + s(b"seed"))
+    defs, msgs = b"", []
+    for i, name in enumerate(("tf", "odom", "scan", "imu")):
+        topic, kind = MCAP_TYPES[name]
+        defs += rec(3, struct.pack("<H", i + 1) + s(kind) + s(b"ros2msg") + s(b""))
+        defs += rec(4, struct.pack("<HH", i, i + 1) + s(topic) + s(b"cdr") + s(b""))
+        msgs.append(rec(5, struct.pack("<HIQQ", i, 0, 10 + i, 10 + i) + m[name]))
+    unchunked = magic + header + defs + b"".join(msgs) + rec(15, struct.pack("<I", 0))
+    unchunked += rec(2, struct.pack("<QQI", 0, 0, 0)) + magic
+    records = defs + b"".join(msgs)
+    offsets, at = {}, len(defs)
+    for i, r in enumerate(msgs):
+        offsets[i] = at
+        at += len(r)
+    chunk_body = struct.pack("<QQQI", 10, 13, len(records), zlib.crc32(records)) + s(b"") + struct.pack("<Q", len(records)) + records
+    data = magic + header
+    chunk_at = len(data)
+    data += rec(6, chunk_body)
+    chunk_len = len(data) - chunk_at
+    index_at = {}
+    for i in range(4):
+        index_at[i] = len(data)
+        data += rec(7, struct.pack("<H", i) + struct.pack("<I", 16) + struct.pack("<QQ", 10 + i, offsets[i]))
+    index_len = len(data) - index_at[0]
+    data += rec(15, struct.pack("<I", 0))
+    summary_start = len(data)
+    data += defs
+    counts = b"".join(struct.pack("<HQ", i, 1) for i in range(4))
+    data += rec(11, struct.pack("<QHIIIIQQ", 4, 4, 4, 0, 0, 1, 10, 13) + s(counts))
+    mio = b"".join(struct.pack("<HQ", i, index_at[i]) for i in range(4))
+    data += rec(8, struct.pack("<QQQQ", 10, 13, chunk_at, chunk_len) + s(mio) + struct.pack("<Q", index_len) + s(b"")
+                + struct.pack("<QQ", len(records), len(records)))
+    footer = struct.pack("<BQQQ", 2, 20, summary_start, 0)
+    crc = zlib.crc32(data[summary_start:] + footer)
+    chunked = data + footer + struct.pack("<I", crc) + magic
+    out = {"chunked.mcap": chunked, "unchunked.mcap": unchunked, "cut.mcap": chunked[: len(chunked) * 2 // 3],
+           "magic_only.mcap": magic}
+    here = os.path.dirname(os.path.abspath(__file__))
+    for name in ("mcap/talker/talker.mcap", "mcap/cdr_test/cdr_test_0.mcap"):
+        with open(os.path.join(here, "..", "..", "tests", "data", "rosbag2", name), "rb") as f:
+            out["rosbag2-" + os.path.basename(name)] = f.read()
+    return out
+
+
+def sqlites():
+    """rosbag2 SQLite3 databases made with Python's sqlite3 (a temporary file), and rosbag2's own."""
+    import sqlite3
+    import tempfile
+
+    m = ros2_messages()
+    out = {}
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "bag.db3")
+        db = sqlite3.connect(path)
+        db.executescript("PRAGMA page_size=512;"
+                         "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
+                         " serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+                         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL,"
+                         " data BLOB NOT NULL);")
+        for i, name in enumerate(("tf", "odom", "scan", "imu")):
+            topic, kind = MCAP_TYPES[name]
+            db.execute("INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')", (i + 1, topic.decode(), kind.decode()))
+            db.execute("INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)", (i + 1, 10 + i, m[name]))
+        db.commit()
+        db.close()
+        with open(path, "rb") as f:
+            out["bag.db3"] = f.read()
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, "..", "..", "tests", "data", "rosbag2", "sqlite3", "cdr_test", "cdr_test_0.db3"), "rb") as f:
+        out["rosbag2-cdr_test_0.db3"] = f.read()
+    return out
 
 
 def point_clouds():
@@ -488,6 +654,33 @@ def point_clouds():
     }
 
 
+def sweep_files():
+    """The repository's examples/sweeps/*.yaml without comments, and small valid and invalid sweeps."""
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "sweeps")
+    out = {}
+    for name in sorted(os.listdir(root)) if os.path.isdir(root) else []:
+        if name.endswith(".yaml"):
+            with open(os.path.join(root, name), "rb") as f:
+                lines = [l for l in f.read().split(b"\n") if l.strip() and not l.lstrip().startswith(b"#")]
+            out["example-" + name] = b"\n".join(lines) + b"\n"
+    out.update({
+        "minimal.yaml": b"command: [plan, --seed, '{s}']\naxes: {s: {from: 0, count: 3}}\n",
+        "zip.yaml": b"command: [plan, --start, '{q.a}', --goal, '{q.b}', --out, '{out}/x']\n"
+                    b"axes:\n  q: [{a: '1,1', b: '2,2'}, {a: '3,3', b: '4,4'}]\n  k.x: [1, 2]\n",
+        "range_real.yaml": b"command: [sim, s.yaml]\naxes: {a.b: {from: -0.5, to: 0.75, step: 0.25}}\n"
+                           b"metrics: {m: /m, t: {pointer: /t, timing: true, when: /ok}}\n"
+                           b"summary: {group_by: [a.b], baseline: '0.25'}\n"
+                           b"plots: [{metric: m, x: a.b, error: sd}]\n",
+        "braces.yaml": b"command: [plan, '{{literal}}', 'x{v}y']\naxes: {v: ['{a}', '}}{{']}\nresult: out.json\n",
+        "glob.yaml": b"command: [plan, --map, '{map}']\naxes: {map: {glob: ['*.map', 'm/*.yaml']}}\n",
+        "unknown_key.yaml": b"command: [plan]\naxes: {s: [1]}\nbogus: 1\n",
+        "unused_axis.yaml": b"command: [plan]\naxes: {s: [1, 2]}\n",
+        "huge.yaml": b"command: [plan, '{a}{b}']\naxes: {a: {from: 0, count: 100000}, b: {from: 0, count: 100000}}\n",
+        "bad_pointer.yaml": b"command: [plan, '{s}']\naxes: {s: [1]}\nmetrics: {m: 'cost'}\n",
+    })
+    return out
+
+
 TARGETS = {
     "fuzz_movingai_map": maps,
     "fuzz_movingai_scen": scens,
@@ -502,6 +695,10 @@ TARGETS = {
     "fuzz_carmen_log": carmen_logs,
     "fuzz_ros_bag": ros_bags,
     "fuzz_point_cloud": point_clouds,
+    "fuzz_sweep_file": sweep_files,
+    "fuzz_mcap": mcaps,
+    "fuzz_rosbag2_sqlite": sqlites,
+    "fuzz_cdr": cdrs,
 }
 
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -163,7 +164,6 @@ TEST(ErrorLinesCli, RunningOutOfMemoryNamesTheFileBeingRead) {
 #endif
 }
 
-
 // A --set that the command would override, or a key given twice, is refused: no setting is
 // silently ignored.
 TEST(ErrorLinesCli, ASetTheCommandWouldOverrideIsRefused) {
@@ -190,6 +190,35 @@ TEST(ErrorLinesCli, ASetTheCommandWouldOverrideIsRefused) {
        "localization.ekf.bias_state (--set): the command sets"},
       {{"slam", "run", e1, "--out", dir.file("f"), "--set", "submap_nodes=3", "--set", "submap_nodes=4"},
        "--set submap_nodes: given twice"},
+  };
+  for (const ErrorLineCase& c : cases) expect_one_error_line(c);
+}
+
+TEST(ErrorLinesCli, WildCoordinatesAreOneLineAtTheirLineNeverAnInternalError) {
+  // Poses of 1e19..1e300 m made map build loop (a cast beyond int64), a three-line log printed
+  // the standard library's "cannot create std::vector larger than max_size()", and a reference
+  // pose of 1e300 hung slam3d's picture.
+  test::ScratchDir dir;
+  std::string ranges;
+  for (int i = 0; i < 180; ++i) ranges += " " + std::to_string(1.0 + 0.01 * i);
+  const auto flaser = [&](const std::string& pose, const std::string& t) { return "FLASER 180" + ranges + " " + pose + " " + t + " h " + t + "\n"; };
+  test::write_text(dir.file("wild.clf"), flaser("0 0 0 0 0 0", "1.0") + flaser("1e19 0 0 1e19 0 0", "2.0") + flaser("1e19 1e19 0 0 0 0", "3.0"));
+  test::write_text(dir.file("far.clf"), flaser("0 0 0 0 0 0", "1.0") + flaser("9e8 0 0 9e8 0 0", "2.0"));
+  const std::string frames = dir.file("frames");
+  std::filesystem::create_directories(frames);
+  test::write_text(frames + "/sensor.yaml",
+                   "model: custom\nlines: 1\nbeams: 8\nrate_hz: 10\nrange_min_m: 0.1\nrange_max_m: 10\n"
+                   "mount: {x_m: 0, y_m: 0, z_m: 0, roll_deg: 0, pitch_deg: 0, yaw_deg: 0}\n");
+  test::write_text(frames + "/frames.csv",
+                   "frame,t_s,cloud,odom_x_m,odom_y_m,odom_yaw_rad,imu_yaw_rate_radps,true_x_m,true_y_m,true_z_m,true_roll_rad,"
+                   "true_pitch_rad,true_yaw_rad\n0,0.0,0.pcd,0,0,0,,1e300,-1e300,0,0,0,0\n");
+  const std::vector<ErrorLineCase> cases = {
+      {{"map", "build", dir.file("wild.clf"), "--out", dir.file("m1.yaml")}, "wild.clf:2: FLASER x: 1e+19 m lies farther than", "std::"},
+      {{"slam", "run", dir.file("wild.clf"), "--out", dir.file("s1"), "--quiet"}, "wild.clf:2: FLASER x:", "std::"},
+      {{"log", "info", dir.file("wild.clf")}, "wild.clf:2: FLASER x:", "std::"},
+      {{"map", "build", dir.file("far.clf"), "--out", dir.file("m2.yaml")}, "far.clf:2: resolution_m: a pose or reading at (900000000, -1) m lies far outside the mapped area", "std::"},
+      {{"slam", "run", dir.file("far.clf"), "--out", dir.file("s2"), "--quiet"}, "far.clf:2: resolution_m: a pose or reading at", "std::"},
+      {{"slam3d", frames, "--out", dir.file("d")}, "frames.csv:2: true_x_m: 1e+300 m lies farther than", "std::"},
   };
   for (const ErrorLineCase& c : cases) expect_one_error_line(c);
 }

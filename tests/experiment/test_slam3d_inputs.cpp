@@ -9,6 +9,8 @@
 #include <fstream>
 
 #include "logs/bag_writer.hpp"
+#include "logs/cdr_writer.hpp"
+#include "starnav/logs/mcap.hpp"
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/cloud/lidar_recording.hpp"
 #include "starnav/core/error.hpp"
@@ -72,6 +74,53 @@ std::string write_bag(const LidarFrameFolder& f, const std::string& path) {
   return path;
 }
 
+// The frames folder as a ROS 2 MCAP: the same topics and messages as write_bag, in CDR, zstd chunks
+// of about 64 KiB.
+std::string write_mcap(const LidarFrameFolder& f, const std::string& path) {
+  McapWriter w("ros2", McapWriter::Compression::Zstd, 1 << 16);
+  const auto channel = [&](const char* topic, const char* type) { return w.add_channel(w.add_schema(type, "ros2msg", ""), topic, "cdr"); };
+  const std::uint16_t tf = channel("/tf_static", "tf2_msgs/msg/TFMessage"), cloud = channel("/velodyne_points", "sensor_msgs/msg/PointCloud2");
+  const std::uint16_t odom = channel("/odom", "nav_msgs/msg/Odometry"), truth = channel("/ground_truth", "nav_msgs/msg/Odometry");
+  const auto odometry = [](std::uint32_t sec, std::uint32_t nsec, const Pose3& p) {
+    test::CdrBytes c;
+    c.header(static_cast<std::int32_t>(sec), nsec, "odom").str("base_link");
+    c.put(p.position.x()).put(p.position.y()).put(p.position.z());
+    c.put(p.orientation.x()).put(p.orientation.y()).put(p.orientation.z()).put(p.orientation.w());
+    for (int i = 0; i < 36 + 6 + 36; ++i) c.put(0.0);
+    return c.bytes;
+  };
+  test::CdrBytes t;
+  t.put(std::uint32_t{1}).header(1000, 0, "base_link").str("velodyne");
+  const Pose3& m = f.mount;
+  t.put(m.position.x()).put(m.position.y()).put(m.position.z());
+  t.put(m.orientation.x()).put(m.orientation.y()).put(m.orientation.z()).put(m.orientation.w());
+  w.add_message(tf, 1000'000'000'000ull, 0, t.bytes);
+  for (const LidarFrameRecord& r : f.frames) {
+    const auto [sec, nsec] = stamp(r.t_s);
+    const std::uint64_t ns = std::uint64_t{sec} * 1'000'000'000ull + nsec;
+    if (r.odometry) w.add_message(odom, ns, ns, odometry(sec, nsec, Pose3::from_rpy(Vec3(r.odometry->x, r.odometry->y, 0.0), 0, 0, r.odometry->yaw)));
+    if (r.truth) w.add_message(truth, ns, ns, odometry(sec, nsec, Pose3::from_rpy(Vec3(100.0, -50.0, 500.0), 0.0, 0.0, 0.3).compose(*r.truth)));
+    std::vector<Vec3> pts = read_point_cloud(f.cloud_path(r)).points;
+    if (pts.size() % 2) pts.emplace_back(std::nan(""), 0.0, 0.0);
+    // Two rows of intensity, x, y, z (FLOAT32), each row padded by 8 bytes.
+    test::CdrBytes c;
+    c.header(static_cast<std::int32_t>(sec), nsec, "velodyne").put(std::uint32_t{2}).put(static_cast<std::uint32_t>(pts.size() / 2)).put(std::uint32_t{4});
+    const char* names[] = {"intensity", "x", "y", "z"};
+    for (std::uint32_t k = 0; k < 4; ++k) c.str(names[k]).put(4 * k).put(std::uint8_t{7}).put(std::uint32_t{1});
+    const std::uint32_t row = static_cast<std::uint32_t>(pts.size() / 2) * 16 + 8;
+    c.put(std::uint8_t{0}).put(std::uint32_t{16}).put(row).put(2 * row);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const float v[4] = {1.0f, static_cast<float>(pts[i].x()), static_cast<float>(pts[i].y()), static_cast<float>(pts[i].z())};
+      c.raw(v, 16);
+      if (i + 1 == pts.size() / 2 || i + 1 == pts.size()) c.bytes.append(8, '\0');
+    }
+    c.put(std::uint8_t{0});
+    w.add_message(cloud, ns, ns, c.bytes);
+  }
+  test::write_text(path, w.finish());
+  return path;
+}
+
 // The frames folder as PLY files named by number, with the sensor's true poses in TUM format.
 std::string write_cloud_files(const LidarFrameFolder& f, const std::string& dir) {
   std::filesystem::create_directories(dir);
@@ -118,6 +167,17 @@ TEST(Slam3dInputs, ABagAndCloudFilesMapLikeTheFramesFolder) {
   }
   EXPECT_NEAR(b.ate_rmse_m, a.ate_rmse_m, 1e-4);
   EXPECT_NEAR(b.elevation_drift_m, a.elevation_drift_m, 1e-4);
+
+  // The same recording as a ROS 2 MCAP: the same input, so the same trajectory as the ROS 1 bag.
+  const Slam3dRunResult r2 = run_slam3d(write_mcap(f, dir.file("run.mcap")), cb);
+  EXPECT_EQ(r2.input_kind, "ROS 2 bag");
+  ASSERT_EQ(r2.trajectory.size(), b.trajectory.size());
+  EXPECT_NEAR(r2.input.mount.position.z(), f.mount.position.z(), 1e-12);
+  for (std::size_t i = 0; i < b.trajectory.size(); ++i) {
+    ASSERT_EQ(r2.input.frames[i].t_s, b.input.frames[i].t_s) << i;
+    ASSERT_LT((r2.trajectory[i].translation() - b.trajectory[i].translation()).norm(), 1e-9) << i;
+  }
+  EXPECT_NEAR(r2.ate_rmse_m, b.ate_rmse_m, 1e-9);
 
   Slam3dRunConfig cc = c;
   cc.recording.mount = f.mount;

@@ -4,14 +4,16 @@
 // plans and trajectory), so they do not depend on a navigation run; the last one draws a real run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
+#include <numeric>
 #include <string>
 #include <vector>
 
 #include "starnav/core/error.hpp"
 #include "starnav/harness/navigation_pictures.hpp"
 #include "starnav/harness/navigation_run.hpp"
-#include "starnav/nav/node_height_map.hpp"
+#include "starnav/costmap/node_height_map.hpp"
 #include "starnav/sim/obstacles.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "support/test_support.hpp"
@@ -23,6 +25,53 @@ std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
   return n;
+}
+
+// A plan label as the scene draws it: its text and its box on the picture, from DejaVu Sans's
+// advance widths (P 0.603 em, digits 0.636 em, '.', ',' and space 0.318 em; 0.76 em above the
+// baseline, 0.24 em below), not from the drawing code's own estimate.
+struct DrawnLabel {
+  std::string text;
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+double attribute(const std::string& element, const std::string& name) {
+  const std::size_t at = element.find(" " + name + "=\"");
+  return at == std::string::npos ? 0.0 : std::stod(element.substr(at + name.size() + 3));
+}
+
+std::vector<DrawnLabel> plan_labels(const std::string& svg) {
+  std::vector<DrawnLabel> out;
+  const std::string open = "<text class=\"layer-text\"";
+  for (std::size_t at = svg.find(open); at != std::string::npos; at = svg.find(open, at + 1)) {
+    const std::size_t gt = svg.find('>', at), end = svg.find("</text>", gt);
+    const std::string element = svg.substr(at, gt - at);
+    DrawnLabel l;
+    l.text = svg.substr(gt + 1, end - gt - 1);
+    const double size = attribute(element, "font-size"), x = attribute(element, "x"), y = attribute(element, "y");
+    double width = 0.0;
+    for (const char c : l.text) width += (c == 'P' ? 0.603 : c >= '0' && c <= '9' ? 0.636 : 0.318) * size;
+    l.x0 = x - width / 2, l.x1 = x + width / 2, l.y0 = y - 0.76 * size, l.y1 = y + 0.24 * size;
+    out.push_back(l);
+  }
+  return out;
+}
+
+// The plan ids a label names ("P3", "P3, P4", "P3..P7, P12").
+std::vector<int> ids_named(const std::string& text) {
+  std::vector<int> ids;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    std::size_t end = text.find(", ", at);
+    if (end == std::string::npos) end = text.size();
+    const std::string item = text.substr(at, end - at);
+    const std::size_t dots = item.find("..");
+    const int a = std::stoi(item.substr(1, dots == std::string::npos ? std::string::npos : dots - 1));
+    const int b = dots == std::string::npos ? a : std::stoi(item.substr(dots + 3));
+    for (int i = a; i <= b; ++i) ids.push_back(i);
+    at = end + 2;
+  }
+  return ids;
 }
 
 GridGeometry grid_4x3() {
@@ -175,6 +224,46 @@ TEST(NavigationPictures, ManyPlansShareOneLegendEntry) {
   EXPECT_EQ(count(overlay, ">P7</text>"), 0u);
 }
 
+// Many plans starting at one place, or a few centimetres apart (as E4's 36 replans do): every plan
+// is named once, and no label overlaps another, the start or the goal, or leaves the plot.
+TEST(NavigationPictures, PlanLabelsStayReadableWhenManyPlansStartTogether) {
+  Fixture f;
+  f.plans.clear();
+  const auto route = [](const Vec2& from) { return std::vector<Vec2>{from, from + Vec2(0.3, 0.4), Vec2(3.5, 1.5)}; };
+  f.plans.push_back(plan(1, "initial", route({0.5, 1.5})));
+  for (int i = 2; i <= 11; ++i) f.plans.push_back(plan(i, "blocked", route({1.5, 1.5})));  // one place
+  for (int i = 12; i <= 20; ++i) f.plans.push_back(plan(i, "blocked", route({2.0, 0.5 + 0.005 * i})));  // creeping
+  for (int i = 21; i <= 36; ++i) {  // a 4 x 4 lattice 4 cm apart: near, not together
+    const int j = i - 21;
+    f.plans.push_back(plan(i, "missed", route({1.0 + 0.04 * (j % 4), 0.8 + 0.04 * (j / 4)})));
+  }
+  f.plans.push_back(plan(37, "blocked", route({1.5, 1.5})));  // back at the first place
+  f.data.plans = f.plans;
+  const viz::MapPicture pic = navigation_scene_picture(f.data);
+  const viz::PictureLayout L = pic.svg_layout();
+  const std::vector<DrawnLabel> labels = plan_labels(pic.svg_string());
+  std::vector<int> named;
+  for (const DrawnLabel& l : labels)
+    for (const int id : ids_named(l.text)) named.push_back(id);
+  std::sort(named.begin(), named.end());
+  std::vector<int> all(37);
+  std::iota(all.begin(), all.end(), 1);
+  EXPECT_EQ(named, all);
+  const Vec2 start = L.to_picture(f.data.start.translation()), goal = L.to_picture(f.data.goal);
+  for (std::size_t a = 0; a < labels.size(); ++a) {
+    const DrawnLabel& l = labels[a];
+    EXPECT_TRUE(l.x0 >= L.plot_x && l.x1 <= L.plot_x + L.plot_w && l.y0 >= L.plot_y && l.y1 <= L.plot_y + L.plot_h) << l.text;
+    for (const Vec2& m : {start, goal}) EXPECT_FALSE(m.x() > l.x0 && m.x() < l.x1 && m.y() > l.y0 && m.y() < l.y1) << l.text;
+    for (std::size_t b = a + 1; b < labels.size(); ++b) {
+      const DrawnLabel& o = labels[b];
+      EXPECT_FALSE(l.x0 < o.x1 && o.x0 < l.x1 && l.y0 < o.y1 && o.y0 < l.y1) << l.text << " overlaps " << o.text;
+    }
+  }
+  // Labels naming one plan keep its place and colour; the ten that started at one place share one.
+  EXPECT_EQ(count(pic.svg_string(), ">P1</text>"), 1u);
+  EXPECT_NE(pic.svg_string().find(">P2..P11, P37</text>"), std::string::npos);
+}
+
 TEST(NavigationPictures, SameDataSameBytes) {
   Fixture a, b;
   a.add_obstacles();
@@ -245,14 +334,20 @@ navigation:
   write_navigation_overlay(run, dir.file("overlay.svg"));
   const std::string scene = test::read_text(dir.file("scene.svg"));
   const std::string overlay = test::read_text(dir.file("overlay.svg"));
+  std::vector<int> named;
+  for (const DrawnLabel& l : plan_labels(scene))
+    for (const int id : ids_named(l.text)) named.push_back(id);
+  std::sort(named.begin(), named.end());
+  std::vector<int> drawn;
   for (const NavPlan& p : plans) {
     if (p.points.size() < 2) continue;
+    drawn.push_back(p.id);
     const std::string label = ">P" + std::to_string(p.id) + "</text>";
-    EXPECT_EQ(count(scene, label), 1u) << label;
     if (plans.size() <= 12) {
       EXPECT_EQ(count(overlay, label), 1u) << label;
     }
   }
+  EXPECT_EQ(named, drawn);  // every plan drawn is named in the scene once
   EXPECT_NE(scene.find("executed trajectory"), std::string::npos);
   EXPECT_NE(scene.find("true obstacle"), std::string::npos);
   // Drawing again gives the same bytes.

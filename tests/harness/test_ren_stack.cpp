@@ -67,7 +67,8 @@ TEST(RenStack, NoValidSampleGivesBlockedAZeroCommandAndARecovery) {
   components.goal_checker = {"latching", {}, "navigation.goal_checker", 0, {}};
   components.progress_checker = {"simple_progress", {}, "navigation.progress_checker", 0, {}};
   components.recoveries = {{"rotate", {}, "navigation.recoveries", 0, {}}, {"back_up", {}, "navigation.recoveries", 0, {}}};
-  Navigator nav(c, robot, make_navigator_parts(components, robot), {9.0, 1.5});
+  components.layers = {{"static_map", {}, "navigation.layers", 0, {}}, {"node_height", {}, "navigation.layers", 0, {}}};
+  Navigator nav(c, robot, make_navigator_parts(components, c, robot), {9.0, 1.5});
   const Pose2 pose(3.3, 1.5, 0.0);
   nav.on_points(Vec3(3.4, 1.5, 0.4), {}, pose, 0.0);
   ASSERT_EQ(nav.status(), NavStatus::Navigating);

@@ -50,6 +50,7 @@ const BadElevationFile kBadElevationFiles[] = {
     {"asc_non_square_dx_dy.asc", ElevationReader::Asc, ":6: dy: non-square cells (dx 1, dy 2) are not supported"},
     // PNG16 + YAML
     {"elev_missing_z_min.yaml", ElevationReader::ElevationYaml, ": z_min: missing key"},
+    {"elev_alias_bomb.yaml", ElevationReader::ElevationYaml, ":12: holds more than 200000 YAML nodes once its aliases are expanded"},
     {"elev_zmax_below_zmin.yaml", ElevationReader::ElevationYaml, ":5: z_max: z_max (5) must be >= z_min (10)"},
     {"elev_z_min_nan.yaml", ElevationReader::ElevationYaml, ":4: z_min: must be a finite number, got '.nan'"},
     {"elev_z_min_not_number.yaml", ElevationReader::ElevationYaml, ":4: z_min: must be a number, got 'low'"},
@@ -79,6 +80,7 @@ const BadElevationFile kBadElevationFiles[] = {
     {"raw_width_too_large.raw", ElevationReader::UnityRaw, ".yaml:4: width: must be in 1..3, got 5"},
     {"raw_big_endian.raw", ElevationReader::UnityRaw, ".yaml:2: byte_order: only little-endian RAW is supported"},
     {"raw_zmax_below_zmin.raw", ElevationReader::UnityRaw, ".yaml:9: z_max: z_max (-1) must be >= z_min (0)"},
+    {"raw_alias_bomb.raw", ElevationReader::UnityRaw, ".yaml:15: holds more than 200000 YAML nodes once its aliases are expanded"},
 };
 
 // Files in the corpus that are not cases themselves but what the cases point at.
@@ -86,7 +88,7 @@ const std::set<std::string> kAuxiliary = {
     "elev_img16_3x2.png",     "elev_img8_3x2.png",          "elev_img16_rgb.png",
     "elev_img16_truncated.png", "raw_wrong_size.raw.yaml",    "raw_size_not_2n1.raw.yaml",
     "raw_missing_z_max.raw.yaml", "raw_width_too_large.raw.yaml", "raw_big_endian.raw.yaml",
-    "raw_zmax_below_zmin.raw.yaml",
+    "raw_zmax_below_zmin.raw.yaml", "raw_alias_bomb.raw.yaml",
 };
 
 void read_elevation_with(ElevationReader reader, const std::string& path) {

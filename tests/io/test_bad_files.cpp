@@ -74,6 +74,9 @@ const BadFile kBadFiles[] = {
     {"ros_duplicate_key.yaml", Reader::RosMap, ":7: resolution: duplicate key"},
     {"ros_resolution_hex.yaml", Reader::RosMap, ":2: resolution: expected a number, found '0x10'"},
     {"ros_not_a_mapping.yaml", Reader::RosMap, "YAML top level must be a mapping"},
+    // Aliases: nine nested levels of ten (10^9 nodes expanded) and an alias inside its own anchor.
+    {"ros_alias_bomb.yaml", Reader::RosMap, ":13: holds more than 200000 YAML nodes once its aliases are expanded"},
+    {"ros_alias_cycle.yaml", Reader::RosMap, ":4: origin[2]: an alias inside the node its anchor names"},
     {"ros_truncated.pgm", Reader::Image, ": pixels: truncated pixel data"},
     // PGM
     {"pgm_bad_magic.pgm", Reader::Image, ": magic: not a PGM file"},

@@ -133,6 +133,17 @@ inline std::string laser_scan(std::uint32_t sec, std::uint32_t nsec, const std::
   b.u32(0);  // no intensities
   return b.s;
 }
+// A LaserScan with every layout field given (fixtures of faulty scans).
+inline std::string laser_scan_fields(float angle_min, float angle_max, float increment, float range_min, float range_max,
+                                     const std::vector<float>& ranges) {
+  Bytes b;
+  ros_header(b, 1, 0, "laser");
+  b.put(angle_min).put(angle_max).put(increment).put(0.0f).put(0.0f).put(range_min).put(range_max);
+  b.u32(static_cast<std::uint32_t>(ranges.size()));
+  for (float r : ranges) b.put(r);
+  b.u32(0);
+  return b.s;
+}
 inline std::string odometry(std::uint32_t sec, std::uint32_t nsec, const std::string& child, double x, double y, double yaw,
                             double tv, double rv) {
   Bytes b;

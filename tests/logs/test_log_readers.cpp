@@ -7,12 +7,15 @@
 #include <zlib.h>
 
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "bag_writer.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/logs/decompress.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/ros_bag.hpp"
 #include "support/test_support.hpp"
@@ -130,6 +133,82 @@ TEST(CarmenLog, FlaserLayoutsAndTheRepeatedMaximumAsNoReturn) {
   EXPECT_NEAR(s361.angle_min_rad + 360 * s361.angle_increment_rad, deg_to_rad(90.0), 1e-12);
 }
 
+// A log of 20 scans of 180 beams, every ninth at the sensor's no-return value 81.91 m, the others
+// at 3.25 m; `edit` changes the reading of scan 3, beam 9 (a no-return one).
+std::string saturated_log(bool text_extract, const std::string& edit = "") {
+  std::string out;
+  for (int i = 0; i < 20; ++i) {
+    out += text_extract ? "LASERSCAN " + std::to_string(10 + i) + ".5 180" : std::string("FLASER 180");
+    for (int b = 0; b < 180; ++b) out += " " + (i == 3 && b == 9 && !edit.empty() ? edit : b % 9 == 0 ? std::string("81.91") : std::string("3.25"));
+    out += text_extract ? "\n" : " 0 0 0 0 0 0 " + std::to_string(10 + i) + ".5 h 0\n";
+  }
+  return out;
+}
+
+TEST(CarmenLog, TheNoReturnValueIsTheLargestRepeatedReadingWhateverStraysLieAbove) {
+  for (const bool text : {false, true}) {
+    SCOPED_TRACE(text ? "text extract" : "CARMEN");
+    const auto read = [&](const std::string& log_text, std::vector<std::string>* warnings) {
+      LogReadOptions o;
+      if (warnings) o.warn = [warnings](const std::string& w) { warnings->push_back(w); };
+      return text ? read_odomscan_text(log_text, "s.txt", o) : read_carmen_log(log_text, "s.clf", o);
+    };
+    std::vector<std::string> warnings;
+    const RobotLog clean = read(saturated_log(text), &warnings);
+    EXPECT_FLOAT_EQ(static_cast<float>(clean.scans[0].range_max_m), 81.91f);
+    EXPECT_TRUE(warnings.empty());
+    // One reading 0.01 m above the no-return value used to make every no-return reading a wall.
+    const RobotLog stray = read(saturated_log(text, "81.92"), &warnings);
+    EXPECT_FLOAT_EQ(static_cast<float>(stray.scans[0].range_max_m), 81.91f);
+    EXPECT_FALSE(stray.scans[3].returned(9));
+    EXPECT_FALSE(stray.scans[0].returned(0));
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("1 readings lie above the no-return value 81.91"), std::string::npos) << warnings[0];
+    // No value repeats at the top: every reading a return, with a word when the log is long.
+    const auto distinct = [](int scans) {
+      std::string out;
+      for (int i = 0; i < scans; ++i) {
+        out += "FLASER 180";
+        for (int b = 0; b < 180; ++b) out += " " + std::to_string(1.0 + 0.0001 * (i * 180 + b));
+        out += " 0 0 0 0 0 0 " + std::to_string(10 + i) + ".5 h 0\n";
+      }
+      return out;
+    };
+    if (!text) {
+      warnings.clear();
+      const RobotLog short_log = read(distinct(20), &warnings);
+      EXPECT_TRUE(short_log.scans[19].returned(179));  // the largest reading is a return
+      EXPECT_TRUE(warnings.empty());
+      read(distinct(300), &warnings);
+      ASSERT_EQ(warnings.size(), 1u);
+      EXPECT_NE(warnings[0].find("every reading counts as a return"), std::string::npos) << warnings[0];
+      warnings.clear();
+    }
+    // Nine repeats of a larger value are strays still (fewer than 10).
+    std::string nine = saturated_log(text);
+    for (int k = 0; k < 9; ++k) nine.replace(nine.find(" 3.25"), 5, " 90.5");
+    EXPECT_FLOAT_EQ(static_cast<float>(read(nine, nullptr).scans[0].range_max_m), 81.91f);
+    // A value beyond a float: an error at its line, not an infinite reading.
+    try {
+      read(saturated_log(text, "1e308"), nullptr);
+      ADD_FAILURE() << "accepted 1e308";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.line(), 4);
+      EXPECT_EQ(e.field(), text ? "LASERSCAN range" : "FLASER range");
+    }
+    // No value repeats at the top: every reading counts (a short log: without a word).
+    std::string distinct_short;
+    for (int i = 0; i < 5; ++i) {
+      distinct_short += text ? "LASERSCAN " + std::to_string(i) + ".5 3" : std::string("FLASER 3");
+      for (int b = 0; b < 3; ++b) distinct_short += " " + std::to_string(1.0 + 0.01 * (3 * i + b));
+      distinct_short += text ? "\n" : " 0 0 0 0 0 0 " + std::to_string(i) + ".5 h 0\n";
+    }
+    warnings.clear();
+    EXPECT_TRUE(read(distinct_short, &warnings).scans[4].returned(2));
+    EXPECT_TRUE(warnings.empty());
+  }
+}
+
 TEST(OdomScanText, ReadsTheExtractFormat) {
   const std::string text =
       "# extract\nODOMETRY 1.000000 0.5 0.25 0.1 0.2 0.0\nLASERSCAN 1.100000 3 1.00 2.00 3.00\n"
@@ -167,6 +246,14 @@ TEST(LogReaders, MalformedInputNamesFileLineAndField) {
       {"LASERSCAN 1.0 3 1 2\n", true, 1, "LASERSCAN ranges"},
       {"ODOMETRY 1.0 1 2 3 4\n", true, 1, "ODOMETRY fields"},
       {"ODOMETRY 1.0 1 2 3 4 5\nLASERSCAN 1.0 1 \x01\n", true, 2, "LASERSCAN range"},
+      // Positions farther than kMaxCoordinateM (1e9 m) from the origin are corrupt, never mapped.
+      {"FLASER 1 1.0 1e19 0 0 0 0 0 1.0 h 0\n", false, 1, "FLASER x"},
+      {"FLASER 1 1.0 0 0 0 0 -1e300 0 1.0 h 0\n", false, 1, "FLASER odom_y"},
+      {"ODOM 1e10 2 0 0 0 0 1.0 h 0\n", false, 1, "ODOM x"},
+      {"TRUEPOS 0 0 0 2e9 0 0 1.0 h 0\n", false, 1, "TRUEPOS odom_x"},
+      {"ROBOTLASER1 0 0 3 0.1 10 0.01 0 1 1 0 1e20 0 0 0 0 0 0 0 0 0 0 1.0 h 0\n", false, 1, "ROBOTLASER1 laser_x"},
+      {"PARAM robot_frontlaser_offset 1e12 h 0\n", false, 1, "PARAM robot_frontlaser_offset"},
+      {"ODOMETRY 1.0 3e9 2 3 4 5\n", true, 1, "ODOMETRY x"},
   };
   for (const Row& r : rows) {
     try {
@@ -278,6 +365,133 @@ TEST(RosBag, MalformedBagsNameTheByteAndField) {
       }
     }
   }
+}
+
+TEST(RosBag, PositionsFartherThanTheCoordinateLimitAreRefused) {
+  struct Row {
+    std::string message;
+    std::string topic, type, field;
+  };
+  const std::vector<Row> rows = {
+      {test::odometry(1, 0, "base_link", 1e19, 0.0, 0.0, 0.0, 0.0), "/odom", "nav_msgs/Odometry", "pose.position"},
+      {test::odometry(1, 0, "base_link", 0.0, -2e9, 0.0, 0.0, 0.0), "/odom", "nav_msgs/Odometry", "pose.position"},
+      {test::tf_message({{"base_link", "laser", 1e12, 0.0, 0.0}}), "/tf_static", "tf2_msgs/TFMessage", "transforms"},
+  };
+  for (const Row& r : rows) {
+    test::BagWriter w;
+    w.connection({0, "/scan", "sensor_msgs/LaserScan"});
+    w.connection({1, r.topic, r.type});
+    w.message(0, 1, 0, test::laser_scan(1, 0, "laser", 0.0f, 0.1f, 10.0f, {1.0f, 2.0f}));
+    w.message(1, 1, 0, r.message);
+    try {
+      read_ros1_bag(w.bytes(), "far.bag");
+      ADD_FAILURE() << "accepted a position beyond 1e9 m on " << r.topic;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), r.field) << e.what();
+      EXPECT_NE(std::string(e.what()).find("farther than 1000000000 m"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// One rule per quantity, whichever reader meets it: the beam limit, sound beam angles and range
+// limits, no negative reading, the point limit of a cloud. Each row was accepted silently by at
+// least one reader (a bag of 30,000,000 ranges per scan loaded 716 MB).
+TEST(LogReaders, EveryReaderHoldsTheSameScanRules) {
+  struct Row {
+    std::string name;
+    std::function<void()> read;
+    std::string field;
+    std::string says;
+  };
+  const auto bag_scan = [](const std::string& message) {
+    return [message] {
+      test::BagWriter w;
+      w.connection({0, "/scan", "sensor_msgs/LaserScan"});
+      w.message(0, 1, 0, message);
+      read_ros1_bag(w.bytes(), "faulty.bag");
+    };
+  };
+  const auto carmen = [](const std::string& text) { return [text] { read_carmen_log(text, "faulty.clf"); }; };
+  const auto odomscan = [](const std::string& text) { return [text] { read_odomscan_text(text, "faulty.txt"); }; };
+  std::string many = "LASERSCAN 1.0 100001";
+  for (int i = 0; i < 100001; ++i) many += " 1";
+  // A PointCloud2 of one point whose width claims 60,000,000.
+  std::string cloud = test::point_cloud2(1, 0, "velodyne", {{1.0, 2.0, 3.0}});
+  const std::uint32_t wide = 60'000'000;
+  std::memcpy(cloud.data() + 12 + 4 + std::string("velodyne").size() + 4, &wide, 4);
+  const std::vector<Row> rows = {
+      {"bag beams", bag_scan(test::laser_scan_fields(0.0f, 1.0f, 1e-5f, 0.1f, 10.0f, std::vector<float>(100001, 1.0f))), "ranges",
+       "more than the 100000 a scan may have"},
+      {"bag increment 0", bag_scan(test::laser_scan_fields(0.0f, 0.0f, 0.0f, 0.1f, 10.0f, {1, 2, 3})), "angle_increment", "is 0 with 3 beams"},
+      {"bag range_max 0", bag_scan(test::laser_scan_fields(0.0f, 0.2f, 0.1f, 0.0f, 0.0f, {1, 2, 3})), "range_max", "no reading could return"},
+      {"bag range_max < 0", bag_scan(test::laser_scan_fields(0.0f, 0.2f, 0.1f, 0.0f, -5.0f, {1, 2, 3})), "range_max", "not above range_min"},
+      {"bag range_min nan", bag_scan(test::laser_scan_fields(0.0f, 0.2f, 0.1f, NAN, 5.0f, {1, 2, 3})), "range_min", "not a distance"},
+      {"bag angle_min > angle_max", bag_scan(test::laser_scan_fields(1.0f, -1.0f, 0.1f, 0.0f, 10.0f, {1, 2, 3})), "angle_max",
+       "runs against angle_increment"},
+      {"bag more than a turn", bag_scan(test::laser_scan_fields(0.0f, 16.0f, 4.0f, 0.0f, 10.0f, {1, 2, 3, 4, 5})), "angle_increment", "more than a turn"},
+      {"bag negative range", bag_scan(test::laser_scan_fields(0.0f, 0.2f, 0.1f, 0.0f, 10.0f, {1, -0.5f, 3})), "ranges", "is -0.5 m"},
+      {"RAWLASER resolution 0", carmen("RAWLASER1 0 0 3 0 10 0.01 0 2 1 2 0 1.0 h 0\n"), "RAWLASER1 angular_resolution", "is 0 with 2 beams"},
+      {"ROBOTLASER more than a turn", carmen("ROBOTLASER1 0 0 3 4 10 0.01 0 5 1 2 3 4 5 0 0 0 0 0 0 0 0 0 0 0 0 1.0 h 0\n"),
+       "ROBOTLASER1 angular_resolution", "more than a turn"},
+      {"RAWLASER negative", carmen("RAWLASER1 0 0 3 0.1 10 0.01 0 2 1 -2 0 1.0 h 0\n"), "RAWLASER1 range", "is -2 m"},
+      {"FLASER negative", carmen("FLASER 3 1 -1 2 0 0 0 0 0 0 1.0 h 0\n"), "FLASER range", "is -1 m"},
+      {"LASERSCAN negative", odomscan("LASERSCAN 1.0 3 1 2 -3\n"), "LASERSCAN range", "is -3 m"},
+      {"LASERSCAN beams", odomscan(many + "\n"), "LASERSCAN n", "expected a count 0..100000"},
+      {"PointCloud2 points",
+       [&cloud] {
+         test::BagWriter w;
+         w.connection({0, "/points", "sensor_msgs/PointCloud2"});
+         w.message(0, 1, 0, cloud);
+         const std::string bytes = w.bytes();
+         for_each_bag_point_cloud(bytes, "faulty.bag", index_point_cloud_bag(bytes, "faulty.bag", {}), [](BagPointCloud&&) {});
+       },
+       "width", "more than the 50000000 a cloud may have"},
+  };
+  for (const Row& r : rows) {
+    SCOPED_TRACE(r.name);
+    try {
+      r.read();
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), r.field) << e.what();
+      EXPECT_NE(std::string(e.what()).find(r.says), std::string::npos) << e.what();
+    }
+  }
+  // REP 117's special readings stay readable: -inf (too close), +inf (no return), NaN (erroneous).
+  EXPECT_NO_THROW(bag_scan(test::laser_scan_fields(0.0f, 0.2f, 0.1f, 0.0f, 10.0f, {-INFINITY, INFINITY, NAN}))());
+}
+
+// `n` zero bytes as one gzip member (zlib's deflate, independent of the reader's inflate).
+std::string gzip_zeros(std::size_t n) {
+  const std::string raw(n, '\0');
+  z_stream z{};
+  EXPECT_EQ(deflateInit2(&z, 9, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY), Z_OK);
+  std::string out(deflateBound(&z, static_cast<uLong>(n)), '\0');
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(raw.data()));
+  z.avail_in = static_cast<uInt>(n);
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(out.size());
+  EXPECT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  return out;
+}
+
+TEST(Decompress, GzipStopsAtTheLimitWhileInflatingOrFromItsTrailer) {
+  constexpr std::size_t kLimit = std::size_t{1} << 20;
+  EXPECT_EQ(gunzip(gzip_zeros(kLimit), "exact.gz", kLimit).size(), kLimit);
+  // The trailer says 1 MiB + 1: refused before inflating.
+  const std::string over = gzip_zeros(kLimit + 1);
+  EXPECT_NE(test::error_of([&] { gunzip(over, "over.gz", kLimit); }).find("says it decompresses to 1048577 bytes"), std::string::npos);
+  // A trailer that lies (0), or members that each fit: refused while inflating, at the limit.
+  std::string lying = gzip_zeros(3 * kLimit);
+  lying.replace(lying.size() - 4, 4, std::string(4, '\0'));
+  const std::string members = gzip_zeros(kLimit / 2 + 1) + gzip_zeros(kLimit / 2);
+  for (const std::string* bytes : {static_cast<const std::string*>(&lying), &members}) {
+    const std::string what = test::error_of([&] { gunzip(*bytes, "many.gz", kLimit); });
+    EXPECT_NE(what.find("many.gz: gzip: decompresses to more than 1048576 bytes"), std::string::npos) << what;
+  }
+  EXPECT_EQ(gunzip(gzip_zeros(kLimit / 2) + gzip_zeros(kLimit / 2), "two.gz", kLimit).size(), kLimit);
 }
 
 TEST(LogFile, DetectsTheFormatUndoesGzipAndRefusesNonRegularFiles) {

@@ -40,7 +40,8 @@ NavigatorParts parts(const std::string& planner = "astar", std::vector<ParamSett
   c.goal_checker = {"latching", {}, "navigation.goal_checker", 0, {}};
   c.progress_checker = {"simple_progress", {}, "navigation.progress_checker", 0, {}};
   c.recoveries = {{"rotate", {}, "navigation.recoveries", 0, {}}, {"back_up", {}, "navigation.recoveries", 0, {}}};
-  return make_navigator_parts(c, robot);
+  c.layers = {{"static_map", {}, "navigation.layers", 0, {}}, {"node_height", {}, "navigation.layers", 0, {}}};
+  return make_navigator_parts(c, config_2d(planner), robot);
 }
 
 const Pose2 kStart(1.05, 3.05, 0.0);

@@ -14,7 +14,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/rng.hpp"
-#include "starnav/nav/node_height_map.hpp"
+#include "starnav/costmap/node_height_map.hpp"
 #include "starnav/plan/dstar_lite.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/sense/lidar.hpp"
@@ -196,7 +196,7 @@ TEST(NodeHeightMap, ClearingRulesOnHandPlacedBeams) {
     m.integrate(Vec3(0.05, 0.25, 1.0), std::vector<Vec3>{Vec3(1.05, 0.25, 0.0), Vec3(1.05, 0.25, 0.5)});
     EXPECT_EQ(m.evidence(10, 2), 2);
     EXPECT_TRUE(m.raw_blocked(10, 2));
-    const NodeMapUpdate u = m.integrate(Vec3(0.05, 0.25, 0.2), std::vector<Vec3>{Vec3(1.55, 0.25, 0.2), Vec3(1.02, 0.27, 0.0)});
+    const CostmapUpdate u = m.integrate(Vec3(0.05, 0.25, 0.2), std::vector<Vec3>{Vec3(1.55, 0.25, 0.2), Vec3(1.02, 0.27, 0.0)});
     EXPECT_EQ(u.cells_contradicted, 1u);
     EXPECT_EQ(m.evidence(10, 2), 3);  // 2 + hit_gain - miss_loss
     EXPECT_DOUBLE_EQ(m.elevation().max_height_at(10, 2), 0.0);
@@ -210,7 +210,7 @@ TEST(NodeHeightMap, ClearingRulesOnHandPlacedBeams) {
     NodeHeightMap m(g, p);
     m.integrate(Vec3(0.05, 0.25, 1.0), std::vector<Vec3>{Vec3(1.05, 0.25, 0.5)});
     for (int k = 1; k >= 0; --k) {
-      const NodeMapUpdate u = m.integrate(Vec3(0.05, 0.25, 0.2), std::vector<Vec3>{Vec3(1.55, 0.25, 0.2)});
+      const CostmapUpdate u = m.integrate(Vec3(0.05, 0.25, 0.2), std::vector<Vec3>{Vec3(1.55, 0.25, 0.2)});
       EXPECT_EQ(m.evidence(10, 2), k);
       EXPECT_EQ(u.cells_cleared, k == 0 ? 1u : 0u);
     }
@@ -224,7 +224,7 @@ TEST(NodeHeightMap, ClearingRulesOnHandPlacedBeams) {
     for (const double stored : {0.52, 0.56}) {
       NodeHeightMap m(g, p);
       m.integrate(Vec3(0.05, 0.25, 2.0), std::vector<Vec3>{Vec3(1.05, 0.25, stored)});
-      const NodeMapUpdate u = m.integrate(Vec3(0.05, 0.25, 1.0), std::vector<Vec3>{Vec3(1.95, 0.25, 0.0)});
+      const CostmapUpdate u = m.integrate(Vec3(0.05, 0.25, 1.0), std::vector<Vec3>{Vec3(1.95, 0.25, 0.0)});
       EXPECT_EQ(u.cells_contradicted, stored > 0.55 ? 1u : 0u) << stored;
     }
   }
@@ -267,7 +267,7 @@ TEST(NodeHeightMap, KnownSceneGivesExactlyTheExpectedBlockedCells) {
   for (const Vec3& robot : {Vec3(0.03, 0.02, 0.0), Vec3(-0.61, 0.47, 0.0)}) {
     const LidarScan scan = lidar.scan(w, Pose3::from_rpy(robot, 0, 0, 0.2), 0.0);
     NodeHeightMap m(s.g, p);
-    const NodeMapUpdate u = m.integrate(scan);
+    const CostmapUpdate u = m.integrate(scan);
     EXPECT_GT(u.cells_hit, 500u);
     EXPECT_EQ(u.cells_contradicted, 0u);  // nothing stored before the first scan
 
@@ -325,7 +325,7 @@ TEST(NodeHeightMap, OccupancyFeedsTheGridPlanners) {
   PlanResult r = d.plan(start, goal);
   ASSERT_TRUE(r.found());
   for (const Cell& c : r.path_cells) ASSERT_FALSE(m.blocked(c.x, c.y));
-  const NodeMapUpdate u = m.integrate(lidar.scan(w, Pose3::from_rpy(Vec3(2.9, -1.2, 0), 0, 0, 2.0), 0.0));
+  const CostmapUpdate u = m.integrate(lidar.scan(w, Pose3::from_rpy(Vec3(2.9, -1.2, 0), 0, 0, 2.0), 0.0));
   ASSERT_FALSE(u.occupancy_changed.empty());
   std::vector<CellChange> changes;
   for (const Cell& c : u.occupancy_changed) changes.push_back({c, m.occupancy()(c.x, c.y)});
@@ -348,7 +348,7 @@ TEST(NodeHeightMap, FlatGroundIsNeverContradicted) {
   Lidar lidar(vlp16_at(0.6));
   NodeHeightMap m(grid(80, 80, 0.1, -4.0, -4.0));
   for (int k = 0; k < 6; ++k) {
-    const NodeMapUpdate u = m.integrate(lidar.scan(w, Pose3::from_rpy(Vec3(0.2 * k, 0.1 * k, 0), 0, 0, 0.3 * k), 0));
+    const CostmapUpdate u = m.integrate(lidar.scan(w, Pose3::from_rpy(Vec3(0.2 * k, 0.1 * k, 0), 0, 0, 0.3 * k), 0));
     EXPECT_EQ(u.cells_contradicted, 0u) << k;
     EXPECT_EQ(u.cells_cleared, 0u) << k;
   }
@@ -503,6 +503,7 @@ TEST(NodeHeightMap, IncrementalEqualsRebuild) {
     GridGeometry g = grid(130, 90, 0.1, -6.0, -4.0);  // several tiles
     if (mode == NodeMapMode::Nodes3D) g.origin.yaw = -0.4;
     NodeHeightMap m(g, p);
+    NodeHeightMap ref(g, p);  // fed the same scans, then rebuilt from scratch after each
     OccupancyGrid before = m.occupancy();
     for (int scan = 0; scan < 25; ++scan) {
       const Vec3 origin(rng.uniform(-6.5, 7.5), rng.uniform(-4.5, 5.5), rng.uniform(0.3, 1.5));
@@ -513,10 +514,10 @@ TEST(NodeHeightMap, IncrementalEqualsRebuild) {
         const double z = rng.uniform() < 0.8 ? rng.uniform(0.0, 0.03) : rng.uniform(0.0, 1.0);
         pts.push_back(Vec3(rng.uniform(-7.0, 8.0), rng.uniform(-5.0, 6.0), z));
       }
-      const NodeMapUpdate u = m.integrate(origin, pts);
-      NodeHeightMap copy = m;
-      copy.rebuild();
-      expect_same_derived(m, copy);
+      const CostmapUpdate u = m.integrate(origin, pts);
+      ref.integrate(origin, pts);
+      ref.rebuild();
+      expect_same_derived(m, ref);
       // The reported changes turn the previous occupancy into the new one.
       for (const Cell& c : u.occupancy_changed) {
         EXPECT_TRUE(c.x >= u.bounds.x0 && c.x < u.bounds.x1 && c.y >= u.bounds.y0 && c.y < u.bounds.y1);

@@ -172,10 +172,8 @@ TEST(OccupancyMapper, ReplayingTheTrackedChangesGivesTheFinalMapsClasses) {
   for (int y = 0; y < g.height(); ++y)
     for (int x = 0; x < g.width(); ++x) {
       const int v = g(x, y);
-      // The grid rounds p to a percent; classes near a threshold are judged from the rounded value
-      // only where it is unambiguous.
-      if (v == 65 || v == 20) continue;
-      const int expected = v < 0 ? -1 : (v >= 65 ? 100 : (v <= 19 ? 0 : -1));
+      // The classes of the written map: its rounded percent as map_saver writes it (thresholds included).
+      const int expected = v < 0 ? -1 : (v >= 65 ? 100 : (v <= 20 ? 0 : -1));
       const auto it = replay.find({x0 + x, y0 + y});
       ASSERT_EQ(it == replay.end() ? -1 : it->second, expected) << "cell " << x << ", " << y << " (" << v << "%)";
     }
@@ -196,6 +194,61 @@ TEST(OccupancyMapper, GrowsFarAndRefusesAbsurdExtents) {
   OccupancyMappingParams bad;
   bad.hit_probability = 0.3;
   EXPECT_THROW(OccupancyMapper{bad}, Error);
+}
+
+TEST(OccupancyMapper, WildCoordinatesAreRefusedBeforeAnyCellIsTouched) {
+  // Each pose or reading is refused with the same error, and the mapper is as it was: no index was
+  // computed from it (floor(1e19 / 0.05) does not fit an int64) and nothing was allocated for it.
+  struct Case {
+    Pose2 pose;
+    std::vector<float> ranges;
+    double range_max;
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {Pose2(1e19, 0, 0), {1.0f}, 10, "reaches at most"},
+      {Pose2(0, -1e300, 0), {1.0f}, 10, "reaches at most"},
+      {Pose2(0, 0, 0), {1e30f}, kInfinity, "reaches at most"},  // a reading below an infinite range_max
+      // 2e7 m from the map at 5 cm: 4e8 cells in a row, more than the cells a map may have.
+      {Pose2(2e7, 0, 0), {1.0f}, 10, "more than the 268435456 a map may have"},
+      {Pose2(0, 0, 0), {2e7f}, kInfinity, "more than the 268435456 a map may have"},
+  };
+  for (const Case& c : cases) {
+    OccupancyMapper m;
+    m.add_rays(Pose2(0.5, 0.5, 0), 0, 0, {1.0f}, 0, 10);
+    const OccupancyGrid before = m.grid();
+    try {
+      m.add_rays(c.pose, 0, 0, c.ranges, 0, c.range_max);
+      ADD_FAILURE() << "mapped a pose at " << c.pose.x << ", " << c.pose.y;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), "resolution_m");
+      EXPECT_NE(std::string(e.what()).find("far outside the mapped area"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.says), std::string::npos) << e.what();
+    }
+    const OccupancyGrid after = m.grid();
+    EXPECT_EQ(after.width(), before.width());
+    EXPECT_EQ(after.height(), before.height());
+  }
+}
+
+TEST(LogMapping, AStrayReadingAboveTheNoReturnValueLeavesTheMapAsItWas) {
+  // A robot turning in a round room of radius 3 m whose far half is open (no return, 81.91 m). One
+  // reading 0.01 m above 81.91 used to make every no-return beam a wall 81.91 m away.
+  const auto log_text = [](bool stray) {
+    std::string out;
+    for (int i = 0; i < 30; ++i) {
+      out += "FLASER 180";
+      for (int b = 0; b < 180; ++b) out += b < 90 ? " 3.00" : (stray && i == 7 && b == 100 ? " 81.92" : " 81.91");
+      out += " 0 0 " + std::to_string(0.2 * i) + " 0 0 " + std::to_string(0.2 * i) + " " + std::to_string(i) + ".0 h 0\n";
+    }
+    return out;
+  };
+  const LogMapResult clean = map_log(read_carmen_log(log_text(false), "clean.clf"), LogPoseSource::Log, {});
+  const LogMapResult stray = map_log(read_carmen_log(log_text(true), "stray.clf"), LogPoseSource::Log, {});
+  EXPECT_EQ(stray.grid.width(), clean.grid.width());
+  EXPECT_EQ(stray.grid.height(), clean.grid.height());
+  EXPECT_TRUE(std::equal(stray.grid.data().begin(), stray.grid.data().end(), clean.grid.data().begin()));
+  EXPECT_LT(clean.grid.width(), 200);  // the room, not a disc of 81.91 m
 }
 
 const char* kLoggedRoom =

@@ -2,6 +2,7 @@
 // rule the server and the exporter share, finding the viewer's files, and the exported page
 // (the run's files inside it read back byte for byte; nothing in them can close its script).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -129,6 +130,61 @@ TEST(RunFolder, TheExportedPageHoldsTheViewerAndTheRunsFilesByteForByte) {
   EXPECT_EQ(j["trajectory.csv"].get<std::string>(), "t_s,x_m\n0,1\n");
   EXPECT_TRUE(j.contains("run.json"));
   EXPECT_FALSE(j.contains("metrics.json"));  // not in this run
+}
+
+// The text between the page's data script element's tags.
+std::string embedded_data(const std::string& page) {
+  const std::string open = "<script type=\"application/json\" id=\"starnav-run\">";
+  const std::size_t a = page.find(open) + open.size();
+  return page.substr(a, page.find("</script>", a) - a);
+}
+
+TEST(RunFolder, TheExportedPageEscapesEveryLessThanInTheRunsText) {
+  Folder f;
+  // "<!--<script>" would put the HTML parser in the double-escaped state, where the data
+  // element's own end tag no longer ends it and the page stays blank.
+  const std::string world = "{\"schema\":\"starnav-world\",\"version\":1,\"note\":\"<!--<script></script>-->< / <\\/script\"}";
+  f.write("run/world.json", world);
+  const std::string page = export_run_html(read_run_folder(f.run()), (f.root / "viewer").string());
+  const std::string data = embedded_data(page);
+  EXPECT_EQ(data.find('<'), std::string::npos) << data;
+  EXPECT_EQ(nlohmann::json::parse(data)["world.json"].get<std::string>(), world);
+  EXPECT_EQ(json_for_script("[\"<a>\",\"b\"]"), "[\"\\u003ca>\",\"b\"]");
+}
+
+TEST(RunFolder, ALinkIsNotARunFileForTheExporterOrTheReader) {
+  Folder f;
+  f.write("secret.txt", "outside the run folder");
+  f.write("run/real.json", "{\"inside\":true}");
+  fs::create_symlink(f.root / "secret.txt", f.root / "run" / "metrics.json");
+  fs::create_symlink(f.root / "run" / "real.json", f.root / "run" / "inside_link.json");
+  // Neither a link out of the folder nor one inside it is a run file.
+  EXPECT_EQ(RunFile(f.run(), "metrics.json").refusal(), "a symbolic link");
+  EXPECT_EQ(RunFile(f.run(), "inside_link.json").refusal(), "a symbolic link");
+  EXPECT_EQ(RunFile(f.run(), "gone.json").refusal(), "missing");
+  EXPECT_EQ(RunFile(f.run(), "../secret.txt").refusal(), "not a plain file name");
+  EXPECT_TRUE(RunFile(f.run(), "real.json").is_open());
+  EXPECT_EQ(RunFile(f.run(), "real.json").read_all(), "{\"inside\":true}");
+  const auto listed = run_folder_files(f.run());
+  EXPECT_EQ(std::find(listed.begin(), listed.end(), "metrics.json"), listed.end());
+  EXPECT_NE(std::find(listed.begin(), listed.end(), "real.json"), listed.end());
+  // A run.json listing the link is refused, naming it; an exporter handed it anyway reads nothing.
+  f.manifest(R"({"schema":"starnav-run","version":1,"kind":"navigation","files":["metrics.json","world.json"]})");
+  expect_error(f.run(), "files", "metrics.json is a symbolic link");
+  RunFolder forged;
+  forged.dir = f.run();
+  forged.kind = "navigation";
+  forged.files = {"metrics.json", "world.json"};
+  try {
+    const std::string page = export_run_html(forged, (f.root / "viewer").string());
+    ADD_FAILURE() << "exported a link";
+    EXPECT_EQ(page.find("outside the run folder"), std::string::npos);
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("symbolic link"), std::string::npos) << e.what();
+  }
+  // A FIFO is refused at once, not waited on.
+  ASSERT_EQ(::mkfifo((f.root / "run" / "fifo.json").c_str(), 0600), 0);
+  EXPECT_EQ(RunFile(f.run(), "fifo.json").refusal(), "not a regular file");
 }
 
 TEST(RunFolder, ContentTypes) {

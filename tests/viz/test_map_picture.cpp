@@ -808,3 +808,35 @@ TEST(MapPicture, BarePictureAndBlankGeometry) {
   const Decoded d{bi.width, bi.height, bi.rgba};
   expect_colour_near(pixel_at(d, BL.to_picture({1.5, 1.5})), blank.options().plot_background, 0, "blank plot");
 }
+
+TEST(Raster, SegmentsRunningFarOffTheCanvasCostWhatTheirVisiblePartCosts) {
+  // A vertex at 1e300 (a wild pose in a trajectory) used to loop over 1e300 pixels of dashes and to
+  // convert beyond the int range. The visible part is drawn as if the segment ended just past the
+  // canvas: the same pixels as the segment cut by hand 100 pixels beyond the edge.
+  const viz::Rgba ink{200, 30, 30, 255};
+  for (const bool dashed : {false, true}) {
+    SCOPED_TRACE(dashed ? "dashed" : "solid");
+    const auto draw = [&](const std::vector<starnav::Vec2>& points) {
+      viz::RgbaImage image(120, 60, {255, 255, 255, 255});
+      viz::Canvas(image).stroke_polyline(points, 2.0, ink, dashed);
+      return image.rgba;
+    };
+    // Up to the last bit of a dash end's position, so a byte may round the other way.
+    const auto same = [](const std::vector<std::uint8_t>& x, const std::vector<std::uint8_t>& y) {
+      if (x.size() != y.size()) return false;
+      for (std::size_t i = 0; i < x.size(); ++i)
+        if (std::abs(int{x[i]} - int{y[i]}) > 1) return false;
+      return true;
+    };
+    EXPECT_TRUE(same(draw({{10.37, 30.21}, {1e300, 30.21}}), draw({{10.37, 30.21}, {220.37, 30.21}})));
+    EXPECT_TRUE(same(draw({{10.37, 30.21}, {10.37, -1e300}}), draw({{10.37, 30.21}, {10.37, -100.21}})));
+    // From a wild end into the canvas: the dashes' phase there is the far end's, so only solid strokes compare.
+    if (!dashed) {
+      EXPECT_TRUE(same(draw({{1e300, 1e300}, {60.4, 20.8}}), draw({{260.4, 220.8}, {60.4, 20.8}})));
+    }
+    // Wholly off the canvas, or through it between two wild ends: finishes, paints nothing it should not.
+    EXPECT_EQ(draw({{-1e300, -5.0}, {1e300, -5.0}}), draw({}));
+    const std::vector<std::uint8_t> across = draw({{-1e300, -1e300}, {1e300, 1e300}});
+    EXPECT_EQ(across.size(), 120u * 60u * 4u);
+  }
+}

@@ -92,8 +92,10 @@ export function parseTrajectory(text) {
   const col = (name) => header.indexOf(name);
   // A simulation's (t_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad,vx_mps,vy_mps,wz_radps) or a SLAM
   // run's (t_s,x_m,y_m,yaw_rad): what is missing is zero.
+  // Without t_s,x_m,y_m,yaw_rad it is not a base trajectory (3D SLAM's holds the sensor's poses as
+  // quaternions): null, and the steps' poses are drawn instead.
   const cols = ['t_s', 'x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad', 'vx_mps', 'vy_mps', 'wz_radps'].map(col);
-  if ([0, 1, 2, 6].some((i) => cols[i] < 0)) throw new Error('trajectory.csv: missing a column of t_s,x_m,y_m,yaw_rad');
+  if ([0, 1, 2, 6].some((i) => cols[i] < 0)) return null;
   const n = lines.length - 1;
   const t = new Float64Array(n);
   const pose = new Float32Array(n * 6);
@@ -255,12 +257,14 @@ export class OccupancyTimeline {
       this.changedSince.push(idx);
     }
   }
-  // Brings the grid to the state after step s (-1: the initial grid).
+  // Brings the grid to the state after step s (-1: the initial grid): back, or forward far past
+  // a checkpoint (more than two intervals: replaying is cheaper for less), from the last
+  // checkpoint at or before s; forward otherwise by replaying.
   seek(s) {
     if (s === this.at) return;
-    if (s < this.at) {
-      let cp = null;
-      for (const c of this.checkpoints) if (c.step <= s) cp = c;
+    let cp = null;
+    for (const c of this.checkpoints) if (c.step <= s) cp = c;
+    if (s < this.at || (cp && cp.step - this.at > 2 * this.every)) {
       // Back to the checkpoint (or the initial grid): every cell that differs is reset.
       for (let i = 0; i < this.cells.length; ++i) {
         if (this.cells[i] !== this.initial[i]) {

@@ -6,7 +6,8 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { checkVersion, OccupancyTimeline, parseTrajectory, RunSource, Steps } from './data.js';
 import {
-  DynamicPoints, goalMarker, lineOf, NavMapLayer, Obstacles, pathColour, poseArrow, Robot, Terrain,
+  COLOURS, cssColour, DynamicPoints, goalMarker, groundOf, lineOf, NavMapLayer, obstacleColour, Obstacles, pathColour, poseArrow, Robot,
+  Terrain,
 } from './scene.js';
 
 const LAYERS = ['terrain', 'map', 'obstacles', 'robot', 'hits', 'paths', 'trajectory', 'particles', 'estimate', 'loops'];
@@ -21,10 +22,14 @@ const state = {
   playing: false,
   speed: 1,
   follow: true,
+  topDown: false,
+  camera: null,
+  legend: [],
   stepIndex: -1,
   robot: null,
   pathCount: 0,
   pathsShown: 0,
+  mapCells: 0,
   obstaclesShown: 0,
   hitsShown: 0,
   particlesShown: 0,
@@ -106,6 +111,8 @@ class Viewer {
     const files = new Set(this.manifest.files || []);
     this.metrics = files.has('metrics.json') ? await this.source.json('metrics.json') : null;
     this.buildWorld();
+    // A trajectory.csv without the base's columns (3D SLAM writes the sensor's) is not drawn: the
+    // steps' poses are.
     if (files.has('trajectory.csv')) this.trajectory = parseTrajectory(await this.source.text('trajectory.csv'));
     this.steps = new Steps();
     if (this.world.nav_map) {
@@ -123,6 +130,8 @@ class Viewer {
     this.frameCamera();
     this.buildTrajectory();
     this.setTime(0);
+    this.firstLook();
+    this.updateLegend();
     this.render();
     state.firstFrameMs = performance.now() - t0;
     state.ready = true;
@@ -140,12 +149,12 @@ class Viewer {
     for (const l of lines) this.steps.add(l);
     if (!this.hits || this.hits.capacity < this.steps.maxHits) {
       if (this.hits) this.layers.hits.remove(this.hits.points);
-      this.hits = new DynamicPoints('hits', 0xd62728, 3, Math.max(1024, this.steps.maxHits * 2));
+      this.hits = new DynamicPoints('hits', COLOURS.hits, 3, Math.max(1024, this.steps.maxHits * 2));
       this.layers.hits.add(this.hits.points);
     }
     if (this.steps.maxParticles > 0 && (!this.particles || this.particles.capacity < this.steps.maxParticles)) {
       if (this.particles) this.layers.particles.remove(this.particles.points);
-      this.particles = new DynamicPoints('particles', 0x1f77b4, 3, this.steps.maxParticles);
+      this.particles = new DynamicPoints('particles', COLOURS.particles, 3, this.steps.maxParticles);
       this.layers.particles.add(this.particles.points);
     }
     for (const p of this.steps.paths.slice(this.pathLines.length)) {
@@ -158,11 +167,11 @@ class Viewer {
     if (this.steps.loops.length !== (this.loopCount || 0)) this.buildLoops();
     if (!this.trajectory && this.steps.count > 0) this.buildStepTrajectory();
     if (this.steps.hasEstimate && !this.estimateArrow) {
-      this.estimateArrow = poseArrow(0x1f77b4);
+      this.estimateArrow = poseArrow(COLOURS.estimate);
       this.layers.estimate.add(this.estimateArrow);
     }
     if (this.steps.hasReference && !this.referenceArrow) {
-      this.referenceArrow = poseArrow(0xff7f0e);
+      this.referenceArrow = poseArrow(COLOURS.reference);
       this.layers.estimate.add(this.referenceArrow);
     }
     if (this.occupancy) this.occupancy.checkpoint();
@@ -176,7 +185,12 @@ class Viewer {
     if (state.live) {
       state.liveSteps = this.steps.count;
       this.setTime(this.steps.time(this.steps.count - 1) - state.start);
+    } else {
+      // The page shows the state at its time: paths planned later, the map's later changes and
+      // later loop closures stay hidden as the steps arrive.
+      this.setTime(state.time);
     }
+    this.updateLegend();
     this.dirty = true;
   }
 
@@ -188,7 +202,7 @@ class Viewer {
     if (this.loopLines) this.layers.loops.remove(this.loopLines);
     const geo = new THREE.BufferGeometry();
     geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
-    this.loopLines = new THREE.LineSegments(geo, new THREE.LineBasicMaterial({ color: 0xd55e00, transparent: true, opacity: 0.5 }));
+    this.loopLines = new THREE.LineSegments(geo, new THREE.LineBasicMaterial({ color: COLOURS.loops, transparent: true, opacity: 0.5 }));
     this.loopLines.name = 'loop_closures';
     this.loopLines.frustumCulled = false;
     this.layers.loops.add(this.loopLines);
@@ -205,7 +219,7 @@ class Viewer {
       if (this.trajLine) this.layers.trajectory.remove(this.trajLine);
       const geo = new THREE.BufferGeometry();
       geo.setAttribute('position', new THREE.BufferAttribute(new Float32Array(this.trajCapacity * 3), 3));
-      this.trajLine = new THREE.Line(geo, new THREE.LineBasicMaterial({ color: 0x111111 }));
+      this.trajLine = new THREE.Line(geo, new THREE.LineBasicMaterial({ color: COLOURS.trajectory }));
       this.trajLine.name = 'trajectory';
       this.trajLine.frustumCulled = false;
       this.trajFromSteps = true;
@@ -229,18 +243,13 @@ class Viewer {
   buildWorld() {
     const w = this.world;
     this.baseZ = 0;
+    this.span = 10;
     if (w.terrain) {
       this.terrain = new Terrain(w.terrain);
       this.baseZ = this.terrain.lo;
       this.layers.terrain.add(this.terrain.mesh);
     } else {
-      const ground = new THREE.Mesh(new THREE.PlaneGeometry(2000, 2000), new THREE.MeshLambertMaterial({ color: 0xc9c9bd }));
-      ground.position.z = -0.002;
-      ground.name = 'ground';
-      this.layers.terrain.add(ground);
-      const grid = new THREE.GridHelper(200, 200, 0x999999, 0xbbbbbb);
-      grid.rotation.x = Math.PI / 2;
-      this.layers.terrain.add(grid);
+      this.layers.terrain.add(groundOf(this.worldBox()));
     }
     this.obstacles = new Obstacles(w.obstacles || []);
     this.layers.obstacles.add(this.obstacles.group);
@@ -260,17 +269,16 @@ class Viewer {
     const zs = new Float32Array(tr.count);
     for (let i = 0; i < tr.count; ++i) zs[i] = tr.pose[6 * i + 2];
     let k = 0;
-    this.trajLine = lineOf(pts, () => zs[k++] + 0.03, 0x111111, 2);
+    this.trajLine = lineOf(pts, () => zs[k++] + 0.03, COLOURS.trajectory, 2);
     this.trajLine.name = 'trajectory';
     this.layers.trajectory.add(this.trajLine);
   }
 
-  // The overview: everything the run is about (start, goals, trajectory, obstacles, the
-  // navigator's grid) from the south-south-west, looking down at about 40 degrees. A terrain
-  // larger than that region does not widen it.
-  frameCamera() {
+  // The region the run is about: start, goals, the trajectory (once read), obstacles and the
+  // navigator's grid. A terrain larger than that does not widen it.
+  worldBox() {
     const box = new THREE.Box3();
-    const add = (x, y, z = 0) => box.expandByPoint(new THREE.Vector3(x, y, z));
+    const add = (x, y, z = this.baseZ || 0) => box.expandByPoint(new THREE.Vector3(x, y, z));
     const w = this.world;
     add(w.start[0], w.start[1], this.groundZ(w.start[0], w.start[1]));
     for (const g of w.goals || []) add(g[0], g[1], this.groundZ(g[0], g[1]));
@@ -287,11 +295,18 @@ class Viewer {
       const sx = m.width * m.resolution_m;
       const sy = m.height * m.resolution_m;
       for (const [gx, gy] of [[0, 0], [sx, 0], [0, sy], [sx, sy]])
-        add(ox + Math.cos(yaw) * gx - Math.sin(yaw) * gy, oy + Math.sin(yaw) * gx + Math.cos(yaw) * gy, this.baseZ);
+        add(ox + Math.cos(yaw) * gx - Math.sin(yaw) * gy, oy + Math.sin(yaw) * gx + Math.cos(yaw) * gy);
     }
+    return box;
+  }
+
+  // The overview: the whole region from the south-south-west, looking down at about 40 degrees.
+  frameCamera() {
+    const box = this.worldBox();
     const size = box.getSize(new THREE.Vector3());
     const c = box.getCenter(new THREE.Vector3());
     const r = Math.max(size.x, size.y, 4) * 1.05;
+    this.span = r;
     this.overview = { target: c, position: new THREE.Vector3(c.x - 0.2 * r, c.y - 0.85 * r, c.z + 0.75 * r) };
     this.camera.position.copy(this.overview.position);
     this.controls.target.copy(c);
@@ -300,10 +315,98 @@ class Viewer {
     this.controls.update();
   }
 
+  // The first look: on the robot where the run starts, following it, from the south-south-west
+  // and above, close enough to see what it sees (half the region, 4 to 15 m across the view's
+  // height), so that the first thing on screen is the robot in the state at t = 0.
+  firstLook() {
+    const r = state.robot;
+    if (!r) return;
+    const half = Math.min(15, Math.max(4, 0.5 * this.span)) / 2;
+    const d = half / Math.tan((this.camera.fov * Math.PI) / 360);
+    this.controls.target.set(r.x, r.y, r.z);
+    this.camera.position.copy(this.controls.target).add(new THREE.Vector3(-0.15, -0.6, 0.85).setLength(d));
+    this.setFollow(true);
+    this.controls.update();
+  }
+
+  // Straight down on the current target, north up (x to the right, y up the screen, as a map is
+  // read), at the same distance; the view can still be turned about the vertical and zoomed. Off:
+  // back to the oblique view it came from.
+  setTopDown(on) {
+    const target = this.controls.target.clone();
+    const d = this.camera.position.distanceTo(target);
+    if (on && !state.topDown) {
+      this.obliqueOffset = this.camera.position.clone().sub(target);
+      this.camera.position.set(target.x, target.y - 1e-4 * d, target.z + d);
+      this.controls.minPolarAngle = 0;
+      this.controls.maxPolarAngle = 0;
+    } else if (!on && state.topDown) {
+      const offset = (this.obliqueOffset || new THREE.Vector3(-0.15, -0.6, 0.85)).clone().setLength(d);
+      this.controls.minPolarAngle = 0;
+      this.controls.maxPolarAngle = Math.PI;
+      this.camera.position.copy(target).add(offset);
+    }
+    state.topDown = on;
+    if (this.topDownButton) {
+      this.topDownButton.textContent = on ? '3D view' : 'top-down view';
+      this.topDownButton.setAttribute('aria-pressed', String(on));
+    }
+    this.controls.update();
+    this.dirty = true;
+  }
+
+  // The legend: a swatch and a name for every layer this run draws (what the steps bring is added
+  // as they arrive).
+  updateLegend() {
+    if (!this.legend) return;
+    const entries = [];
+    // colour: one colour, or for a ramp or a set a list drawn side by side in the swatch.
+    const add = (layer, label, colour, style = 'box') =>
+      entries.push({ layer, label, colour: (style === 'ramp' || style === 'set' ? colour : [colour]).map(cssColour), style });
+    const slam = this.manifest.kind === 'slam' || this.manifest.kind === 'slam3d';
+    add('robot', this.manifest.log ? 'robot (the estimated pose)' : 'robot (true pose)', COLOURS.robot);
+    if (this.trajLine) add('trajectory', slam ? 'trajectory (optimised)' : 'executed trajectory', COLOURS.trajectory, 'line');
+    if (this.pathLines.length)
+      add('paths', this.pathLines.length === 1 ? 'planned path P1' : `planned paths P1..P${this.pathLines.length} (current solid, earlier faded)`,
+        pathColour(1), 'line');
+    if ((this.world.goals || []).length) add('paths', 'goal', COLOURS.goal);
+    if (this.navMap) {
+      const occupied = { navigation: 'map: blocked for planning', localization: 'known map: occupied' }[this.manifest.kind] || 'map: occupied';
+      add('map', occupied, COLOURS.blocked);
+      add('map', 'map: observed free (unknown: clear)', COLOURS.free);
+    }
+    if (this.terrain) add('terrain', 'terrain, low to high', [COLOURS.terrainLow, COLOURS.terrainHigh], 'ramp');
+    const obstacles = this.world.obstacles || [];
+    if (obstacles.some((o) => o.parts.filter((p) => p[0] === 'box').length > 32)) add('obstacles', 'walls (the map\'s occupied cells)', COLOURS.walls);
+    if (obstacles.some((o) => o.parts.filter((p) => p[0] === 'box').length <= 32))
+      add('obstacles', 'obstacles, each its colour', [0, 1, 2].map(obstacleColour), 'set');
+    if (this.hits && this.steps.maxHits > 0) add('hits', 'LiDAR returns, current scan', COLOURS.hits, 'dot');
+    if (this.particles) add('particles', 'particles', COLOURS.particles, 'dot');
+    if (this.estimateArrow) add('estimate', 'estimate', COLOURS.estimate, 'arrow');
+    if (this.referenceArrow) add('estimate', 'corrected pose (reference)', COLOURS.reference, 'arrow');
+    if (this.loopLines) add('loops', 'loop closures', COLOURS.loops, 'line');
+    const key = entries.map((e) => e.label).join('|');
+    if (key === this.legendKey) return;
+    this.legendKey = key;
+    state.legend = entries.map(({ layer, label, colour }) => ({ layer, label, colours: colour }));
+    const swatch = (e) => {
+      const css = { box: 'width:12px;height:12px', ramp: 'width:24px;height:12px', set: 'width:24px;height:12px', line: 'width:16px;height:3px',
+        dot: 'width:6px;height:6px;border-radius:3px;margin:0 5px', arrow: 'width:14px;height:4px' }[e.style];
+      const stops = e.style === 'set' ? e.colour.map((c, i) => `${c} ${(100 * i) / e.colour.length}% ${(100 * (i + 1)) / e.colour.length}%`) : e.colour;
+      const background = e.colour.length > 1 ? `linear-gradient(90deg,${stops.join(',')})` : e.colour[0];
+      return el('span', { class: 'swatch', style: `display:inline-block;vertical-align:middle;margin-right:6px;${css};background:${background}` });
+    };
+    this.legend.replaceChildren(
+      el('b', {}, 'legend'),
+      ...entries.map((e) => el('div', { class: 'legend-entry', 'data-layer': e.layer }, swatch(e), e.label)),
+    );
+  }
+
   // A close view behind and above the robot, following it.
   closeUp() {
     const r = state.robot;
     if (!r) return;
+    this.setTopDown(false);
     const d = Math.max(2.5, 6 * (this.world.robot.body_length_m || 0.5));
     this.controls.target.set(r.x, r.y, r.z);
     this.camera.position.set(r.x - d * Math.cos(r.yaw) * 0.8, r.y - d * Math.sin(r.yaw) * 0.8 - 0.3 * d, r.z + d);
@@ -392,6 +495,7 @@ class Viewer {
         this.navMap.update(this.occupancy.cells, this.occupancy.changedSince);
         this.occupancy.changedSince = [];
       }
+      state.mapCells = this.navMap.known;
     }
     if (this.scrubber && document.activeElement !== this.scrubber) this.scrubber.value = String(tau);
     this.updatePanel();
@@ -445,8 +549,14 @@ class Viewer {
         name),
     );
     this.followBox = el('input', { type: 'checkbox', id: 'follow', checked: '', onchange: (e) => this.setFollow(e.target.checked) });
+    this.topDownButton = el('button', { id: 'top-down', 'aria-pressed': 'false', title: 'look straight down, north up (key T)', onclick: () => this.setTopDown(!state.topDown) }, 'top-down view');
+    const overviewButton = el('button', { id: 'overview', title: 'the whole run from above and aside', onclick: () => window.starnav.overview() }, 'overview');
     const layers = el('div', { id: 'layers', style: `${css};right:8px;top:8px;max-width:260px` },
-      ...layerBoxes, el('br'), el('label', {}, this.followBox, 'camera follows the robot'));
+      ...layerBoxes, el('br'), el('label', {}, this.followBox, 'camera follows the robot'), el('br'), this.topDownButton, ' ', overviewButton);
+    this.legend = el('div', { id: 'legend', style: `${css};left:8px;bottom:52px;max-width:320px;line-height:18px` });
+    window.addEventListener('keydown', (e) => {
+      if ((e.key === 't' || e.key === 'T') && !(e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement)) this.setTopDown(!state.topDown);
+    });
     this.playButton = el('button', { id: 'play', onclick: () => this.togglePlay() }, 'play');
     const speed = el('select', { id: 'speed', onchange: (e) => { state.speed = +e.target.value; } },
       ...[0.25, 0.5, 1, 2, 5, 10, 20].map((v) => {
@@ -465,7 +575,7 @@ class Viewer {
     const bar = el('div', { id: 'timeline', style: `${css};left:8px;right:8px;bottom:8px;display:flex;gap:6px;align-items:center` },
       el('button', { id: 'step-back', onclick: stepBy(-1) }, '◀'), this.playButton,
       el('button', { id: 'step-forward', onclick: stepBy(1) }, '▶'), speed, this.scrubber);
-    this.root.append(this.panel, layers, bar);
+    this.root.append(this.panel, layers, this.legend, bar);
   }
 
   togglePlay() {
@@ -500,6 +610,9 @@ class Viewer {
 
   render() {
     this.updateCamera();
+    const p = this.camera.position;
+    const t = this.controls.target;
+    state.camera = { x: p.x, y: p.y, z: p.z, target: { x: t.x, y: t.y, z: t.z } };
     const t0 = performance.now();
     this.renderer.render(this.scene, this.camera);
     state.lastFrameMs = performance.now() - t0;
@@ -532,6 +645,10 @@ async function main() {
     setTime: (t) => viewer.setTime(t),
     setLayer: (name, on) => viewer.setLayer(name, on),
     setFollow: (on) => viewer.setFollow(on),
+    setTopDown: (on) => {
+      viewer.setTopDown(on);
+      viewer.render();
+    },
     play: () => { if (!state.playing) viewer.togglePlay(); },
     pause: () => { if (state.playing) viewer.togglePlay(); },
     // Renders now and returns the frame's time in ms (benchmarks and tests).
@@ -590,6 +707,7 @@ async function main() {
     },
     overview: () => {
       viewer.setFollow(false);
+      viewer.setTopDown(false);
       viewer.camera.position.copy(viewer.overview.position);
       viewer.controls.target.copy(viewer.overview.target);
       viewer.render();

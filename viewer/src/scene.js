@@ -5,13 +5,43 @@ import * as THREE from 'three';
 
 const PATH_COLOURS = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0x9467bd, 0x8c564b, 0xe377c2, 0x17becf, 0xbcbd22];
 
+// Every colour a layer draws in, in one place: the layers and the legend read them from here.
+export const COLOURS = {
+  robot: 0xf2c200,
+  trajectory: 0x111111,
+  goal: 0xd62728,
+  hits: 0xc51b7d, // magenta: distinct from the map's red blocked cells the hits often lie on
+  blocked: 0xc82828,
+  free: 0xdeded0,
+  walls: 0x8c8c96,
+  estimate: 0x1f77b4,
+  reference: 0xff7f0e,
+  particles: 0x1f77b4,
+  loops: 0xd55e00,
+  ground: 0xc9c9bd,
+  grid: 0xb4b4aa,
+  terrainLow: [0.22, 0.45, 0.25],
+  terrainHigh: [0.85, 0.82, 0.78],
+};
+
+// A CSS colour of a colour here: 0xRRGGBB or [r, g, b] in 0..1.
+export function cssColour(c) {
+  if (Array.isArray(c)) return `rgb(${c.map((v) => Math.round(255 * v)).join(',')})`;
+  return `#${c.toString(16).padStart(6, '0')}`;
+}
+
+// The colour of the k-th obstacle of a world (walls of a map_server map are COLOURS.walls).
+export function obstacleColour(k) {
+  return new THREE.Color().setHSL((0.08 + 0.13 * k) % 1, 0.35, 0.55).getHex();
+}
+
 function heightColour(h, lo, hi, out) {
   // Green lowlands to brown and pale highs, as hypsometric maps colour them.
   const u = hi > lo ? Math.min(1, Math.max(0, (h - lo) / (hi - lo))) : 0.5;
   const stops = [
-    [0.0, [0.22, 0.45, 0.25]],
+    [0.0, COLOURS.terrainLow],
     [0.5, [0.62, 0.58, 0.38]],
-    [1.0, [0.85, 0.82, 0.78]],
+    [1.0, COLOURS.terrainHigh],
   ];
   let a = stops[0];
   let b = stops[stops.length - 1];
@@ -123,6 +153,10 @@ export class Terrain {
   }
 }
 
+const rgbaOf = (c) => [(c >> 16) & 255, (c >> 8) & 255, c & 255, 255];
+const BLOCKED_RGBA = rgbaOf(COLOURS.blocked);
+const FREE_RGBA = rgbaOf(COLOURS.free);
+
 // The navigator's grid as a texture on a plane (unknown clear, free pale, blocked red), over the
 // ground or draped just above the terrain's lowest point.
 export class NavMapLayer {
@@ -131,6 +165,7 @@ export class NavMapLayer {
     const w = navMap.width;
     const h = navMap.height;
     this.rgba = new Uint8Array(w * h * 4);
+    this.known = 0; // cells drawn (not unknown)
     this.texture = new THREE.DataTexture(this.rgba, w, h, THREE.RGBAFormat);
     this.texture.magFilter = THREE.NearestFilter;
     this.texture.minFilter = THREE.NearestFilter;
@@ -148,12 +183,12 @@ export class NavMapLayer {
   }
   setCell(i, v) {
     const o = 4 * i;
+    if (this.rgba[o + 3] !== 0) --this.known;
     if (v < 0) {
       this.rgba[o + 3] = 0;
-    } else if (v >= 65) {
-      this.rgba.set([200, 40, 40, 255], o);
     } else {
-      this.rgba.set([222, 222, 208, 255], o);
+      this.rgba.set(v >= 65 ? BLOCKED_RGBA : FREE_RGBA, o);
+      ++this.known;
     }
   }
   update(cells, indices) {
@@ -217,13 +252,12 @@ export class Obstacles {
     this.items = [];
     const unitBox = new THREE.BoxGeometry(1, 1, 1);
     list.forEach((o, k) => {
-      const colour = new THREE.Color().setHSL((0.08 + 0.13 * k) % 1, 0.35, 0.55);
-      const material = new THREE.MeshLambertMaterial({ color: colour });
+      const material = new THREE.MeshLambertMaterial({ color: obstacleColour(k) });
       const g = new THREE.Group();
       g.name = o.name;
       const boxes = o.parts.filter((p) => p[0] === 'box');
       if (boxes.length > 32) {
-        const inst = new THREE.InstancedMesh(unitBox, new THREE.MeshLambertMaterial({ color: 0x8c8c96 }), boxes.length);
+        const inst = new THREE.InstancedMesh(unitBox, new THREE.MeshLambertMaterial({ color: COLOURS.walls }), boxes.length);
         const m = new THREE.Matrix4();
         const q = new THREE.Quaternion();
         const e = new THREE.Euler();
@@ -285,7 +319,7 @@ export class Robot {
     this.group.name = 'robot';
     const body = new THREE.Mesh(
       new THREE.BoxGeometry(r.body_length_m, r.body_width_m, r.body_height_m),
-      new THREE.MeshLambertMaterial({ color: 0xf2c200 }),
+      new THREE.MeshLambertMaterial({ color: COLOURS.robot }),
     );
     body.position.set(r.body_center_x_m || 0, 0, r.ground_clearance_m + r.body_height_m / 2);
     this.group.add(body);
@@ -357,12 +391,33 @@ export function lineOf(points2, zOf, colour, width = 1) {
   return new THREE.Line(geo, new THREE.LineBasicMaterial({ color: colour, linewidth: width }));
 }
 
+// The ground of a world without terrain: a plain plane over the region the run is about (a
+// margin around it), with a grid of 1, 5 or 10 m by its size. A plane and grid far larger than
+// the world alias into stripes at a distance.
+export function groundOf(box) {
+  const group = new THREE.Group();
+  group.name = 'ground';
+  const cx = (box.min.x + box.max.x) / 2;
+  const cy = (box.min.y + box.max.y) / 2;
+  const extent = Math.max(box.max.x - box.min.x, box.max.y - box.min.y, 10);
+  const spacing = extent <= 60 ? 1 : extent <= 300 ? 5 : 10;
+  const side = spacing * Math.ceil((extent * 1.4) / spacing);
+  const plane = new THREE.Mesh(new THREE.PlaneGeometry(3 * side, 3 * side), new THREE.MeshBasicMaterial({ color: COLOURS.ground }));
+  plane.position.set(cx, cy, -0.002);
+  group.add(plane);
+  const grid = new THREE.GridHelper(side, side / spacing, COLOURS.grid, COLOURS.grid);
+  grid.rotation.x = Math.PI / 2;
+  grid.position.set(spacing * Math.round(cx / spacing), spacing * Math.round(cy / spacing), 0);
+  group.add(grid);
+  return group;
+}
+
 export function pathColour(id) {
   return PATH_COLOURS[(id - 1) % PATH_COLOURS.length];
 }
 
 export function goalMarker(x, y, z) {
-  const m = new THREE.Mesh(new THREE.ConeGeometry(0.15, 0.5, 16), new THREE.MeshLambertMaterial({ color: 0xd62728 }));
+  const m = new THREE.Mesh(new THREE.ConeGeometry(0.15, 0.5, 16), new THREE.MeshLambertMaterial({ color: COLOURS.goal }));
   m.rotation.x = -Math.PI / 2;
   m.position.set(x, y, z + 0.25);
   m.name = 'goal';

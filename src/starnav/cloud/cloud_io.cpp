@@ -413,7 +413,7 @@ std::string format_point_cloud(std::span<const Vec3> points, PointCloudFormat fo
   char buf[96];
   for (const Vec3& p : points) {
     // Keeps every line inside the buffer and the file readable.
-    if (!(p.cwiseAbs().maxCoeff() <= 1e9)) throw Error("a point coordinate is not finite or beyond 1e9 m", "", 0, "points");
+    if (!(p.cwiseAbs().maxCoeff() <= kMaxCoordinateM)) throw Error("a point coordinate is not finite or beyond 1e9 m", "", 0, "points");
     const int len = std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f\n", p.x(), p.y(), p.z());
     out.append(buf, static_cast<std::size_t>(len));
   }

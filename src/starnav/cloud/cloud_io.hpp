@@ -14,10 +14,9 @@
 #include <string_view>
 
 #include "starnav/cloud/point_cloud.hpp"
+#include "starnav/core/input_file.hpp"  // kMaxCloudPoints
 
 namespace starnav {
-
-inline constexpr std::size_t kMaxCloudPoints = 50'000'000;
 
 enum class PointCloudFormat { Ply, Pcd };
 enum class PointCloudEncoding { Ascii, Binary };

@@ -74,8 +74,7 @@ LidarFrameFolder read_lidar_frame_folder(const std::string& dir) {
   if (!fs::is_directory(dir)) throw Error("is not a folder of LiDAR frames", dir);
   const std::string sensor = (fs::path(dir) / "sensor.yaml").string();
   {
-    const std::string text = read_file_bytes(sensor);
-    const YAML::Node y = load_yaml_document(text, sensor);
+    const YAML::Node y = load_yaml_document(read_yaml_file(sensor), sensor);
     auto number = [&](const YAML::Node& n, const std::string& key) {
       if (!n || !n[key] || !n[key].IsScalar()) throw Error("missing", sensor, 0, key);
       double v = 0.0;
@@ -130,20 +129,31 @@ LidarFrameFolder read_lidar_frame_folder(const std::string& dir) {
       if (!v) throw Error("missing", csv, line_no, kLidarFrameColumns[i]);
       return *v;
     };
+    // Positions (odometry x, y; truth x, y, z) within kMaxCoordinateM of the origin.
+    auto position = [&](std::size_t i) {
+      const auto v = num(i);
+      if (v && !plausible_coordinate(*v))
+        throw Error(format_number(*v) + " m lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position",
+                    csv, line_no, kLidarFrameColumns[i]);
+      return v;
+    };
     LidarFrameRecord r;
-    r.frame = static_cast<int>(required(0));
+    const double frame = required(0);
+    if (!(frame >= 0 && frame <= 1e9 && frame == std::floor(frame)))
+      throw Error("'" + printable(cells[0], 30) + "' is not a frame number (a whole number 0..1000000000)", csv, line_no, "frame");
+    r.frame = static_cast<int>(frame);
     r.t_s = required(1);
     r.cloud = std::string(cells[2]);
     if (r.cloud.empty() || r.cloud.find('/') != std::string::npos || r.cloud == "." || r.cloud == "..")
       throw Error("must be a file name beside frames.csv", csv, line_no, "cloud");
     if (!out.frames.empty() && !(r.t_s > out.frames.back().t_s)) throw Error("times must increase", csv, line_no, "t_s");
-    const auto ox = num(3), oy = num(4), oyaw = num(5);
+    const auto ox = position(3), oy = position(4), oyaw = num(5);
     if (ox && oy && oyaw) r.odometry = Pose2(*ox, *oy, *oyaw);
     else if (ox || oy || oyaw) throw Error("odometry needs x, y and yaw, or none", csv, line_no, "odom_x_m");
     r.imu_yaw_rate_radps = num(6);
     std::optional<double> t[6];
     int given = 0;
-    for (int k = 0; k < 6; ++k) given += (t[k] = num(static_cast<std::size_t>(7 + k))).has_value();
+    for (int k = 0; k < 6; ++k) given += (t[k] = k < 3 ? position(static_cast<std::size_t>(7 + k)) : num(static_cast<std::size_t>(7 + k))).has_value();
     if (given == 6) r.truth = Pose3::from_rpy(Vec3(*t[0], *t[1], *t[2]), *t[3], *t[4], *t[5]);
     else if (given != 0) throw Error("the true pose needs all six values, or none", csv, line_no, "true_x_m");
     out.frames.push_back(r);

@@ -1,5 +1,7 @@
 #include "starnav/cloud/lidar_recording.hpp"
 
+#include "starnav/logs/ros2_bag.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -13,6 +15,7 @@
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/io/file_bytes.hpp"
+#include "starnav/logs/log_file.hpp"
 
 namespace starnav {
 
@@ -55,6 +58,9 @@ std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
       if (columns == 13) e.t_s = v[0];
       e.pose = rigid_from_kitti_3x4(m, path, line_no, "pose");
     }
+    if (!(plausible_coordinate(e.pose.translation().x()) && plausible_coordinate(e.pose.translation().y()) &&
+          plausible_coordinate(e.pose.translation().z())))
+      throw Error("the position lies farther than " + format_number(kMaxCoordinateM) + " m from the origin", path, line_no, "pose");
     if (e.t_s && !out.empty() && out.back().t_s && !(*e.t_s > *out.back().t_s))
       throw Error("times must increase", path, line_no, "t");
     out.push_back(e);
@@ -246,12 +252,20 @@ std::optional<decltype(std::declval<Lerp>()(std::declval<const Sample&>(), std::
   return lerp(a, b, u);
 }
 
-LidarRecording open_bag(const std::string& path, const LidarRecordingOptions& o) {
-  const auto bytes = std::make_shared<const std::string>(read_file_bytes(path));
-  const auto index = std::make_shared<const PointCloudBagIndex>(index_point_cloud_bag(*bytes, path, o.bag));
+// A ROS 1 bag (its bytes kept for the clouds' pass; a bag is a robot log whatever it records: the
+// log's size limit holds for it) or a ROS 2 recording (read again).
+LidarRecording open_bag(const std::string& path, const LidarRecordingOptions& o, bool ros2) {
+  std::shared_ptr<const std::string> bytes;
+  std::shared_ptr<const PointCloudBagIndex> index;
+  if (ros2) {
+    index = std::make_shared<const PointCloudBagIndex>(index_ros2_point_cloud_bag(path, o.bag));
+  } else {
+    bytes = std::make_shared<const std::string>(read_input_file(path, kMaxLogFileBytes));
+    index = std::make_shared<const PointCloudBagIndex>(index_point_cloud_bag(*bytes, path, o.bag));
+  }
   LidarRecording rec;
   rec.path = path;
-  rec.kind = "ROS 1 bag";
+  rec.kind = ros2 ? "ROS 2 bag" : "ROS 1 bag";
   LidarFrameFolder& f = rec.frames;
   f.dir = path;
   f.model = "unknown";
@@ -294,14 +308,16 @@ LidarRecording open_bag(const std::string& path, const LidarRecordingOptions& o)
     for (const LidarFrameRecord& r : f.frames) sensor.push_back(to_rigid(*r.truth) * mount);
     set_truth_from_sensor_poses(f, sensor);
   }
-  rec.for_each_cloud = [bytes, index, path](std::size_t count, const std::function<void(std::size_t, PointCloud&&)>& visit) {
+  rec.for_each_cloud = [bytes, index, path, ros2](std::size_t count, const std::function<void(std::size_t, PointCloud&&)>& visit) {
     std::size_t i = 0;
     const std::size_t n = count == 0 ? index->cloud_stamps_us.size() : std::min(count, index->cloud_stamps_us.size());
+    const auto each = [&](BagPointCloud&& c) {
+      if (i >= n) throw std::out_of_range("enough");  // stops the walk early
+      visit(i++, std::move(c.points));
+    };
     try {
-      for_each_bag_point_cloud(*bytes, path, *index, [&](BagPointCloud&& c) {
-        if (i >= n) throw std::out_of_range("enough");  // stops the walk early
-        visit(i++, std::move(c.points));
-      });
+      if (ros2) for_each_ros2_point_cloud(path, *index, each);
+      else for_each_bag_point_cloud(*bytes, path, *index, each);
     } catch (const std::out_of_range&) {
     }
   };
@@ -314,6 +330,7 @@ LidarRecording open_lidar_recording(const std::string& input, const LidarRecordi
   options.validate();
   const fs::path p(input);
   if (fs::is_directory(p)) {
+    if (is_ros2_bag_folder(input)) return open_bag(input, options, true);
     if (fs::exists(p / "frames.csv")) return open_frames_folder(input, options);
     if (fs::exists(p / "lidar" / "frames.csv")) return open_frames_folder((p / "lidar").string(), options);
     return open_cloud_files(input, options);
@@ -321,11 +338,13 @@ LidarRecording open_lidar_recording(const std::string& input, const LidarRecordi
   if (!fs::exists(p)) throw Error("does not exist", input);
   if (fs::is_regular_file(p)) {
     std::ifstream in(input, std::ios::binary);
-    char head[13] = {};
+    char head[16] = {};
     in.read(head, sizeof head);
-    if (is_ros1_bag(std::string_view(head, static_cast<std::size_t>(in.gcount())))) return open_bag(input, options);
+    const std::string_view start(head, static_cast<std::size_t>(in.gcount()));
+    if (is_ros1_bag(start)) return open_bag(input, options, false);
+    if (is_ros2_bag_bytes(start)) return open_bag(input, options, true);
   }
-  throw Error("is neither a folder of LiDAR frames or cloud files nor a ROS 1 bag", input);
+  throw Error("is neither a folder of LiDAR frames or cloud files nor a ROS 1 or ROS 2 bag", input);
 }
 
 }  // namespace starnav

@@ -8,7 +8,8 @@
 //    trajectory (below) and times from times.txt, else the poses file's, else the rate;
 //  - a ROS 1 bag with sensor_msgs/PointCloud2 (logs/ros_bag.hpp): its odometry interpolated to
 //    each cloud's stamp as the registration's guess, the sensor's mount from /tf_static, and the
-//    base's true pose from a named Odometry topic when there is one (its motion, as a poses file's).
+//    base's true pose from a named Odometry topic when there is one (its motion, as a poses file's);
+//  - a ROS 2 recording (logs/ros2_bag.hpp: MCAP, SQLite3, a rosbag2 folder), read the same way.
 //
 // Poses files (`--poses`, or poses.txt beside the clouds): one pose per line, either KITTI's 12
 // numbers (the row-major 3 x 4 [R|t], optionally after a time column) or TUM's
@@ -44,7 +45,7 @@ struct LidarRecordingOptions {
 
 struct LidarRecording {
   std::string path;
-  std::string kind;          // "frames folder", "cloud files" or "ROS 1 bag"
+  std::string kind;          // "frames folder", "cloud files", "ROS 1 bag" or "ROS 2 bag"
   LidarFrameFolder frames;   // mount, rate, per frame: time, odometry, truth (cloud: its file or message)
   // Visits the first `count` clouds (0: all) in order, sensor frame; reading errors name the file.
   std::function<void(std::size_t count, const std::function<void(std::size_t, PointCloud&&)>&)> for_each_cloud;

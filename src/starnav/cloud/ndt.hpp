@@ -62,7 +62,7 @@ class NdtMatcher : public ScanMatcher3d {
   std::string_view name() const override { return name_; }
   void set_reference(std::span<const Vec3> reference) override;
   CloudMatch match(std::span<const Vec3> scan, const Rigid3& guess) override;
-  unsigned threads() const { return pool_ ? pool_->size() : 1U; }
+  unsigned threads() const override { return pool_ ? pool_->size() : 1U; }
 
  private:
   NdtConfig c_;

@@ -45,6 +45,8 @@ class ScanMatcher3d {
   virtual void set_reference(std::span<const Vec3> reference) = 0;
   // `scan` onto the reference set last, starting from `guess`.
   virtual CloudMatch match(std::span<const Vec3> scan, const Rigid3& guess) = 0;
+  // The threads a match uses (1 unless the matcher runs on a pool).
+  virtual unsigned threads() const { return 1U; }
 };
 
 // set_reference and match in one call; time_s covers both.

@@ -213,7 +213,9 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   const double outer = fm.bounding_radius_m() + checker_.grow_m() + 0.5 * max_step + res;
   const double half = config_.window_m > 0.0 ? 0.5 * config_.window_m
                                              : limits_.max_speed_xy * check_max + config_.forward_point_m + outer + 2.0 * res;
-  map_.build(*in.local_map, in.pose.translation(), half, std::max(outer, config_.inflation_radius_m) + res);
+  const double pad = std::max(outer, config_.inflation_radius_m) + res;
+  if (in.clearance) map_.build(*in.clearance, in.pose.translation(), half, pad);
+  else map_.build(*in.local_map, in.pose.translation(), half, pad);
   s.map = &map_;
   s.pass_clearance_m = 0.5 * fm.inscribed_radius_m();
 
@@ -338,6 +340,29 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   for (auto& c : critics_) c->chosen(s, best_twist);
   last_.status = ControlStatus::Tracking;
   return {best_twist, ControlStatus::Tracking};
+}
+
+std::optional<ControlDiagnostics> DwaController::diagnostics() const {
+  if (!keep_samples_) return std::nullopt;
+  ControlDiagnostics d;
+  d.t_s = last_.t_s;
+  d.pose = last_.pose;
+  d.status = last_.status;
+  const int n = std::max(1, static_cast<int>(std::lround(config_.sim_time_s / config_.sim_step_s)));
+  for (const DwaSample& x : last_.samples) {
+    ControlCandidate c;
+    c.twist = x.twist;
+    c.status = x.valid ? CandidateStatus::Valid : (x.collides ? CandidateStatus::Collides : CandidateStatus::Rejected);
+    c.cost = x.cost;
+    dwa_rollout(last_.pose, x.twist, config_.sim_step_s, n, c.trajectory);
+    d.candidates.push_back(std::move(c));
+  }
+  d.chosen = last_.chosen;
+  if (last_.chosen >= 0 && static_cast<std::size_t>(last_.chosen) < last_.samples.size())
+    d.command = last_.samples[static_cast<std::size_t>(last_.chosen)].twist;
+  d.points.emplace_back("local goal", last_.local_goal);
+  d.terms.emplace_back("margin_cut_m", last_.margin_cut_m);
+  return d;
 }
 
 LocalControllerDef dwa_controller() {

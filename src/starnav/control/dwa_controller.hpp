@@ -45,6 +45,9 @@ class DwaController final : public LocalController {
   // The last step's samples (kept only with keep_samples; then every sample's footprint is tested,
   // otherwise only those cheaper than the first clear one: the same choice either way).
   void keep_samples(bool on) { keep_samples_ = on; }
+  void keep_diagnostics(bool on) override { keep_samples(on); }
+  // Every sample of the last step with its rollout, the chosen one, the local goal.
+  std::optional<ControlDiagnostics> diagnostics() const override;
   const DwaStepRecord& last_step() const { return last_; }
   // The local map of the last step.
   const ClearanceWindow& local_map() const { return map_; }

@@ -8,11 +8,13 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/plane_fit.hpp"
+#include "starnav/map/obstacle_distance_field.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/robot/robot_model.hpp"
 
@@ -44,6 +46,9 @@ struct ControlInput {
   Pose2 pose;                               // map frame (from the localizer)
   BodyTwist velocity;                       // current body twist (odometry or estimate)
   const OccupancyGrid* local_map = nullptr; // obstacles as sensed, not inflated (occupied cells); may be null
+  const ObstacleDistanceField* clearance = nullptr; // the same obstacles' distance field, up to date (controllers that
+                                             // check their footprint get it; they read it instead of
+                                             // transforming local_map themselves)
   Footprint footprint;
   VelocityLimits limits;
   Vec2 goal = Vec2::Zero();
@@ -57,6 +62,28 @@ struct ControlInput {
 struct ControlOutput {
   BodyTwist twist;  // base_link
   ControlStatus status = ControlStatus::Idle;
+};
+
+// What a controller considered at one step, in terms every controller can fill and one picture
+// writer can draw (harness/local_planning_pictures): the candidate motions it scored (sampling
+// controllers: every rollout; others: none or the one it follows), the one it chose, named points
+// (a look-ahead point, a local goal) and named scalar terms.
+enum class CandidateStatus : std::uint8_t { Valid, Collides, Rejected };
+struct ControlCandidate {
+  BodyTwist twist;
+  std::vector<Pose2> trajectory;  // the poses it would pass through, from the step's pose on (excluded)
+  CandidateStatus status = CandidateStatus::Valid;
+  double cost = 0.0;              // valid candidates: the controller's objective (lower is better)
+};
+struct ControlDiagnostics {
+  double t_s = 0.0;
+  Pose2 pose;                     // where the step was computed from
+  ControlStatus status = ControlStatus::Idle;
+  BodyTwist command;
+  std::vector<ControlCandidate> candidates;
+  int chosen = -1;                // index into candidates; -1: none chosen
+  std::vector<std::pair<std::string, Vec2>> points;    // "local goal", "look-ahead", ...
+  std::vector<std::pair<std::string, double>> terms;   // "cross_track_m", "margin_cut_m", ...
 };
 
 class LocalController {
@@ -78,6 +105,13 @@ class LocalController {
   // Time between two compute() calls the controller is designed for (its command is held in
   // between); 0: every simulation step.
   virtual double control_period_s() const { return 0.0; }
+  // A controller with several motion modes (the path follower's turn_then_drive, holonomic,
+  // pure_pursuit): the one it runs; empty for the others.
+  virtual std::string motion_mode() const { return {}; }
+  // Keep what diagnostics() needs at every step (it may cost time: off by default).
+  virtual void keep_diagnostics(bool /*on*/) {}
+  // The last compute()'s diagnostics, when the controller keeps them; nothing otherwise.
+  virtual std::optional<ControlDiagnostics> diagnostics() const { return std::nullopt; }
 };
 
 // What a controller is built from: the robot, and the scenario file its settings came from.

@@ -386,7 +386,24 @@ ControlOutput PathFollowerController::compute(const ControlInput& input) {
     case FollowStatus::Arrived: c.status = ControlStatus::Arrived; break;
     case FollowStatus::Missed: c.status = ControlStatus::CannotReach; break;
   }
+  last_t_s_ = input.t_s;
+  last_pose_ = input.pose;
+  last_status_ = c.status;
+  last_ = out;
   return c;
+}
+
+std::optional<ControlDiagnostics> PathFollowerController::diagnostics() const {
+  ControlDiagnostics d;
+  d.t_s = last_t_s_;
+  d.pose = last_pose_;
+  d.status = last_status_;
+  d.command = last_.command;
+  d.points = {{"look-ahead", last_.look_ahead}};
+  d.terms = {{"cross_track_m", last_.cross_track_m},
+             {"heading_error_deg", last_.heading_error_rad * 180.0 / kPi},
+             {"distance_remaining_m", last_.distance_remaining_m}};
+  return d;
 }
 
 LocalControllerDef path_follower_controller() {

@@ -142,10 +142,18 @@ class PathFollowerController final : public LocalController {
   const std::vector<Vec2>& path() const override { return follower_.path(); }
   ControlOutput compute(const ControlInput& input) override;
   bool wants_smoothed_path() const override { return follower_.mode() == MotionMode::PurePursuit; }
+  std::string motion_mode() const override { return motion_mode_name(follower_.mode()); }
+  // The look-ahead point and the tracking errors of the last step (cheap: always kept).
+  std::optional<ControlDiagnostics> diagnostics() const override;
   const PathFollower& follower() const { return follower_; }
 
  private:
   PathFollower follower_;
+  // The last step, for diagnostics() (built only when asked).
+  double last_t_s_ = 0.0;
+  Pose2 last_pose_;
+  ControlStatus last_status_ = ControlStatus::Idle;
+  FollowOutput last_;
 };
 
 }  // namespace starnav

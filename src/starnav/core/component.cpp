@@ -11,6 +11,7 @@ const char* role_name(Role r) {
     case Role::GoalChecker: return "goal_checker";
     case Role::ProgressChecker: return "progress_checker";
     case Role::Recovery: return "recovery";
+    case Role::CostmapLayer: return "costmap_layer";
     case Role::Localizer: return "localizer";
     case Role::Slam: return "slam";
     case Role::ScanMatcher: return "scan_matcher";
@@ -38,6 +39,7 @@ const char* capability_name(Capability c) {
     case Capability::Plugin: return "plugin";
     case Capability::Planar: return "planar";
     case Capability::ThreeD: return "3d";
+    case Capability::PriorMap: return "prior_map";
   }
   return "unknown";
 }

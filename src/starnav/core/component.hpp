@@ -25,17 +25,18 @@ enum class Role : std::uint8_t {
   GoalChecker,
   ProgressChecker,
   Recovery,
+  CostmapLayer,
   Localizer,
   Slam,
   ScanMatcher,
   ScanMatcher3d,
 };
-// "global_planner", "local_controller", "goal_checker", "progress_checker", "recovery", "localizer",
-// "slam", "scan_matcher", "scan_matcher_3d"
+// "global_planner", "local_controller", "goal_checker", "progress_checker", "recovery",
+// "costmap_layer", "localizer", "slam", "scan_matcher", "scan_matcher_3d"
 const char* role_name(Role r);
-inline constexpr Role kAllRoles[] = {Role::GlobalPlanner, Role::LocalController, Role::GoalChecker,
-                                     Role::ProgressChecker, Role::Recovery,       Role::Localizer,
-                                     Role::Slam,            Role::ScanMatcher,    Role::ScanMatcher3d};
+inline constexpr Role kAllRoles[] = {Role::GlobalPlanner, Role::LocalController, Role::GoalChecker, Role::ProgressChecker,
+                                     Role::Recovery,      Role::CostmapLayer,    Role::Localizer,   Role::Slam,
+                                     Role::ScanMatcher,   Role::ScanMatcher3d};
 // The role named as role_name() spells it; nullopt for anything else.
 std::optional<Role> role_from_name(std::string_view name);
 
@@ -53,10 +54,11 @@ enum class Capability : std::uint8_t {
   Plugin,            // loaded from a plugin library at run time
   Planar,            // SLAM, scan matchers: 2D scans
   ThreeD,            // SLAM, scan matchers: 3D clouds
+  PriorMap,          // a costmap layer that holds the obstacles of navigation.map.prior
 };
-inline constexpr int kCapabilityCount = 11;
+inline constexpr int kCapabilityCount = 12;
 // "admissible", "incremental", "occupancy", "needs_elevation", "needs_map", "goal_heading",
-// "checks_footprint", "velocity_space", "plugin", "planar", "3d"
+// "checks_footprint", "velocity_space", "plugin", "planar", "3d", "prior_map"
 const char* capability_name(Capability c);
 
 // A set of capabilities, in declaration order when listed.

@@ -12,6 +12,12 @@ namespace starnav {
 
 inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// The farthest a position read from a file (a pose, a point) may lie from its frame's origin: a
+// million kilometres, beyond any site a robot maps and well inside what grids and pictures can
+// index. A farther value is corrupt and is refused where it is read.
+inline constexpr double kMaxCoordinateM = 1e9;
+inline bool plausible_coordinate(double v) { return std::abs(v) <= kMaxCoordinateM; }  // false for NaN
+
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 

@@ -8,6 +8,9 @@
 namespace starnav {
 
 inline constexpr std::uint64_t kMaxInputFileBytes = std::uint64_t{4} << 30;  // 4 GiB
+// The most points one point cloud may hold, whatever holds it (a PCD, PLY or KITTI .bin file, a
+// bag's PointCloud2 message): checked from its header or size before anything is allocated.
+inline constexpr std::uint64_t kMaxCloudPoints = 50'000'000;
 
 // Throws Error(path): "no such file", "is a directory, not a file", "is not a regular file ...",
 // "is N bytes, more than ...", or the system's reason.

@@ -1,5 +1,7 @@
 #include "starnav/core/params.hpp"
 
+#include <string_view>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -24,25 +26,29 @@ const char* param_type_name(ParamType t) {
 
 std::vector<std::string> parse_param_name_list(const ParamSetting& setting) {
   std::vector<std::string> out;
-  std::string text = setting.value;
+  std::string_view text = setting.value;
   // A list written inline on the command line: [a, b]
   if (text.size() >= 2 && text.front() == '[' && text.back() == ']') text = text.substr(1, text.size() - 2);
+  const auto blank = [](char ch) { return ch == ' ' || ch == '\t'; };
   std::size_t start = 0;
-  while (start <= text.size()) {
+  for (;;) {
     const std::size_t comma = text.find(',', start);
-    std::string name = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    name.erase(0, name.find_first_not_of(" \t"));
-    name.erase(name.find_last_not_of(" \t") + 1);
-    if (!name.empty()) {
-      for (const char ch : name)
+    const std::size_t stop = comma == std::string_view::npos ? text.size() : comma;
+    std::size_t a = start, b = stop;
+    while (a < b && blank(text[a])) ++a;
+    while (b > a && blank(text[b - 1])) --b;
+    if (a < b) {
+      for (std::size_t k = a; k < b; ++k) {
+        const char ch = text[k];
         if (!((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_'))
           throw Error("expected a list of names (lower_snake_case), found '" + setting.value + "'", setting.file, setting.line,
                       setting.field);
-      out.push_back(name);
-    } else if (comma != std::string::npos) {
+      }
+      out.emplace_back(text.substr(a, b - a));
+    } else if (comma != std::string_view::npos) {
       throw Error("an empty name in the list '" + setting.value + "'", setting.file, setting.line, setting.field);
     }
-    if (comma == std::string::npos) break;
+    if (comma == std::string_view::npos) break;
     start = comma + 1;
   }
   return out;
@@ -50,8 +56,12 @@ std::vector<std::string> parse_param_name_list(const ParamSetting& setting) {
 
 std::string format_param_name_list(const std::vector<std::string>& names) {
   std::string s = "[";
-  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
-  return s + "]";
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) s += ", ";
+    s += names[i];
+  }
+  s += ']';
+  return s;
 }
 
 bool ParamRange::contains(double v) const {
@@ -97,7 +107,12 @@ namespace {
   throw Error(message, v.file, v.line, v.field.empty() ? v.key : v.field);
 }
 
-std::string quoted(const std::string& text) { return "'" + one_line(text, 60) + "'"; }
+// Built by append: g++ 12 warns falsely (-Wrestrict) on a literal + string here.
+std::string quoted(const std::string& text) {
+  std::string out = "'";
+  out.append(one_line(text, 60)).append("'");
+  return out;
+}
 
 }  // namespace
 

@@ -8,7 +8,7 @@
 
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/cloud/kitti_dataset.hpp"
-#include "starnav/cloud/ndt.hpp"
+#include "starnav/cloud/scan_matcher_3d.hpp"
 #include "starnav/cloud/ransac_plane.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
@@ -177,7 +177,7 @@ KittiRegistrationResult run_kitti_registration(const KittiRegistrationConfig& co
     }
     for (const MatcherVariant& v : variants) {
       auto matcher = find_scan_matcher_3d(v.matcher).make({}, v.settings);
-      if (auto* ndt = dynamic_cast<NdtMatcher*>(matcher.get()); ndt && v.matcher == "ndt_mt") r.ndt_mt_threads = ndt->threads();
+      if (matcher->threads() > 1) r.threads.emplace_back(v.label, matcher->threads());
       for (int k = 0; k + 1 < config.frames; ++k) {
         if (progress) progress(done, total, seq + " " + v.label + " " + std::to_string(k));
         const Rigid3 truth = kitti_lidar_pose(poses[static_cast<std::size_t>(k)], tr).inverse() *
@@ -239,8 +239,10 @@ std::string kitti_registration_markdown(const KittiRegistrationResult& r) {
   s += "; frames 0-" + std::to_string(c.frames - 1) + ", each pair from the identity. Prefilter: range " +
        format_fixed(c.prefilter.window.min_range_m, 1) + "-" + format_fixed(c.prefilter.window.max_range_m, 1) + " m, voxel " +
        format_fixed(c.prefilter.voxel_leaf_m, 2) + " m: " + format_fixed(r.mean_raw_points, 0) + " -> " +
-       format_fixed(r.mean_filtered_points, 0) + " points per frame. ndt_mt ran on " + std::to_string(r.ndt_mt_threads) +
-       " threads.\n\n";
+       format_fixed(r.mean_filtered_points, 0) + " points per frame.";
+  std::string pooled;
+  for (const auto& [label, n] : r.threads) pooled += (pooled.empty() ? "" : ", ") + label + " on " + std::to_string(n) + " threads";
+  s += (pooled.empty() ? " Every matcher on one thread." : " " + pooled + ", the others on one.") + std::string("\n\n");
   s += "| matcher | pairs | converged | translation error mean / max (cm) | rotation error mean / max (deg) | median time (ms) | "
        "iterations |\n|---|---|---|---|---|---|---|\n";
   for (const KittiMatcherSummary& m : r.summaries)
@@ -289,7 +291,9 @@ std::string kitti_registration_json(const KittiRegistrationResult& r) {
   j["frames"] = r.config.frames;
   j["mean_raw_points"] = r.mean_raw_points;
   j["mean_filtered_points"] = r.mean_filtered_points;
-  j["ndt_mt_threads"] = r.ndt_mt_threads;
+  nlohmann::ordered_json threads = nlohmann::ordered_json::object();
+  for (const auto& [label, n] : r.threads) threads[label] = n;
+  j["threads"] = threads;  // matchers that ran on more than one thread
   nlohmann::ordered_json ms = nlohmann::ordered_json::array();
   for (const KittiMatcherSummary& m : r.summaries)
     ms.push_back({{"matcher", m.matcher},

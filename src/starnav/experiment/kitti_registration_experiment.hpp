@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "starnav/cloud/cloud_filters.hpp"
@@ -84,7 +85,7 @@ struct KittiRegistrationResult {
   KittiRegistrationConfig config;
   std::vector<std::string> references;  // per sequence: "semantickitti" | "kitti_gt"
   double mean_raw_points = 0.0, mean_filtered_points = 0.0;
-  unsigned ndt_mt_threads = 1;
+  std::vector<std::pair<std::string, unsigned>> threads;  // matchers on more than one thread (label, threads)
   std::vector<KittiPairResult> pairs;
   std::vector<KittiMatcherSummary> summaries;
   std::vector<KittiFloorResult> floors;  // per sequence and frame

@@ -5,10 +5,12 @@
 #include <vector>
 
 #include "starnav/cloud/cloud_io.hpp"
+#include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/run_limits.hpp"
+#include "starnav/io/yaml_document.hpp"
 #include "starnav/logs/decompress.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/sense/lidar.hpp"
@@ -31,6 +33,7 @@ struct Limit {
 
 std::string count(double v) { return format_number(v); }
 std::string bytes(double v) { return format_number(v / (1024.0 * 1024.0 * 1024.0)) + " GiB"; }
+std::string bytes_mib(double v) { return format_number(v / (1024.0 * 1024.0)) + " MiB"; }
 
 }  // namespace
 
@@ -40,13 +43,22 @@ std::string limits_markdown() {
        {
            {"any file read whole", bytes(static_cast<double>(kMaxInputFileBytes)), "every FILE argument",
             "checked from the file's size before reading; only regular files (no devices, FIFOs or sockets)"},
-           {"a robot log", bytes(static_cast<double>(kMaxLogFileBytes)), "`log`, `slam`, `localize` LOG", "the size of the file"},
+           {"a robot log", bytes(static_cast<double>(kMaxLogFileBytes)), "`log`, `slam`, `localize`, `map build` LOG, `slam3d` bags",
+            "the size of the file"},
+           {"readings of one laser scan", count(static_cast<double>(kMaxScanBeams)),
+            "CARMEN lines, text extracts, ROS bags' LaserScan messages", "checked from the count before the readings are stored"},
            {"decompressed data", bytes(static_cast<double>(kMaxDecompressedBytes)), ".gz, bzip2 and LZ4 inputs",
             "a small archive that inflates without bound is refused while inflating"},
            {"cells of a grid", count(static_cast<double>(kMaxGridCells)), "every map format's width x height",
             "cell indices are 32-bit; checked from the header before the body is read"},
-           {"points of a cloud file", count(static_cast<double>(kMaxCloudPoints)), "PCD, PLY and KITTI .bin clouds",
+           {"points of a cloud file", count(static_cast<double>(kMaxCloudPoints)), "PCD, PLY and KITTI .bin clouds, PointCloud2 messages of bags",
             "checked from the header (or the file size) before reading"},
+           {"a position read from a file", format_number(kMaxCoordinateM) + " m from the origin",
+            "poses of robot logs (CARMEN, text extracts, bags' odometry and transforms), trajectory and pose files, frames.csv",
+            "beyond any site; a farther value is corrupt (grids and pictures index what lies within it)"},
+           {"a YAML document", bytes_mib(static_cast<double>(kMaxYamlBytes)) + " and " + count(static_cast<double>(kMaxYamlNodes)) + " nodes",
+            "scenarios, `--set` values, map_server and elevation YAML, RAW sidecars, slam3d's sensor.yaml",
+            "nodes counted with their aliases expanded, in one pass over the text before the document is built"},
        }},
       {"Simulation",
        {

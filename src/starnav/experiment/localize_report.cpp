@@ -139,16 +139,25 @@ std::vector<ParamSetting> localize_log_defaults(LocalizeStart start) {
   return out;
 }
 
-LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, const OccupancyThresholds& thresholds,
-                               const RobotLog* reference, const LocalizeRunRequest& q,
-                               const std::function<void(std::size_t, std::size_t)>& progress) {
+namespace {
+
+// The log's defaults, then the user's settings (the later value of a key wins).
+std::vector<ParamSetting> localize_settings(const LocalizeRunRequest& q) {
   for (const ParamSetting& s : q.settings)
     if (s.key == "initial")
       throw Error("the start is chosen with --initial here (x,y,yaw_deg | global | first)", s.file, s.line,
                   s.field.empty() ? "amcl.initial" : s.field);
-  // The log's defaults, then the user's settings (the later value of a key wins).
   std::vector<ParamSetting> settings = localize_log_defaults(q.initial.kind);
   settings.insert(settings.end(), q.settings.begin(), q.settings.end());
+  return settings;
+}
+
+}  // namespace
+
+LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, const OccupancyThresholds& thresholds,
+                               const RobotLog* reference, const LocalizeRunRequest& q,
+                               const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::vector<ParamSetting> settings = localize_settings(q);
   const AmclConfig config = amcl_config_from_settings(settings, {});
 
   LocalizeRunResult r;
@@ -284,6 +293,8 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
 }
 
 LocalizeRunResult run_localize_on_file(const LocalizeRunRequest& q, const std::function<void(std::size_t, std::size_t)>& progress) {
+  // The settings first: a bad one is its own error, before any file is read (or warned about).
+  (void)amcl_config_from_settings(localize_settings(q), {});
   LoadedMap loaded;
   try {
     loaded = load_map(q.map);

@@ -361,9 +361,11 @@ TerrainExperimentResult run_terrain_experiment(const TerrainExperimentConfig& c)
       out.goal = cell_of_point(g, goal_m);
       // A query off the map is the user's mistake, not a row of failed plans.
       for (const auto& [cell, point, flag] : {std::tuple{out.start, start_m, "--start"}, std::tuple{out.goal, goal_m, "--goal"}})
-        if (!g.contains(cell))
-          throw Error("(" + format_readable(point.x(), 6) + ", " + format_readable(point.y(), 6) + ") m is outside the map " + out.name,
-                      {}, 0, flag);
+        if (!g.contains(cell)) {
+          std::string where = "(";  // appended: g++ 12 warns falsely (-Wrestrict) on a literal + string in some inlinings
+          where += format_readable(point.x(), 6) + ", " + format_readable(point.y(), 6) + ") m is outside the map " + out.name;
+          throw Error(where, {}, 0, flag);
+        }
     } else {
       auto_endpoints(*analysis, out.start, out.goal);
     }

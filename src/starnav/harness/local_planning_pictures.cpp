@@ -26,51 +26,53 @@ OccupancyGrid crop_map(const OccupancyGrid& map, const Vec2& centre, double side
   return out;
 }
 
-viz::MapPicture dwa_step_picture(const DwaSnapshot& s, const std::string& title) {
+viz::MapPicture controller_step_picture(const ControllerSnapshot& s, const std::string& title) {
   viz::PictureOptions opts;
   opts.title = title;
   viz::MapPicture pic(s.local_map, opts);
   if (s.path.size() >= 2) pic.add_polyline(s.path, {{0, 0, 0, 255}, 1.2, 0.7, true}, "path");
-  // Costs of the valid samples, for shading (cheap dark blue, dear light).
+  // Costs of the valid candidates, for shading (cheap dark blue, dear light).
   double lo = 1e300, hi = -1e300;
-  for (const DwaSample& x : s.step.samples)
-    if (x.valid) {
+  for (const ControlCandidate& x : s.step.candidates)
+    if (x.status == CandidateStatus::Valid) {
       lo = std::min(lo, x.cost);
       hi = std::max(hi, x.cost);
     }
-  const int n = std::max(1, static_cast<int>(std::lround(s.config.sim_time_s / s.config.sim_step_s)));
-  std::vector<Pose2> poses;
-  bool first_valid = true, first_collides = true;
-  for (const DwaSample& x : s.step.samples) {
-    if (!x.valid && !x.collides) continue;  // infeasible or rejected by a critic: not drawn
-    dwa_rollout(s.step.pose, x.twist, s.config.sim_step_s, n, poses);
+  const auto line_of = [&](const ControlCandidate& x) {
     std::vector<Vec2> line{s.step.pose.translation()};
-    for (const Pose2& p : poses) line.push_back(p.translation());
-    if (x.collides) {
-      pic.add_polyline(std::move(line), {{213, 94, 0, 255}, 0.6, 0.35, false}, first_collides ? "collides" : "");
+    for (const Pose2& p : x.trajectory) line.push_back(p.translation());
+    return line;
+  };
+  bool first_valid = true, first_collides = true;
+  for (const ControlCandidate& x : s.step.candidates) {
+    if (x.status == CandidateStatus::Rejected) continue;  // infeasible or refused by a critic: not drawn
+    if (x.status == CandidateStatus::Collides) {
+      pic.add_polyline(line_of(x), {{213, 94, 0, 255}, 0.6, 0.35, false}, first_collides ? "collides" : "");
       first_collides = false;
     } else {
       const double f = hi > lo ? (x.cost - lo) / (hi - lo) : 0.0;
       const auto shade = static_cast<std::uint8_t>(40 + 180 * f);
-      pic.add_polyline(std::move(line), {{shade, shade, 255, 255}, 0.7, 0.6, false}, first_valid ? "valid (darker: cheaper)" : "");
+      pic.add_polyline(line_of(x), {{shade, shade, 255, 255}, 0.7, 0.6, false}, first_valid ? "valid (darker: cheaper)" : "");
       first_valid = false;
     }
   }
-  if (s.step.chosen >= 0 && static_cast<std::size_t>(s.step.chosen) < s.step.samples.size()) {
-    const DwaSample& c = s.step.samples[static_cast<std::size_t>(s.step.chosen)];
-    dwa_rollout(s.step.pose, c.twist, s.config.sim_step_s, n, poses);
-    std::vector<Vec2> line{s.step.pose.translation()};
-    for (const Pose2& p : poses) line.push_back(p.translation());
-    pic.add_polyline(std::move(line), {{0, 158, 115, 255}, 3.0, 1.0, false},
-                     "chosen (" + format_fixed(c.twist.vx, 2) + ", " + format_fixed(c.twist.vy, 2) + ", " + format_fixed(c.twist.wz, 2) + ")");
-  }
+  const BodyTwist& u = s.step.command;
+  const std::string command = "(" + format_fixed(u.vx, 2) + ", " + format_fixed(u.vy, 2) + ", " + format_fixed(u.wz, 2) + ")";
+  if (s.step.chosen >= 0 && static_cast<std::size_t>(s.step.chosen) < s.step.candidates.size())
+    pic.add_polyline(line_of(s.step.candidates[static_cast<std::size_t>(s.step.chosen)]), {{0, 158, 115, 255}, 3.0, 1.0, false},
+                     "chosen " + command);
   // The body's outline at the step's pose.
   const double hl = 0.5 * s.footprint.length_m, hw = 0.5 * s.footprint.width_m;
   std::vector<Vec2> outline;
   for (const Vec2& k : {Vec2(hl, hw), Vec2(-hl, hw), Vec2(-hl, -hw), Vec2(hl, -hw), Vec2(hl, hw)})
     outline.push_back(s.step.pose.transform(k));
-  pic.add_polyline(std::move(outline), {{0, 0, 0, 255}, 1.6, 1.0, false}, "robot");
-  pic.add_points({s.step.local_goal}, {{230, 159, 0, 255}, 5.0, {0, 0, 0, 255}, 1.0, 1.0}, "local goal");
+  pic.add_polyline(std::move(outline), {{0, 0, 0, 255}, 1.6, 1.0, false},
+                   s.step.chosen >= 0 ? "robot" : "robot, command " + command);
+  // The controller's own points, one colour each (Okabe-Ito).
+  static const viz::Rgba kColours[] = {{230, 159, 0, 255}, {86, 180, 233, 255}, {204, 121, 167, 255}, {240, 228, 66, 255}};
+  std::size_t k = 0;
+  for (const auto& [name, point] : s.step.points)
+    pic.add_points({point}, {kColours[k++ % 4], 5.0, {0, 0, 0, 255}, 1.0, 1.0}, name);
   return pic;
 }
 

@@ -82,27 +82,27 @@ std::vector<Vec2> circle_points(const Vec2& c, double r, int n = 72) {
 // are light, and coloured paths stay readable on grey; a height ramp would compete with them), or
 // one grey in 2D mode where heights are all 0; unobserved cells near white. The two ends of the
 // grey scale get (empty) legend entries with their heights.
-viz::MapPicture base_picture(const NodeHeightMap& map, viz::PictureOptions opts) {
+viz::MapPicture base_picture(const LayeredCostmap& map, viz::PictureOptions opts) {
   constexpr int kLow = 12, kHigh = 60;  // occupancy values: grey 224 .. 102
   opts.plot_background = kUnobserved;
   opts.occupancy.unknown = kUnobserved;
   // Observed by evidence (in 2D mode the elevation layer may stay empty).
-  const ElevationMap& e = map.elevation();
-  const bool heights = map.params().mode == NodeMapMode::Nodes3D;
+  const ElevationMap* e = map.heights();  // 3D nodes; none in 2D mode
+  const bool heights = e != nullptr;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   bool any = false;
   for (int y = 0; y < map.height(); ++y)
     for (int x = 0; x < map.width(); ++x) {
       if (!map.observed(x, y)) continue;
       any = true;
-      if (heights && e.observed_at(x, y)) lo = std::min(lo, e.height_at(x, y)), hi = std::max(hi, e.height_at(x, y));
+      if (heights && e->observed_at(x, y)) lo = std::min(lo, e->height_at(x, y)), hi = std::max(hi, e->height_at(x, y));
     }
   const bool shaded = heights && hi - lo > 1e-9;
   OccupancyGrid grey(map.geometry(), kUnknownOccupancy);
   for (int y = 0; y < map.height(); ++y)
     for (int x = 0; x < map.width(); ++x) {
       if (!map.observed(x, y)) continue;
-      const double t = shaded && e.observed_at(x, y) ? (e.height_at(x, y) - lo) / (hi - lo) : 0.0;
+      const double t = shaded && e->observed_at(x, y) ? (e->height_at(x, y) - lo) / (hi - lo) : 0.0;
       grey(x, y) = static_cast<std::int8_t>(std::lround(kLow + t * (kHigh - kLow)));
     }
   viz::MapPicture pic(grey, opts);
@@ -124,6 +124,97 @@ void naming_file(const std::string& path, F&& f) {
   } catch (const Error& e) {
     if (e.file().empty()) throw e.with_file(path);
     throw;
+  }
+}
+
+// The plans' labels, readable however many plans start close together. Plans whose paths start
+// within a label's height of each other on the picture share one label naming them all ("P3..P7,
+// P12"; dark grey when it names several, else the plan's colour). Each label then takes the first
+// free place around its start, nearest first: beside the first leg (where the replan happened),
+// then the other directions and farther out, never over another label, the start or the goal,
+// or outside the plot; one placed away from its start gets a thin leader line to it. Placement is
+// in the SVG's pixels, a deterministic greedy search in plan order.
+void add_plan_labels(viz::MapPicture& pic, const NavigationPictureData& d) {
+  constexpr double kFontPx = 14.0;
+  constexpr double kCharPx = 0.62 * kFontPx;  // a sans-serif digit or capital, with the halo's share
+  const viz::PictureLayout L = pic.svg_layout();
+  struct Group {
+    Vec2 anchor;  // picture pixels: the first plan's start
+    Vec2 away;    // unit vector: left of the first plan's first leg, on the picture
+    std::vector<std::size_t> plans;
+  };
+  std::vector<Group> groups;
+  for (std::size_t k = 0; k < d.plans.size(); ++k) {
+    const NavPlan& p = d.plans[k];
+    if (p.points.size() < 2) continue;
+    const Vec2 a = L.to_picture(p.points.front());
+    const auto near = std::find_if(groups.begin(), groups.end(), [&](const Group& g) { return (g.anchor - a).norm() < kFontPx; });
+    if (near != groups.end()) {
+      near->plans.push_back(k);
+      continue;
+    }
+    Vec2 leg = L.to_picture(p.points[1]) - a;
+    leg = leg.norm() > 0.0 ? Vec2(leg / leg.norm()) : Vec2(1.0, 0.0);
+    groups.push_back({a, Vec2(leg.y(), -leg.x()), {k}});  // left of the leg with y pointing down
+  }
+  struct Box {
+    double x0, y0, x1, y1;
+    bool overlaps(const Box& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+  };
+  std::vector<Box> taken;
+  for (const Vec2& marker : {d.start.translation(), d.goal}) {
+    const Vec2 m = L.to_picture(marker);
+    taken.push_back({m.x() - 7.0, m.y() - 7.0, m.x() + 7.0, m.y() + 7.0});
+  }
+  const Box plot{L.plot_x, L.plot_y, L.plot_x + L.plot_w, L.plot_y + L.plot_h};
+  for (const Group& g : groups) {
+    // The text: the plans' ids, runs of consecutive ones as ranges.
+    std::string text;
+    for (std::size_t i = 0; i < g.plans.size();) {
+      std::size_t j = i;
+      while (j + 1 < g.plans.size() && d.plans[g.plans[j + 1]].id == d.plans[g.plans[j]].id + 1) ++j;
+      if (!text.empty()) text += ", ";
+      text += plan_name(d.plans[g.plans[i]]);
+      if (j > i) {
+        text += j == i + 1 ? ", " : "..";
+        text += plan_name(d.plans[g.plans[j]]);
+      }
+      i = j + 1;
+    }
+    const double w = kCharPx * static_cast<double>(text.size()) + 4.0, h = kFontPx + 2.0;
+    const auto box_at = [&](const Vec2& c) { return Box{c.x() - w / 2, c.y() - h / 2, c.x() + w / 2, c.y() + h / 2}; };
+    const auto fits = [&](const Box& b) {
+      return b.x0 >= plot.x0 && b.x1 <= plot.x1 && b.y0 >= plot.y0 && b.y1 <= plot.y1 &&
+             std::none_of(taken.begin(), taken.end(), [&](const Box& t) { return t.overlaps(b); });
+    };
+    // Candidates nearest first: eight directions (from beside the first leg round both ways) on
+    // rings that grow until one fits; the first ring keeps the label's edge clear of the start.
+    const double first_ring = 0.5 * std::hypot(w, h) + 4.0;
+    const double base_angle = std::atan2(g.away.y(), g.away.x());
+    std::optional<Vec2> centre;
+    double ring = first_ring;
+    for (int r = 0; r < 12 && !centre; ++r, ring += h + 2.0) {
+      for (const int step : {0, 1, -1, 2, -2, 3, -3, 4}) {
+        const double a = base_angle + step * std::numbers::pi / 4;
+        const Vec2 c = g.anchor + ring * Vec2(std::cos(a), std::sin(a));
+        if (fits(box_at(c))) {
+          centre = c;
+          break;
+        }
+      }
+    }
+    if (!centre) centre = g.anchor + first_ring * g.away;  // no room anywhere near: beside its start, as before
+    taken.push_back(box_at(*centre));
+    const viz::Rgba colour = g.plans.size() == 1 ? plan_colour(g.plans.front()) : viz::Rgba{64, 64, 64, 255};
+    if ((*centre - g.anchor).norm() > first_ring + 1.0) {
+      // The leader: from the start to the box's edge.
+      const Vec2 to = *centre - g.anchor;
+      const double reach = std::min(w / 2 / std::max(std::abs(to.x()), 1e-9), h / 2 / std::max(std::abs(to.y()), 1e-9));
+      const Vec2 edge = *centre - std::min(1.0, reach) * to;
+      pic.add_polyline({L.to_world(g.anchor), L.to_world(edge)}, {colour, 0.8, 0.8, false});
+    }
+    // The text's baseline sits a third of the font below the box's centre.
+    pic.add_text(L.to_world(*centre + Vec2(0.0, 0.35 * kFontPx)), text, {colour, kFontPx, viz::TextAnchor::Middle, true});
   }
 }
 
@@ -184,7 +275,7 @@ NavigationPictureData navigation_picture_data(const NavigationRun& run) {
 
 viz::MapPicture navigation_scene_picture(const NavigationPictureData& d) {
   if (d.map == nullptr) throw Error("navigation picture without a map", {}, 0, "map");
-  const NodeHeightMap& map = *d.map;
+  const LayeredCostmap& map = *d.map;
   const GridGeometry& g = map.geometry();
   viz::PictureOptions opts;
   opts.title = d.name + ": navigation scene" + title_suffix(d);
@@ -204,31 +295,20 @@ viz::MapPicture navigation_scene_picture(const NavigationPictureData& d) {
                         {fixed, appearing, {kStaticObstacle, 0.8, 1.0, true}, "true obstacle",
                          "true obstacle, dynamic (where it appeared)"});
 
-  // Sizes in world units that scale with the map, so labels and arrows read the same at any extent.
+  // Sizes in world units that scale with the map, so arrows read the same at any extent.
   const double span = std::max(g.width, g.height) * g.resolution;
-  const double label_offset = 0.025 * span;
 
-  struct Label {
-    Vec2 at;
-    std::string text;
-    viz::Rgba colour;
-  };
-  std::vector<Label> labels;
   for (std::size_t k = 0; k < d.plans.size(); ++k) {
     const NavPlan& p = d.plans[k];
     if (p.points.size() < 2) continue;  // a failed plan has no path to draw
     pic.add_polyline(p.points, {plan_colour(k), 2.0, 0.9, false}, plan_legend(d, k, true));
-    // The label beside the start, to the left of the first leg, where the replan happened.
-    Vec2 dir = p.points[1] - p.points[0];
-    dir = dir.norm() > 0.0 ? Vec2(dir / dir.norm()) : Vec2(1.0, 0.0);
-    labels.push_back({p.points.front() + label_offset * Vec2(-dir.y(), dir.x()), plan_name(p), plan_colour(k)});
   }
   if (!d.trajectory.empty()) pic.add_polyline(d.trajectory, {kBlack, 3.0, 1.0, false}, "executed trajectory");
   if (d.goal_tolerance_m > 0.0) pic.add_circle(d.goal, d.goal_tolerance_m, {kBlack, 1.0, 1.0, true}, std::nullopt, "goal tolerance");
   pic.add_pose(d.start, 0.06 * span, {kBlack, 1.5, 1.0, false});
   pic.add_points({d.start.translation()}, {kStart, 5.0, kBlack, 1.0, 1.0}, "start");
   pic.add_points({d.goal}, {kGoal, 5.0, kBlack, 1.0, 1.0}, "goal");
-  for (const Label& l : labels) pic.add_text(l.at, l.text, {l.colour, 14.0, viz::TextAnchor::Middle, true});
+  add_plan_labels(pic, d);
   return pic;
 }
 

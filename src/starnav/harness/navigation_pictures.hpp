@@ -1,6 +1,6 @@
 #pragma once
 // Pictures of a navigation run (paper Li 2019 Figs. 33-38):
-//   scene    the final NodeHeightMap from above (observed cells grey, darker the higher their mid
+//   scene    the final navigation map from above (observed cells grey, darker the higher their mid
 //            height; one grey in 2D mode; unobserved near white), raw blocked cells red, the band pink, every
 //            plan P1, P2, ... in its own colour and labelled at its start, the executed trajectory
 //            thick black, start, goal and goal tolerance, the true obstacles' footprints as thin
@@ -17,7 +17,7 @@
 #include "starnav/core/geometry.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/nav/navigator.hpp"
-#include "starnav/nav/node_height_map.hpp"
+#include "starnav/costmap/layered_costmap.hpp"
 #include "starnav/sim/obstacles.hpp"
 #include "starnav/viz/map_picture.hpp"
 #include "starnav/viz/plot_svg.hpp"
@@ -29,7 +29,7 @@ struct NavigationPictureData {
   std::string name;                     // scenario name, for titles
   std::string status;                   // e.g. "arrived" (titles; empty: left out)
   double end_time_s = 0.0;              // the trajectory's last time (titles, moving obstacles)
-  const NodeHeightMap* map = nullptr;   // required
+  const LayeredCostmap* map = nullptr;  // required
   std::span<const NavPlan> plans;
   std::vector<Vec2> trajectory;         // executed x/y
   Pose2 start;

@@ -7,8 +7,6 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "starnav/control/dwa_controller.hpp"
-#include "starnav/control/path_follower.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/io/file_bytes.hpp"
@@ -135,6 +133,11 @@ const ParamTable<NavigationSettings>& navigation_params() {
     t.name_list("recoveries", component_names(Role::Recovery), [](C& c, const std::vector<std::string>& v) { c.recoveries = v; },
                 [](const C& c) { return c.recoveries; },
                 "run in this order when the robot is stuck, then a new plan ([] : none, the robot waits)", false);
+    t.name_list("layers", component_names(Role::CostmapLayer), [](C& c, const std::vector<std::string>& v) { c.layers = v; },
+                [](const C& c) { return c.layers; },
+                "the navigation map's layers, in order: each adds its obstacles, then the map expands them by "
+                "map.barrier_distance_m",
+                false);
     t.real("goal_tolerance_m", &C::goal_tolerance_m, positive(), "m", "arrived within this distance of the goal");
     t.real("goal_yaw_tolerance_deg", &C::goal_yaw_tolerance_rad, open(0.0, 180.0), "deg",
            "with a goal heading (goal.yaw_deg), arrived within this angle of it too", kPi / 180.0);
@@ -182,6 +185,8 @@ const ParamTable<NavigationSettings>& navigation_params() {
               "evidence cap: a stale cell clears after evidence_max / miss_loss scans");
     t.real("map.no_return_clear_m", &C::no_return_clear_m, non_negative(), "m",
            "beams without a return clear the cells up to this range (0: off)");
+    t.real("map.clearance_range_m", [](C& c) -> double& { return c.map.clearance_range_m; }, open(0.0, 100.0), "m",
+           "the map's distance field (what controllers and recoveries check footprints against) is exact out to this");
     return t;
   }();
   return table;
@@ -229,13 +234,16 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   parts.progress_checker = choice_of(rest, "progress_checker", defaults.progress_checker, "navigation", spec);
   if (options.planner) parts.planner = {*options.planner, {}, "--planner", 0, ""};
   if (options.controller) parts.controller = {*options.controller, {}, "--controller", 0, ""};
-  {
-    // The recoveries, in order: the names of navigation.recoveries, each a choice of its own.
-    const ComponentChoice list = choice_of(rest, "recoveries", format_param_name_list(defaults.recoveries), "navigation", spec);
-    const ParamSetting as_setting{"recoveries", list.name, list.file, list.line, list.field};
-    for (const std::string& name : parse_param_name_list(as_setting))
-      parts.recoveries.push_back({name, {}, list.field, list.line, list.file});
-  }
+  // The recoveries and the map's layers, in order: the names of each list, each a choice of its own.
+  const auto choices_of = [&](const std::string& key, const std::vector<std::string>& fallback) {
+    const ComponentChoice list = choice_of(rest, key, format_param_name_list(fallback), "navigation", spec);
+    const ParamSetting as_setting{key, list.name, list.file, list.line, list.field};
+    std::vector<ComponentChoice> out;
+    for (const std::string& name : parse_param_name_list(as_setting)) out.push_back({name, {}, list.field, list.line, list.file});
+    return out;
+  };
+  parts.recoveries = choices_of("recoveries", defaults.recoveries);
+  parts.layers = choices_of("layers", defaults.layers);
   // Each chosen component is found in the registry (errors where its name was given) and takes the
   // settings of its own section.
   std::vector<std::string> chosen_sections;
@@ -253,9 +261,10 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
       choice.settings = settings_under(rest, info.section);
       chosen_sections.push_back(info.section);
     } else {
-      // The same recovery twice in the list: both run with the one section's settings.
-      for (const ComponentChoice& earlier : parts.recoveries)
-        if (earlier.name == info.name && !earlier.settings.empty()) choice.settings = earlier.settings;
+      // The same recovery (or layer) twice in its list: both run with the one section's settings.
+      for (const std::vector<ComponentChoice>* list : {&parts.recoveries, &parts.layers})
+        for (const ComponentChoice& earlier : *list)
+          if (earlier.name == info.name && !earlier.settings.empty()) choice.settings = earlier.settings;
     }
     return info;
   };
@@ -264,6 +273,8 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   resolve(parts.goal_checker, Role::GoalChecker);
   resolve(parts.progress_checker, Role::ProgressChecker);
   for (ComponentChoice& r : parts.recoveries) resolve(r, Role::Recovery);
+  bool prior_map_layer = false;
+  for (ComponentChoice& l : parts.layers) prior_map_layer = resolve(l, Role::CostmapLayer).has(Capability::PriorMap) || prior_map_layer;
   // The robot is a point in the expanded map: the body's circumscribed radius by default; a
   // controller that checks the whole footprint needs only the inscribed radius (the planner then
   // finds the doors the body fits through sideways or straight).
@@ -292,7 +303,8 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
                                                            {Role::LocalController, "navigation.controller"},
                                                            {Role::GoalChecker, "navigation.goal_checker"},
                                                            {Role::ProgressChecker, "navigation.progress_checker"},
-                                                           {Role::Recovery, "navigation.recoveries"}};
+                                                           {Role::Recovery, "navigation.recoveries"},
+                                                           {Role::CostmapLayer, "navigation.layers"}};
   const auto chosen_name = [&](Role role) {
     switch (role) {
       case Role::GlobalPlanner: return parts.planner.name;
@@ -301,7 +313,7 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
       case Role::ProgressChecker: return parts.progress_checker.name;
       default: {
         std::vector<std::string> names;
-        for (const ComponentChoice& r : parts.recoveries) names.push_back(r.name);
+        for (const ComponentChoice& r : role == Role::Recovery ? parts.recoveries : parts.layers) names.push_back(r.name);
         return format_param_name_list(names);
       }
     }
@@ -350,6 +362,11 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   c.goal_yaw_tolerance_rad = s.goal_yaw_tolerance_rad;
   c.recovery = s.recovery;
   c.no_path_retry_s = s.no_path_retry_s;
+  if (!s.prior_map.empty() && !prior_map_layer) {
+    const auto at = std::find_if(own.begin(), own.end(), [](const ParamSetting& v) { return v.key == "map.prior"; });
+    throw Error("no layer of navigation.layers holds a prior map (add static_map)", spec.file, at != own.end() ? at->line : 0,
+                at != own.end() ? at->field : "navigation.map.prior");
+  }
   if (!s.prior_map.empty()) {
     const auto at = std::find_if(own.begin(), own.end(), [](const ParamSetting& v) { return v.key == "map.prior"; });
     const std::string field = at != own.end() ? at->field : "navigation.map.prior";
@@ -394,7 +411,8 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   return c;
 }
 
-NavigatorParts make_navigator_parts(const NavigationComponents& components, const RobotConfig& robot) {
+NavigatorParts make_navigator_parts(const NavigationComponents& components, const NavigatorConfig& config,
+                                    const RobotConfig& robot) {
   // Errors of a component's own checks (its parameters, its name) point where it was chosen.
   const auto at_choice = [](const ComponentChoice& choice, auto&& build) {
     try {
@@ -423,6 +441,15 @@ NavigatorParts make_navigator_parts(const NavigationComponents& components, cons
   parts.progress_checker = at_choice(pc, [&] { return find_progress_checker(pc.name, pc.field).make({pc.file}, pc.settings); });
   for (const ComponentChoice& r : components.recoveries)
     parts.recoveries.push_back(at_choice(r, [&] { return find_recovery(r.name, r.field).make({robot, r.file}, r.settings); }));
+  CostmapLayerContext layer_context;
+  layer_context.geometry = config.geometry;
+  layer_context.map = config.map;
+  layer_context.prior_obstacles = config.prior_obstacles;
+  layer_context.robot = robot;
+  for (const ComponentChoice& l : components.layers) {
+    layer_context.file = l.file;
+    parts.layers.push_back(at_choice(l, [&] { return find_costmap_layer(l.name, l.field).make(layer_context, l.settings); }));
+  }
   return parts;
 }
 
@@ -432,7 +459,7 @@ namespace {
 // goal's line.
 std::unique_ptr<Navigator> make_navigator(const ScenarioSpec& spec, const NavigatorConfig& config,
                                           const NavigationComponents& components) {
-  NavigatorParts parts = make_navigator_parts(components, spec.vehicle.robot);
+  NavigatorParts parts = make_navigator_parts(components, config, spec.vehicle.robot);
   const ScenarioGoal& first = spec.navigation->goals.front();
   // Every goal's heading must suit the controller, not only the first's (the first goal's is
   // checked by the navigator itself below).
@@ -522,7 +549,7 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
       r.t_s = t;
       r.pose = pose3;
       r.returns = scan.points_world.size();
-      const NodeHeightMap& map = nav_->map();
+      const LayeredCostmap& map = nav_->map();
       if (options_.step_all_hits) {
         r.hits = scan.points_world;
       } else {
@@ -587,14 +614,15 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
       return d.twist;
     }
     const BodyTwist cmd = nav_->command(pose, t, state.twist);
-    if (snapshots_.size() < options_.dwa_snapshot_times_s.size()) {
-      const auto* dwa = dynamic_cast<const DwaController*>(&nav_->controller());
-      if (dwa && dwa->last_step().t_s == t && t >= options_.dwa_snapshot_times_s[snapshots_.size()] - 1e-9) {
-        DwaSnapshot snap;
-        snap.step = dwa->last_step();
+    if (snapshots_.size() < options_.controller_snapshot_times_s.size() &&
+        t >= options_.controller_snapshot_times_s[snapshots_.size()] - 1e-9) {
+      // The controller's step of this instant (a controller with a period computes only at its ticks).
+      std::optional<ControlDiagnostics> step = nav_->controller().diagnostics();
+      if (step && step->t_s == t) {
+        ControllerSnapshot snap;
+        snap.step = std::move(*step);
         snap.local_map = crop_map(nav_->map().raw_occupancy(), pose.translation(), 4.0);
-        snap.path = dwa->path();
-        snap.config = dwa->config();
+        snap.path = nav_->controller().path();
         snap.footprint = footprint_of(spec_.vehicle.robot);
         snapshots_.push_back(std::move(snap));
       }
@@ -630,11 +658,12 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
     }
     return cmd;
   };
-  if (!options_.dwa_snapshot_times_s.empty()) {
-    auto* dwa = dynamic_cast<DwaController*>(&nav_->controller());
-    if (!dwa) throw Error("DWA pictures need the dwa controller, not " + std::string(nav_->controller().name()), "", 0, "--dwa-pictures");
-    dwa->keep_samples(true);
-    std::sort(options_.dwa_snapshot_times_s.begin(), options_.dwa_snapshot_times_s.end());
+  if (!options_.controller_snapshot_times_s.empty()) {
+    nav_->controller().keep_diagnostics(true);
+    if (!nav_->controller().diagnostics())
+      throw Error("the " + std::string(nav_->controller().name()) + " controller gives no diagnostics to draw", "", 0,
+                  "--controller-pictures");
+    std::sort(options_.controller_snapshot_times_s.begin(), options_.controller_snapshot_times_s.end());
   }
   // After the run's own scan hook: the chain's hook feeds the localizer first, then calls it.
   chain_ = std::make_unique<LocalizationChain>(*sim_, localization_);
@@ -693,8 +722,7 @@ NavigationMetrics NavigationRun::metrics() const {
   m.goal_distance_m = (s.final_state.position.head<2>() - nav.goal()).norm();
   m.planner = std::string(nav.planner().name());
   m.controller = std::string(nav.controller().name());
-  const auto* follower = dynamic_cast<const PathFollowerController*>(&nav.controller());
-  m.motion_mode = follower ? motion_mode_name(follower->follower().mode()) : "none";
+  m.motion_mode = nav.controller().motion_mode().empty() ? "none" : nav.controller().motion_mode();
   return m;
 }
 

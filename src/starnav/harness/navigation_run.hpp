@@ -39,7 +39,9 @@ struct NavigationOptions {
   // Called with each cycle's steps.jsonl line as it is recorded (a live viewer's feed); the run
   // never waits on it beyond the call.
   std::function<void(const std::string&)> on_step_line;
-  std::vector<double> dwa_snapshot_times_s;  // with the dwa controller: keep its first step at or after each time
+  // Keep the controller's first step at or after each time (its diagnostics and the map around it;
+  // a controller that gives no diagnostics is refused).
+  std::vector<double> controller_snapshot_times_s;
 };
 
 // The navigation section's own parameters (docs/parameters.md); the planner and controller
@@ -50,6 +52,7 @@ struct NavigationSettings {
   std::string goal_checker = "latching";
   std::string progress_checker = "simple_progress";
   std::vector<std::string> recoveries = {"rotate", "back_up"};
+  std::vector<std::string> layers = {"static_map", "node_height"};
   double goal_tolerance_m = 0.15;
   double goal_yaw_tolerance_rad = 0.08726646259971647;
   std::string prior_map;   // "" none, "world" (world.occupancy_map), or a map_server YAML (relative to the scenario)
@@ -76,6 +79,7 @@ void check_navigation_scenario(const ScenarioSpec& spec);
 struct NavigationComponents {
   ComponentChoice planner, controller, goal_checker, progress_checker;
   std::vector<ComponentChoice> recoveries;
+  std::vector<ComponentChoice> layers;  // the navigation map's, in order
 };
 
 // The navigator's configuration for a scenario: the map grid (world bounds or the paper's
@@ -88,9 +92,10 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
                                  const NavigationOptions& options = {}, NavigationSettings* settings = nullptr,
                                  NavigationComponents* components = nullptr);
 
-// The parts of `components` built from the registry for `robot` (errors name where each name or
-// setting was given).
-NavigatorParts make_navigator_parts(const NavigationComponents& components, const RobotConfig& robot);
+// The parts of `components` built from the registry for `robot`, the map's layers on `config`'s
+// grid (errors name where each name or setting was given).
+NavigatorParts make_navigator_parts(const NavigationComponents& components, const NavigatorConfig& config,
+                                    const RobotConfig& robot);
 
 // `scan` (taken at the true pose `truth`) with its world-framed points and sensor pose placed as
 // a robot that believes it is at `estimate` places them.
@@ -174,8 +179,8 @@ class NavigationRun {
   const std::vector<std::int8_t>& initial_occupancy() const { return initial_occupancy_; }
   const std::vector<NavArrival>& arrivals() const { return arrivals_; }
   const CommandArbiter& arbiter() const { return *arbiter_; }
-  // The DWA steps kept at NavigationOptions::dwa_snapshot_times_s.
-  const std::vector<DwaSnapshot>& dwa_snapshots() const { return snapshots_; }
+  // The controller steps kept at NavigationOptions::controller_snapshot_times_s.
+  const std::vector<ControllerSnapshot>& controller_snapshots() const { return snapshots_; }
   NavigationMetrics metrics() const;
   double setup_s() const { return setup_s_; }
   double wall_s() const { return wall_s_; }
@@ -192,7 +197,7 @@ class NavigationRun {
   std::unique_ptr<CommandArbiter> arbiter_;
   NavigationSettings settings_;
   std::vector<NavArrival> arrivals_;
-  std::vector<DwaSnapshot> snapshots_;
+  std::vector<ControllerSnapshot> snapshots_;
   std::size_t goal_index_ = 0;  // into the flattened goals x laps
   bool settling_ = false;
   double deviation_sum_ = 0.0, deviation_max_ = 0.0;

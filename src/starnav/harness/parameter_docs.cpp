@@ -16,7 +16,8 @@ std::string scenario_prefix(Role role) {
     case Role::LocalController:
     case Role::GoalChecker:
     case Role::ProgressChecker:
-    case Role::Recovery: return "navigation";
+    case Role::Recovery:
+    case Role::CostmapLayer: return "navigation";
     case Role::Localizer: return "localization";
     case Role::Slam: return "slam";
     case Role::ScanMatcher: return "scan_matcher";
@@ -32,6 +33,7 @@ const char* role_title(Role role) {
     case Role::GoalChecker: return "Goal checkers";
     case Role::ProgressChecker: return "Progress checkers";
     case Role::Recovery: return "Recoveries";
+    case Role::CostmapLayer: return "Costmap layers";
     case Role::Localizer: return "Localizers";
     case Role::Slam: return "SLAM";
     case Role::ScanMatcher: return "Scan matchers";
@@ -47,6 +49,7 @@ const char* role_key(Role role) {
     case Role::GoalChecker: return "navigation.goal_checker";
     case Role::ProgressChecker: return "navigation.progress_checker";
     case Role::Recovery: return "navigation.recoveries (a list, run in order)";
+    case Role::CostmapLayer: return "navigation.layers (a list, in order)";
     case Role::Localizer: return "localization.localizer";
     case Role::Slam: return "slam.name";
     case Role::ScanMatcher: return "scan_matcher.name";

@@ -5,6 +5,8 @@
 // the components from component_help().
 #include <string>
 
+#include "starnav/core/component.hpp"
+
 namespace starnav {
 
 // docs/parameters.md.

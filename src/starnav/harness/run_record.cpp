@@ -165,20 +165,24 @@ Json run_about(const Simulation& sim, bool live) {
 
 }  // namespace
 
-std::string map_world_json(const OccupancyGrid& map, bool known, const Pose2& start) {
+std::string map_world_json(const OccupancyGrid& map, bool known, const Pose2& start) { return map_world_json(&map, known, start); }
+
+std::string map_world_json(const OccupancyGrid* map, bool known, const Pose2& start) {
   Json j;
   j["schema"] = "starnav-world";
   j["version"] = kRunRecordVersion;
   j["obstacles"] = Json::array();
   j["robot"] = robot_json(RobotConfig{});
   j["start"] = pose2_json(start);
-  Json m = geometry_json(map.geometry());
-  if (known) {
-    m["initial"] = run_lengths_json(std::vector<std::int8_t>(map.data().begin(), map.data().end()));
-  } else {
-    m["initial"] = {-1, map.cell_count()};
+  if (map) {
+    Json m = geometry_json(map->geometry());
+    if (known) {
+      m["initial"] = run_lengths_json(std::vector<std::int8_t>(map->data().begin(), map->data().end()));
+    } else {
+      m["initial"] = {-1, map->cell_count()};
+    }
+    j["nav_map"] = std::move(m);
   }
-  j["nav_map"] = std::move(m);
   return j.dump() + "\n";
 }
 

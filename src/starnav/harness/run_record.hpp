@@ -29,8 +29,10 @@ std::string world_json(const Simulation& sim, const NavigationRun* navigation = 
 // scale, the start, and `map`'s grid as nav_map: its cells from the start when the map is `known`
 // (localization), all unknown at first when the run builds it (SLAM).
 std::string map_world_json(const OccupancyGrid& map, bool known, const Pose2& start);
+// The same without a map (a run that built none): no nav_map.
+std::string map_world_json(const OccupancyGrid* map, bool known, const Pose2& start);
 
-// The run record of a run over a robot log (SLAM, localization): steps.jsonl, world.json, then
+// The run record of a run over a robot log (SLAM, localization, 3D SLAM): steps.jsonl, world.json, then
 // run.json of `kind` with the log's file name and the method, on the log's clock (start_s, the
 // first step's stamp; duration_s to the last's).
 void write_log_run_record(const std::string& dir, const std::string& kind, const std::string& log, const std::string& method,

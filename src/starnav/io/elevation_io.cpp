@@ -197,7 +197,6 @@ double dequantise(std::uint16_t v, double z_min, double z_max) {
 class YamlKeys {
  public:
   YamlKeys(std::string path, const std::string& text) : path_(std::move(path)) {
-    if (text.size() > (1u << 20)) throw Error("too large for a YAML sidecar (over 1 MiB)", path_);
     root_ = load_yaml_document(text, path_);
     if (!root_.IsMap()) throw Error("expected a YAML mapping of keys", path_);
   }
@@ -772,14 +771,17 @@ void write_elevation_csv(const ElevationMap& map, const std::string& path) {
 
 // ---- PNG16 + YAML ------------------------------------------------------------------------------
 
-ElevationMap read_elevation_yaml(const std::string& yaml_path) {
+ElevationMap read_elevation_yaml(const std::string& yaml_path, std::string* companion) {
   const InputFileScope reading_yaml_path(yaml_path);
-  const YamlKeys y(yaml_path, read_input_file(yaml_path));
+  const YamlKeys y(yaml_path, read_yaml_file(yaml_path));
   // The sidecar of a Unity RAW export also has z_min/z_max: read the RAW it describes.
   if (y.has("format") && y.string("format") == "unity_raw") {
     const std::string suffix = ".yaml";
-    if (yaml_path.size() > suffix.size() && yaml_path.ends_with(suffix))
-      return read_unity_raw(yaml_path.substr(0, yaml_path.size() - suffix.size()));
+    if (yaml_path.size() > suffix.size() && yaml_path.ends_with(suffix)) {
+      const std::string raw = yaml_path.substr(0, yaml_path.size() - suffix.size());
+      if (companion) *companion = raw;
+      return read_unity_raw(raw);
+    }
     throw y.error("format", "a Unity RAW sidecar must be named <raw file>.yaml");
   }
   const std::string image_name = y.string("image");
@@ -799,6 +801,7 @@ ElevationMap read_elevation_yaml(const std::string& yaml_path) {
   if (!fs::is_regular_file(image_path, ec))
     throw Error(quote(image_name) + " not found (looked for " + image_path.string() + ")", yaml_path,
                 image_line, "image");
+  if (companion) *companion = image_path.string();
   const GrayImage image = read_gray_image(image_path.string());  // its errors name the image file
   if (image.channels != 1 || image.max_value != 65535) {
     std::string kind;
@@ -950,7 +953,7 @@ ElevationMap read_unity_raw(const std::string& path) {
   if (!fs::is_regular_file(path, ec)) throw Error("file not found", path);
   if (!fs::is_regular_file(sidecar, ec))
     throw Error("sidecar " + sidecar + " not found (it gives size, resolution, origin and z range)", path);
-  const YamlKeys y(sidecar, read_input_file(sidecar));
+  const YamlKeys y(sidecar, read_yaml_file(sidecar));
   if (y.has("format") && y.string("format") != "unity_raw")
     throw y.error("format", "must be unity_raw, got " + quote(y.string("format")));
   if (y.has("byte_order") && y.string("byte_order") != "little")

@@ -12,7 +12,8 @@ namespace starnav {
 // 16-bit value that marks unobserved cells). height = z_min + v / 65535 * (z_max - z_min).
 // The image must be 1-channel 16-bit (8-bit and colour images are rejected); optional keys
 // width/height are checked against it. A Unity RAW sidecar (format: unity_raw) reads its RAW.
-ElevationMap read_elevation_yaml(const std::string& yaml_path);
+// `companion`, when given, receives the other file it read: the image, or a sidecar's RAW.
+ElevationMap read_elevation_yaml(const std::string& yaml_path, std::string* companion = nullptr);
 // Quantises heights to 16 bit over the observed range; unobserved cells get the nodata value
 // 0 (and observed heights use 1..65535) when any cell is unobserved.
 void write_elevation_yaml(const ElevationMap& map, const std::string& yaml_path);

@@ -23,7 +23,7 @@ namespace {
 // occupied_thresh (conventions.md).
 MapFormat detect_yaml_kind(const std::string& path) {
   if (!std::filesystem::exists(path)) throw Error("file not found", path);
-  const YAML::Node root = load_yaml_document(read_input_file(path, 1u << 20), path);
+  const YAML::Node root = load_yaml_document(read_yaml_file(path), path);
   if (!root.IsMap()) throw Error("expected a YAML mapping of keys", path);
   if (root["z_min"] || root["z_max"]) return MapFormat::ElevationYaml;
   if (root["occupied_thresh"] || root["free_thresh"] || root["negate"]) return MapFormat::RosMap;
@@ -75,6 +75,7 @@ LoadedMap load_map(const std::string& path) {
   const InputFileScope reading_path(path);
   LoadedMap out;
   out.format = detect_map_format(path);
+  out.files = {path};
   switch (out.format) {
     case MapFormat::MovingAi: {
       MovingAiMap m = read_movingai_map(path);
@@ -86,18 +87,36 @@ LoadedMap load_map(const std::string& path) {
       RosMapMetadata meta;
       out.map = read_ros_map(path, &meta);
       out.ros = meta;
+      out.files.push_back(ros_map_image_path(path, meta.image));
       break;
     }
-    case MapFormat::ElevationYaml: out.map = read_elevation_yaml(path); break;
-    case MapFormat::Asc: out.map = read_asc(path); break;
+    case MapFormat::ElevationYaml: {
+      std::string companion;
+      out.map = read_elevation_yaml(path, &companion);
+      if (!companion.empty()) out.files.push_back(companion);
+      break;
+    }
+    case MapFormat::Asc: {
+      out.map = read_asc(path);
+      for (const char* ext : {".prj", ".PRJ"}) {
+        std::filesystem::path prj(path);
+        prj.replace_extension(ext);
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(prj, ec)) out.files.push_back(prj.string());
+      }
+      break;
+    }
     case MapFormat::Csv: out.map = read_elevation_csv(path); break;
-    case MapFormat::UnityRaw: out.map = read_unity_raw(path); break;
+    case MapFormat::UnityRaw:
+      out.map = read_unity_raw(path);
+      out.files.push_back(unity_raw_sidecar_path(path));
+      break;
     case MapFormat::GeoTiff: out.map = read_geotiff(path); break;
   }
   return out;
 }
 
-void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
+void check_map_writable(const LoadedMap& map, const std::string& path, MapFormat format) {
   const bool elevation_format = format == MapFormat::ElevationYaml || format == MapFormat::Asc ||
                                 format == MapFormat::Csv || format == MapFormat::UnityRaw ||
                                 format == MapFormat::GeoTiff;
@@ -105,6 +124,11 @@ void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
     throw Error(std::string("cannot write ") + (map.is_elevation() ? "an elevation map" : "an occupancy grid") +
                     " as " + map_format_name(format),
                 path);
+  if (format == MapFormat::GeoTiff) throw Error("writing GeoTIFF is not supported (read only)", path);
+}
+
+void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
+  check_map_writable(map, path, format);
   switch (format) {
     case MapFormat::MovingAi:
       if (map.movingai)
@@ -129,6 +153,7 @@ void save_map(const LoadedMap& map, const std::string& path, MapFormat format) {
 }
 
 std::vector<std::string> map_conversion_losses(const LoadedMap& map, MapFormat format) {
+  check_map_writable(map, {}, format);
   std::vector<std::string> losses;
   const GridGeometry& g = map.geometry();
   const bool placed = g.origin.x != 0.0 || g.origin.y != 0.0 || g.origin.yaw != 0.0;

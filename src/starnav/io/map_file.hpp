@@ -26,6 +26,7 @@ struct LoadedMap {
   std::variant<OccupancyGrid, ElevationMap> map;
   std::optional<MovingAiMap> movingai;     // the original characters, for MovingAI maps
   std::optional<RosMapMetadata> ros;       // thresholds and mode, for map_server maps
+  std::vector<std::string> files;          // every file read: the one named, then its companions
 
   bool is_elevation() const { return std::holds_alternative<ElevationMap>(map); }
   const OccupancyGrid& occupancy() const { return std::get<OccupancyGrid>(map); }
@@ -37,12 +38,15 @@ struct LoadedMap {
 
 LoadedMap load_map(const std::string& path);
 
-// Saves `map` as `format` (must suit the map: occupancy formats for occupancy grids, elevation
-// formats for elevation maps). Throws Error otherwise.
+// Throws Error(path) unless `format` suits the map (occupancy formats for occupancy grids,
+// elevation formats for elevation maps) and starnav writes it: what a command checks first.
+void check_map_writable(const LoadedMap& map, const std::string& path, MapFormat format);
+// Saves `map` as `format`; check_map_writable's errors otherwise.
 void save_map(const LoadedMap& map, const std::string& path, MapFormat format);
 // What writing `map` as `format` loses, one sentence each (empty when nothing): a MovingAI .map
 // keeps neither origin, yaw nor resolution and has no unknown cells; an elevation CSV keeps no
-// origin or resolution. A command prints them as warnings before writing.
+// origin or resolution. A command prints them as warnings before writing. check_map_writable's
+// errors (without a path) for a format that does not suit the map.
 std::vector<std::string> map_conversion_losses(const LoadedMap& map, MapFormat format);
 // Every file save_map writes for `path`, the named one first, then its companions: the image
 // beside a map_server YAML, the PNG beside an elevation YAML, the sidecar of a Unity RAW. A

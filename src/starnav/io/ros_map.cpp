@@ -290,7 +290,7 @@ std::string ros_map_image_path(const std::string& yaml_path, const std::string& 
 }
 
 OccupancyGrid read_ros_map(const std::string& yaml_path, RosMapMetadata* metadata_out) {
-  const RosMapMetadata md = parse_ros_map_yaml(read_file_bytes(yaml_path), yaml_path);
+  const RosMapMetadata md = parse_ros_map_yaml(read_yaml_file(yaml_path), yaml_path);
   const std::string image_path = ros_map_image_path(yaml_path, md.image);
   std::error_code ec;
   if (!fs::exists(image_path, ec)) throw Error("image file '" + image_path + "' not found", yaml_path, 0, "image");

@@ -4,7 +4,9 @@
 #include <charconv>
 #include <limits>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -43,6 +45,13 @@ class Fields {
     if (!parse_finite_number(tokens_[i], v)) fail(field, "expected a finite number, got '" + printable(tokens_[i], 40) + "'");
     return v;
   }
+  // A position (metres): finite and within kMaxCoordinateM of the origin.
+  double coordinate(std::size_t i, const char* field) const {
+    const double v = number(i, field);
+    if (!plausible_coordinate(v))
+      fail(field, format_number(v) + " m lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position");
+    return v;
+  }
   std::size_t count(std::size_t i, const char* field, std::size_t max) const {
     if (i >= tokens_.size()) fail(field, "missing");
     std::size_t v = 0;
@@ -67,8 +76,20 @@ class Fields {
   mutable std::string type_;
 };
 
-// Laser readings per line: far above any real scanner (the SICK LMS 1xx family has 1141).
-constexpr std::size_t kMaxBeams = 100000;
+constexpr std::size_t kMaxBeams = kMaxScanBeams;
+
+// A scan_fault in the words of CARMEN's fields, at the scan's line.
+void check_scan(const LogScan& s, const std::string& path, int line, const std::string& type) {
+  const std::optional<ScanFault> fault = scan_fault(s);
+  if (!fault) return;
+  const std::string& f = fault->field;
+  const std::string field = f == "angle_min"         ? "start_angle"
+                            : f == "angle_increment" ? "angular_resolution"
+                            : f == "range_max"       ? "maximum_range"
+                            : f == "ranges"          ? "range"
+                                                     : f;
+  throw Error(fault->what, path, line, type + " " + field);
+}
 
 bool blank_or_comment(std::string_view line) {
   const std::size_t i = line.find_first_not_of(" \t\r");
@@ -77,23 +98,51 @@ bool blank_or_comment(std::string_view line) {
 
 void read_ranges(const Fields& f, std::size_t first, std::size_t n, LogScan& s) {
   s.ranges_m.resize(n);
-  for (std::size_t i = 0; i < n; ++i) s.ranges_m[i] = static_cast<float>(f.number(first + i, "range"));
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = f.number(first + i, "range");
+    if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+      f.fail("range", format_number(v) + " m is beyond what a reading holds (a float, at most 3.4e38)");
+    s.ranges_m[i] = static_cast<float>(v);
+  }
 }
 
+// Finite readings from which a missing no-return value is worth a warning (above).
+constexpr std::size_t kNoReturnEvidenceReadings = 50000;
+
 // The no-return value of logs that do not store it (see the header).
-void set_inferred_range_max(RobotLog& log, const std::vector<std::size_t>& scans, const LogReadOptions& o) {
-  double max_reading = 0.0;
-  std::size_t at_max = 0, readings = 0;
+void set_inferred_range_max(RobotLog& log, const std::vector<std::size_t>& scans, const LogReadOptions& o,
+                            const std::string& path) {
+  std::vector<float> values;
   for (std::size_t i : scans)
-    for (float r : log.scans[i].ranges_m) {
-      ++readings;
-      if (r > max_reading) max_reading = r, at_max = 0;
-      if (r == static_cast<float>(max_reading)) ++at_max;
-    }
-  double range_max = std::nextafter(max_reading, std::numeric_limits<double>::infinity());
-  if (at_max >= 10 && static_cast<double>(at_max) >= 0.001 * static_cast<double>(readings))
-    range_max = static_cast<float>(max_reading);
-  if (o.range_max_m) range_max = *o.range_max_m;
+    for (float r : log.scans[i].ranges_m)
+      if (std::isfinite(r)) values.push_back(r);
+  std::sort(values.begin(), values.end(), std::greater<>());
+  const std::size_t repeats = std::max<std::size_t>(10, (values.size() + 999) / 1000);
+  // From the top, the first value that repeats that often; the readings above it are strays.
+  std::optional<float> saturated;
+  std::size_t saturated_count = 0, above_saturated = 0;
+  for (std::size_t at = 0; at < values.size() && !saturated;) {
+    std::size_t end = at;
+    while (end < values.size() && values[end] == values[at]) ++end;
+    if (end - at >= repeats) saturated = values[at], saturated_count = end - at, above_saturated = at;
+    at = end;
+  }
+  double range_max = std::nextafter(values.empty() ? 0.0 : static_cast<double>(values.front()), kInfinity);
+  if (saturated) range_max = *saturated;
+  if (o.range_max_m) {
+    range_max = *o.range_max_m;
+  } else if (o.warn && !values.empty()) {
+    // Without a repeated top value every reading counts as a return; worth a word only in a log
+    // long enough that a sensor's no-return readings would have shown (a few hundred scans), not
+    // in a short hand-made one.
+    if (!saturated && values.size() >= kNoReturnEvidenceReadings)
+      o.warn(path + ": no reading repeats at the top as a sensor's no-return value does: every reading counts as a return "
+                    "(--range-max says which readings returned nothing)");
+    else if (above_saturated > 0)
+      o.warn(path + ": " + std::to_string(above_saturated) + " readings lie above the no-return value " + format_number(*saturated) +
+             " m (repeated " + std::to_string(saturated_count) + " times; the largest is " + format_number(values.front()) +
+             " m): they count as no return too (--range-max overrides)");
+  }
   for (std::size_t i : scans) log.scans[i].range_max_m = range_max;
   log.params["range_max_m"] = std::to_string(range_max) + (o.range_max_m ? " (given)" : " (inferred)");
 }
@@ -112,8 +161,8 @@ LogScan raw_laser(const Fields& f, bool robot_laser) {
   std::size_t at = 10 + n + m;
   if (robot_laser) {
     f.need(at + 11 + 1, "... remissions laser_x laser_y laser_theta x y theta tv rv forward side turn_axis ipc_timestamp");
-    s.laser_pose = Pose2(f.number(at, "laser_x"), f.number(at + 1, "laser_y"), wrap_angle(f.number(at + 2, "laser_theta")));
-    s.odometry = Pose2(f.number(at + 3, "x"), f.number(at + 4, "y"), wrap_angle(f.number(at + 5, "theta")));
+    s.laser_pose = Pose2(f.coordinate(at, "laser_x"), f.coordinate(at + 1, "laser_y"), wrap_angle(f.number(at + 2, "laser_theta")));
+    s.odometry = Pose2(f.coordinate(at + 3, "x"), f.coordinate(at + 4, "y"), wrap_angle(f.number(at + 5, "theta")));
     at += 11;
   }
   s.stamp_us = f.stamp(at, "ipc_timestamp");
@@ -145,8 +194,8 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
       LogScan s;
       set_flaser_beam_angles(s, n);
       read_ranges(f, 2, n, s);
-      s.laser_pose = Pose2(f.number(2 + n, "x"), f.number(2 + n + 1, "y"), wrap_angle(f.number(2 + n + 2, "theta")));
-      s.odometry = Pose2(f.number(2 + n + 3, "odom_x"), f.number(2 + n + 4, "odom_y"),
+      s.laser_pose = Pose2(f.coordinate(2 + n, "x"), f.coordinate(2 + n + 1, "y"), wrap_angle(f.number(2 + n + 2, "theta")));
+      s.odometry = Pose2(f.coordinate(2 + n + 3, "odom_x"), f.coordinate(2 + n + 4, "odom_y"),
                          wrap_angle(f.number(2 + n + 5, "odom_theta")));
       s.stamp_us = f.stamp(2 + n + 6, "ipc_timestamp");
       s.source_index = static_cast<std::size_t>(line_no);
@@ -160,11 +209,12 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
       LogScan s = raw_laser(f, type == "ROBOTLASER1");
       if (o.range_max_m) s.range_max_m = *o.range_max_m;
       s.source_index = static_cast<std::size_t>(line_no);
+      check_scan(s, path, line_no, type);
       log.scans.push_back(std::move(s));
     } else if (type == "ODOM") {
       f.need(8, "x y theta tv rv accel ipc_timestamp");
       LogOdometry od;
-      od.pose = Pose2(f.number(1, "x"), f.number(2, "y"), wrap_angle(f.number(3, "theta")));
+      od.pose = Pose2(f.coordinate(1, "x"), f.coordinate(2, "y"), wrap_angle(f.number(3, "theta")));
       od.tv_mps = f.number(4, "tv");
       od.rv_radps = f.number(5, "rv");
       od.stamp_us = f.stamp(7, "ipc_timestamp");
@@ -173,20 +223,21 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
     } else if (type == "TRUEPOS") {
       f.need(8, "x y theta odom_x odom_y odom_theta ipc_timestamp");
       LogTruePose tp;
-      tp.pose = Pose2(f.number(1, "true_x"), f.number(2, "true_y"), wrap_angle(f.number(3, "true_theta")));
-      tp.odometry = Pose2(f.number(4, "odom_x"), f.number(5, "odom_y"), wrap_angle(f.number(6, "odom_theta")));
+      tp.pose = Pose2(f.coordinate(1, "true_x"), f.coordinate(2, "true_y"), wrap_angle(f.number(3, "true_theta")));
+      tp.odometry = Pose2(f.coordinate(4, "odom_x"), f.coordinate(5, "odom_y"), wrap_angle(f.number(6, "odom_theta")));
       tp.stamp_us = f.stamp(7, "ipc_timestamp");
       log.truth.push_back(tp);
     } else if (type == "PARAM") {
       f.need(3, "name value");
       const std::string name = printable(f[1], std::size_t{200});
       log.params[name] = printable(f[2], std::size_t{200});
-      if (name == "robot_frontlaser_offset") log.laser_in_base = Pose2(f.number(2, "robot_frontlaser_offset"), 0.0, 0.0);
+      if (name == "robot_frontlaser_offset") log.laser_in_base = Pose2(f.coordinate(2, "robot_frontlaser_offset"), 0.0, 0.0);
     } else {
       ++log.skipped[type];
     }
   });
-  if (!flaser.empty()) set_inferred_range_max(log, flaser, o);
+  if (!flaser.empty()) set_inferred_range_max(log, flaser, o, path);
+  for (std::size_t i : flaser) check_scan(log.scans[i], path, static_cast<int>(log.scans[i].source_index), "FLASER");
   return log;
 }
 
@@ -213,7 +264,7 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
       if (f.size() != 7) f.fail("fields", "expected ODOMETRY ipc_timestamp x y theta tv rv, got " + std::to_string(f.size()) + " fields");
       LogOdometry od;
       od.stamp_us = f.stamp(1, "ipc_timestamp");
-      od.pose = Pose2(f.number(2, "x"), f.number(3, "y"), wrap_angle(f.number(4, "theta")));
+      od.pose = Pose2(f.coordinate(2, "x"), f.coordinate(3, "y"), wrap_angle(f.number(4, "theta")));
       od.tv_mps = f.number(5, "tv");
       od.rv_radps = f.number(6, "rv");
       od.source_index = static_cast<std::size_t>(line_no);
@@ -222,7 +273,8 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
       ++log.skipped[f.type()];
     }
   });
-  if (!scans.empty()) set_inferred_range_max(log, scans, o);
+  if (!scans.empty()) set_inferred_range_max(log, scans, o, path);
+  for (std::size_t i : scans) check_scan(log.scans[i], path, static_cast<int>(log.scans[i].source_index), "LASERSCAN");
   return log;
 }
 

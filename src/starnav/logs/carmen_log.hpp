@@ -17,9 +17,12 @@
 // FLASER and LASERSCAN store no beam angles: n beams span the front half-plane as CARMEN's
 // lasers did (docs/slam.md): 180 beams 1 deg apart from -90 deg, 360 beams 0.5 deg apart from -90
 // deg, any other n from -90 to +90 deg inclusive (361: 0.5 deg). Their no-return value is not
-// stored either: the largest reading of the log is taken for it when it repeats (at least 10
-// times and 0.1 % of the readings, as a saturated sensor's value does: 81.91 m, 81.83 m, 50.00 m
-// in the benchmark logs), else every reading counts; `range_max_m` overrides.
+// stored either: it is the value a saturated sensor repeats at the top of its readings (81.91 m,
+// 81.83 m, 50.00 m in the benchmark logs): the largest value repeated at least 10 times and 0.1 %
+// of the readings. Readings above it repeat less: strays (one reading 0.01 m above it, a
+// corrupt value), no return too, with a warning; without such a value every reading counts, with a
+// warning. `range_max_m` overrides. A reading beyond a float's range is refused.
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -30,11 +33,21 @@ namespace starnav {
 
 struct LogReadOptions {
   std::optional<double> range_max_m;  // readings at or beyond it returned nothing
-  std::string scan_topic;              // bags: the LaserScan topic (default: the only one)
-  std::string odom_topic;              // bags: the Odometry topic (default: the only one)
+  // Bags (ROS 1 and ROS 2; logs/bag_log.hpp): the topics read, each by name or, empty, by type.
+  std::string scan_topic;   // the LaserScan topic (default: the only one)
+  std::string odom_topic;   // an Odometry topic, or a TFMessage topic (/tf: the odom -> base transforms);
+                            // default: the only Odometry topic, else /tf when it holds odom -> base
+  std::string imu_topic;    // the Imu topic (default: the only one)
+  std::string truth_topic;  // the ground truth: an Odometry, PoseStamped or PoseWithCovarianceStamped
+                            // topic (default: none)
+  // A bag without a LaserScan topic is read (its topics listed) rather than refused: `log info`.
+  bool allow_no_scans = false;
   // Bags converted from FLASER logs: the beam angles of FLASER (above) instead of the messages'
   // angle_min and angle_increment, which such converters invented.
   bool flaser_beam_angles = false;
+  // Told what the reader assumed about the log (an inferred no-return value that leaves readings
+  // above it); a command prints it as a warning.
+  std::function<void(const std::string&)> warn;
 };
 
 // FLASER's beam layout for n beams (see above): angle_min and angle_increment of `scan`.

@@ -4,6 +4,8 @@
 #include <lz4frame.h>
 #include <zlib.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <memory>
 
@@ -30,7 +32,16 @@ bool is_gzip(std::string_view b) {
   return b.size() >= 2 && static_cast<unsigned char>(b[0]) == 0x1f && static_cast<unsigned char>(b[1]) == 0x8b;
 }
 
-std::string gunzip(std::string_view bytes, const std::string& path) {
+std::string gunzip(std::string_view bytes, const std::string& path, std::size_t max_bytes) {
+  // The trailer's ISIZE is the last member's length modulo 2^32, so a true length is never below
+  // it: a trailer above the limit is refused before anything is inflated.
+  if (bytes.size() >= 18) {
+    std::uint32_t isize = 0;
+    for (int i = 0; i < 4; ++i) isize |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[bytes.size() - 4 + i])) << (8 * i);
+    if (isize > max_bytes)
+      throw Error("says it decompresses to " + std::to_string(isize) + " bytes, more than the " + std::to_string(max_bytes) + " read at most",
+                  path, 0, "gzip");
+  }
   z_stream z{};
   // 15 + 16: gzip only (with its header and checksum).
   if (inflateInit2(&z, 15 + 16) != Z_OK) throw Error("cannot start the gzip decoder", path, 0, "gzip");
@@ -38,6 +49,14 @@ std::string gunzip(std::string_view bytes, const std::string& path) {
   std::string out;
   char buffer[1 << 16];
   std::size_t consumed = 0;
+  // Appends what one inflate call produced, refusing it before it passes the limit; the buffer
+  // grows by doubling but never beyond the limit, so refusing costs at most the limit.
+  const auto append = [&](std::size_t n) {
+    if (n > max_bytes - out.size())
+      throw Error("decompresses to more than " + std::to_string(max_bytes) + " bytes, the most read", path, 0, "gzip");
+    if (out.size() + n > out.capacity()) out.reserve(std::min(max_bytes, std::max(2 * out.capacity(), out.size() + n)));
+    out.append(buffer, n);
+  };
   while (consumed < bytes.size()) {
     const std::size_t chunk = std::min<std::size_t>(bytes.size() - consumed, std::numeric_limits<uInt>::max());
     z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data() + consumed));
@@ -51,9 +70,7 @@ std::string gunzip(std::string_view bytes, const std::string& path) {
         throw Error(std::string("corrupt gzip data: ") + (z.msg ? z.msg : "inflate failed") + " at byte " +
                         std::to_string(consumed + (chunk - z.avail_in)),
                     path, 0, "gzip");
-      out.append(buffer, sizeof buffer - z.avail_out);
-      if (out.size() > kMaxDecompressedBytes)
-        throw Error("decompresses to more than " + std::to_string(kMaxDecompressedBytes) + " bytes", path, 0, "gzip");
+      append(sizeof buffer - z.avail_out);
     } while (z.avail_out == 0 && rc != Z_STREAM_END);
     consumed += chunk - z.avail_in;
     if (rc == Z_STREAM_END) {

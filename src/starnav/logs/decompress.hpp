@@ -14,8 +14,10 @@ inline constexpr std::size_t kMaxDecompressedBytes = std::size_t{1} << 30;
 
 // True when `bytes` starts with the gzip magic.
 bool is_gzip(std::string_view bytes);
-// The gunzipped bytes (concatenated members too); Error(path, field "gzip") on corrupt data.
-std::string gunzip(std::string_view bytes, const std::string& path);
+// The gunzipped bytes (concatenated members too); Error(path, field "gzip") on corrupt data or
+// more than `max_bytes`: refused from the trailer's length when it says more, else while inflating,
+// before the output passes the limit (refusing costs at most `max_bytes` of memory).
+std::string gunzip(std::string_view bytes, const std::string& path, std::size_t max_bytes = kMaxDecompressedBytes);
 // A bzip2 stream that decompresses to exactly `size` bytes (a bag chunk says its size).
 std::string bunzip2(std::string_view bytes, std::size_t size, const std::string& path, std::size_t offset);
 // An LZ4 frame (roslz4 writes the standard frame format) of exactly `size` bytes.

@@ -1,15 +1,27 @@
 #include "starnav/logs/log_file.hpp"
 
 #include <filesystem>
+#include <iostream>
 #include <system_error>
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/logs/decompress.hpp"
+#include "starnav/logs/ros2_bag.hpp"
 #include "starnav/logs/ros_bag.hpp"
 
 namespace starnav {
+
+namespace {
+
+// What a reader read in spite of a flaw (a recording cut short) is said on stderr, once per read.
+RobotLog print_warnings(RobotLog log) {
+  for (const std::string& w : log.warnings) std::cerr << "starnav: warning: " << w << "\n";
+  return log;
+}
+
+}  // namespace
 
 RobotLog read_robot_log(const std::string& path, const LogReadOptions& options) {
   const InputFileScope reading_path(path);
@@ -17,18 +29,21 @@ RobotLog read_robot_log(const std::string& path, const LogReadOptions& options) 
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st)) throw Error("no such file", path);
+  if (fs::is_directory(st) && is_ros2_bag_folder(path)) return print_warnings(read_ros2_bag(path, options));
   // Devices and pipes could feed bytes without end.
-  if (!fs::is_regular_file(st)) throw Error(fs::is_directory(st) ? "is a directory, not a log" : "is not a regular file", path);
+  if (!fs::is_regular_file(st))
+    throw Error(fs::is_directory(st) ? "is a directory without metadata.yaml, not a log or a rosbag2 folder" : "is not a regular file", path);
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) throw Error("cannot read its size", path);
   if (size > kMaxLogFileBytes) throw Error("is larger than the limit of " + std::to_string(kMaxLogFileBytes) + " bytes", path);
   std::string bytes = read_file_bytes(path);
   if (is_gzip(bytes)) bytes = gunzip(bytes, path);
-  if (is_ros1_bag(bytes)) return read_ros1_bag(bytes, path, options);
+  if (is_ros1_bag(bytes)) return print_warnings(read_ros1_bag(bytes, path, options));
+  if (is_ros2_bag_bytes(bytes)) return print_warnings(read_ros2_bag_bytes(bytes, path, options));
   if (looks_like_odomscan_text(bytes)) return read_odomscan_text(bytes, path, options);
   RobotLog log = read_carmen_log(bytes, path, options);
   if (log.scans.empty() && log.odometry.empty() && log.truth.empty())
-    throw Error("holds no laser, odometry or ground-truth line: not a CARMEN log, text extract or ROS bag", path);
+    throw Error("holds no laser, odometry or ground-truth line: not a CARMEN log, text extract, ROS 1 bag or ROS 2 recording", path);
   return log;
 }
 

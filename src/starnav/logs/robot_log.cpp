@@ -99,6 +99,37 @@ std::string format_stamp_us(std::int64_t us) {
   return buffer;
 }
 
+std::optional<ScanFault> scan_fault(const LogScan& s) {
+  const std::size_t n = s.ranges_m.size();
+  if (n > kMaxScanBeams)
+    return ScanFault{"ranges", std::to_string(n) + " readings, more than the " + std::to_string(kMaxScanBeams) + " a scan may have"};
+  if (!std::isfinite(s.angle_min_rad)) return ScanFault{"angle_min", "not a finite angle"};
+  if (!std::isfinite(s.angle_increment_rad)) return ScanFault{"angle_increment", "not a finite angle"};
+  if (n > 1 && s.angle_increment_rad == 0.0)
+    return ScanFault{"angle_increment", "is 0 with " + std::to_string(n) + " beams: they would all point one way"};
+  // One increment of slack: a full turn of n beams spans n - 1 increments, some drivers count n.
+  const double span = std::abs(s.angle_increment_rad) * static_cast<double>(n > 0 ? n - 1 : 0);
+  if (span > 2.0 * kPi + std::abs(s.angle_increment_rad) + 1e-6)
+    return ScanFault{"angle_increment", std::to_string(n) + " beams " + format_number(s.angle_increment_rad) + " rad apart span " +
+                                            format_number(span) + " rad, more than a turn"};
+  if (!(std::isfinite(s.range_min_m) && s.range_min_m >= 0.0))
+    return ScanFault{"range_min", format_number(s.range_min_m) + " m is not a distance"};
+  if (!(s.range_max_m > s.range_min_m))
+    return ScanFault{"range_max", format_number(s.range_max_m) + " m is not above range_min " + format_number(s.range_min_m) +
+                                      " m: no reading could return"};
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::isfinite(s.ranges_m[i]) && s.ranges_m[i] < 0.0f)
+      return ScanFault{"ranges", "reading " + std::to_string(i) + " is " + format_number(s.ranges_m[i]) + " m: a range is never negative"};
+  return std::nullopt;
+}
+
+Error error_at_scan(const RobotLog& log, const LogScan& scan, const Error& e) {
+  if (!e.file().empty()) return e;
+  const bool text = log.format == "carmen" || log.format == "odomscan_text";
+  return Error(e.message() + (text ? "" : " (message " + std::to_string(scan.source_index) + ")"), log.path,
+               text ? static_cast<int>(scan.source_index) : 0, e.field());
+}
+
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry) {
   std::stable_sort(odometry.begin(), odometry.end(),
                    [](const LogOdometry& a, const LogOdometry& b) { return a.stamp_us < b.stamp_us; });
@@ -164,6 +195,7 @@ RobotLogSummary summarise_log(const RobotLog& log) {
   s.scans = log.scans.size();
   s.odometry = log.odometry.size();
   s.truth = log.truth.size();
+  s.imu = log.imu.size();
   bool any = false;
   auto span = [&](std::int64_t t) {
     s.first_us = any ? std::min(s.first_us, t) : t;
@@ -219,14 +251,23 @@ std::string log_info_text(const RobotLog& log) {
   if (s.odometry_out_of_order > 0)
     out << "            " << s.odometry_out_of_order << " odometry stamps earlier than the one before\n";
   if (s.truth > 0) out << "truth:      " << s.truth << " poses\n";
+  if (s.imu > 0) out << "imu:        " << s.imu << " readings\n";
   if (s.scans + s.odometry > 0)
     out << "time:       " << format_stamp_us(s.first_us) << " .. " << format_stamp_us(s.last_us) << " s ("
         << format_fixed(static_cast<double>(s.last_us - s.first_us) * 1e-6, 3) << " s)\n";
   out << "laser pose: " << (log.laser_in_base ? pose_text(*log.laser_in_base) + " on the base" : std::string("not in the log"))
       << "\n";
   for (const auto& [k, v] : log.params)
-    if (k == "scan_topic" || k == "odom_topic" || k == "range_max_m" || k == "laser_frame") out << k << ": " << v << "\n";
+    if (k == "scan_topic" || k == "odom_topic" || k == "imu_topic" || k == "truth_topic" || k == "range_max_m" || k == "laser_frame")
+      out << k << ": " << v << "\n";
   for (const auto& [k, n] : log.skipped) out << "skipped:    " << n << " x " << k << "\n";
+  if (!log.topics.empty()) {
+    out << "topics:\n";
+    for (const LogTopic& t : log.topics)
+      out << "  " << t.name << "  " << t.type << "  " << t.messages << " message" << (t.messages == 1 ? "" : "s")
+          << (t.use.empty() ? "" : " (read as " + t.use + ")") << "\n";
+  }
+  for (const std::string& w : log.warnings) out << "warning:    " << w << "\n";
   return out.str();
 }
 
@@ -248,6 +289,7 @@ std::string log_info_json(const RobotLog& log) {
   j["odometry_out_of_order"] = s.odometry_out_of_order;
   j["scan_odometry_in_line"] = s.scan_odometry_in_line;
   j["truth"] = s.truth;
+  j["imu"] = s.imu;
   j["first_stamp"] = format_stamp_us(s.first_us);
   j["last_stamp"] = format_stamp_us(s.last_us);
   j["duration_s"] = static_cast<double>(s.last_us - s.first_us) * 1e-6;
@@ -261,6 +303,10 @@ std::string log_info_json(const RobotLog& log) {
   nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
   for (const auto& [k, n] : log.skipped) skipped[k] = n;
   j["skipped"] = skipped;
+  nlohmann::ordered_json topics = nlohmann::ordered_json::array();
+  for (const LogTopic& t : log.topics) topics.push_back({{"name", t.name}, {"type", t.type}, {"messages", t.messages}, {"use", t.use}});
+  j["topics"] = topics;
+  j["warnings"] = log.warnings;
   // Names from a log may hold invalid UTF-8: replaced, not thrown on.
   return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }

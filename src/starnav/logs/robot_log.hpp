@@ -14,9 +14,14 @@
 #include <string_view>
 #include <vector>
 
+#include "starnav/core/error.hpp"
 #include "starnav/core/geometry.hpp"
 
 namespace starnav {
+
+// The most readings one scan may have: far above any real scanner (the SICK LMS 1xx family has
+// 1141). Every reader refuses more before storing them.
+inline constexpr std::size_t kMaxScanBeams = 100000;
 
 struct LogScan {
   std::int64_t stamp_us = 0;        // CARMEN ipc_timestamp, bag header.stamp (rounded to 1 us)
@@ -41,6 +46,18 @@ struct LogScan {
   std::vector<Vec2> end_points(const Pose2& sensor, std::size_t max) const;
 };
 
+// What is wrong with a scan, in the words of sensor_msgs/LaserScan's fields (angle_min,
+// angle_increment, range_min, range_max, ranges), for its reader to place at its line or message:
+// more than kMaxScanBeams readings, angles that are not finite, an angle_increment of 0 with
+// several beams, beams spanning more than a turn, range_min not finite or negative, range_max not
+// above range_min (no reading could return), a negative reading (NaN and -inf, "too close" in
+// REP 117, are fine). nullopt for a sound scan.
+struct ScanFault {
+  std::string field;
+  std::string what;
+};
+std::optional<ScanFault> scan_fault(const LogScan& scan);
+
 struct LogOdometry {
   std::int64_t stamp_us = 0;
   Pose2 pose;              // odom frame
@@ -55,15 +72,35 @@ struct LogTruePose {
   Pose2 odometry;  // the odometry at the same instant
 };
 
+// An inertial reading (sensor_msgs/Imu), in the IMU's frame.
+struct LogImu {
+  std::int64_t stamp_us = 0;
+  std::optional<double> yaw_rad;   // from the orientation, when the message has one (covariance[0] != -1)
+  Vec3 angular_velocity_radps = Vec3::Zero();
+  Vec3 linear_acceleration_mps2 = Vec3::Zero();
+  std::size_t source_index = 0;
+};
+
+// A topic of a bag as `log info` lists it: every message counted, read or skipped.
+struct LogTopic {
+  std::string name;
+  std::string type;            // as the bag names it ("sensor_msgs/LaserScan", "sensor_msgs/msg/LaserScan")
+  std::size_t messages = 0;
+  std::string use;             // "scan", "odometry", "truth", "imu", "tf", "tf_static"; empty: skipped
+};
+
 struct RobotLog {
   std::string path;
-  std::string format;  // "carmen", "odomscan_text", "ros1_bag"
+  std::string format;  // "carmen", "odomscan_text", "ros1_bag", "ros2_mcap", "ros2_sqlite3"
   std::vector<LogScan> scans;
   std::vector<LogOdometry> odometry;
   std::vector<LogTruePose> truth;
+  std::vector<LogImu> imu;
   std::optional<Pose2> laser_in_base;           // PARAM robot_frontlaser_offset, /tf_static
   std::map<std::string, std::string> params;    // CARMEN PARAM lines, bag topics chosen
   std::map<std::string, std::size_t> skipped;   // lines of unknown types, messages of other topics
+  std::vector<LogTopic> topics;                 // bags: every topic, in name order
+  std::vector<std::string> warnings;            // what was read in spite of a flaw (a file cut short)
 };
 
 // A decimal timestamp ("1134864629.895182", "-0.5", "70.18", also %g's "4.29497e+09") as integer
@@ -87,12 +124,15 @@ std::vector<std::optional<Pose2>> scan_odometry(const RobotLog& log);
 // order; `progress(done, total)` every 100 scans and once at the end.
 void for_each_scan_with_odometry(const RobotLog& log, const std::function<void(const LogScan&, const Pose2&)>& fn,
                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
+// `e`, an error about one scan raised by code that knows nothing of files (a map or SLAM refusing
+// its pose), placed at the scan: the log's file with the scan's line (text logs) or message (bags).
+Error error_at_scan(const RobotLog& log, const LogScan& scan, const Error& e);
 // The readings in time order (stable: equal stamps keep the log's order).
 std::vector<LogOdometry> sort_by_time(std::vector<LogOdometry> odometry);
 
 // A summary for `starnav log info`: counts, time span, beams, range limits, order.
 struct RobotLogSummary {
-  std::size_t scans = 0, odometry = 0, truth = 0;
+  std::size_t scans = 0, odometry = 0, truth = 0, imu = 0;
   std::int64_t first_us = 0, last_us = 0;  // over scans and odometry
   std::size_t beams_min = 0, beams_max = 0;
   double range_max_m = 0.0;        // of the first scan

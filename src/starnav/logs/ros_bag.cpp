@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <set>
-#include <type_traits>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+#include "starnav/core/record_format.hpp"
+#include "starnav/logs/bag_log.hpp"
 #include "starnav/logs/decompress.hpp"
 
 namespace starnav {
@@ -231,10 +232,6 @@ StampedHeader read_header(ByteReader& r) {
   return h;
 }
 
-double yaw_of_quaternion(double x, double y, double z, double w) {
-  return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
-}
-
 struct DecodedScan {
   LogScan scan;
   std::string frame_id;
@@ -247,31 +244,25 @@ DecodedScan decode_laser_scan(ByteReader& r) {
   LogScan& s = d.scan;
   s.stamp_us = h.stamp_us;
   s.angle_min_rad = r.get<float>("angle_min");
-  r.get<float>("angle_max");
+  const double angle_max = r.get<float>("angle_max");
   s.angle_increment_rad = r.get<float>("angle_increment");
   r.get<float>("time_increment");
   r.get<float>("scan_time");
   s.range_min_m = r.get<float>("range_min");
   s.range_max_m = r.get<float>("range_max");
   const std::uint32_t n = r.u32("ranges");
+  if (const ScanCheck c = check_scan_beams(n); !c) r.fail(c.field, c.what);
   if (n > r.remaining() / 4) r.fail("ranges", std::to_string(n) + " ranges do not fit the message");
+  // The beams run from angle_min towards angle_max: the increment's sign says which way.
+  if (!std::isfinite(angle_max)) r.fail("angle_max", "not a finite angle");
+  if (n > 1 && (angle_max - s.angle_min_rad) * s.angle_increment_rad < 0)
+    r.fail("angle_max", "angle_min " + format_number(s.angle_min_rad) + " to angle_max " + format_number(angle_max) +
+                            " runs against angle_increment " + format_number(s.angle_increment_rad));
   s.ranges_m.resize(n);
   const std::string_view raw = r.take(std::size_t{n} * 4, "ranges");
   if (n > 0) std::memcpy(s.ranges_m.data(), raw.data(), raw.size());  // an empty vector's data() may be null
-  if (!std::isfinite(s.angle_min_rad) || !std::isfinite(s.angle_increment_rad))
-    r.fail("angle_increment", "beam angles are not finite");
-  if (std::isnan(s.range_max_m)) r.fail("range_max", "not a number");
+  if (const ScanCheck c = check_scan_fields(s); !c) r.fail(c.field, c.what);
   return d;
-}
-
-// The full pose (a zero quaternion counts as the identity: some drivers leave it unset).
-Pose3 pose3_of(double x, double y, double z, double qx, double qy, double qz, double qw) {
-  Pose3 p;
-  p.position = Vec3(x, y, z);
-  const Eigen::Quaterniond q(qw, qx, qy, qz);
-  const double n = q.norm();
-  p.orientation = n > 1e-9 && std::isfinite(n) ? q.normalized() : Eigen::Quaterniond::Identity();
-  return p;
 }
 
 struct DecodedOdometry {
@@ -298,25 +289,23 @@ DecodedOdometry decode_odometry(ByteReader& r) {
   d.odometry.rv_radps = r.get<double>("twist.angular.z");
   r.take(36 * 8, "twist.covariance");
   d.odometry.pose = Pose2(x, y, yaw_of_quaternion(qx, qy, qz, qw));
-  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(d.odometry.pose.yaw))
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(d.odometry.pose.yaw))
     r.fail("pose", "not finite");
+  if (!plausible_coordinate(x) || !plausible_coordinate(y) || !plausible_coordinate(z))
+    r.fail("pose.position", "lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position");
   d.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
   return d;
 }
 
-struct StaticTransform {
-  std::string parent, child;
-  Pose2 pose;    // child in parent (planar part)
-  Pose3 pose3;   // the whole transform
-};
-
-void decode_tf(ByteReader& r, std::vector<StaticTransform>& out) {
+void decode_tf(ByteReader& r, std::vector<FrameTransform>& out) {
   const std::uint32_t n = r.u32("transforms");
   if (n > r.remaining() / 16) r.fail("transforms", "more transforms than the message holds");
   for (std::uint32_t i = 0; i < n; ++i) {
-    StaticTransform t;
-    t.parent = read_header(r).frame_id;
-    t.child = printable(r.string("child_frame_id"), 200);
+    FrameTransform t;
+    const StampedHeader h = read_header(r);
+    t.stamp_us = h.stamp_us;
+    t.parent = frame_name(h.frame_id);
+    t.child = frame_name(printable(r.string("child_frame_id"), 200));
     const double x = r.get<double>("translation.x"), y = r.get<double>("translation.y");
     const double z = r.get<double>("translation.z");
     const double qx = r.get<double>("rotation.x"), qy = r.get<double>("rotation.y");
@@ -325,41 +314,41 @@ void decode_tf(ByteReader& r, std::vector<StaticTransform>& out) {
     t.pose3 = pose3_of(x, y, z, qx, qy, qz, qw);
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(t.pose.yaw))
       r.fail("transforms", "not finite");
+    if (!plausible_coordinate(x) || !plausible_coordinate(y) || !plausible_coordinate(z))
+      r.fail("transforms", "a translation lies farther than " + format_number(kMaxCoordinateM) + " m: not a position");
     out.push_back(std::move(t));
   }
 }
 
-std::string strip_slash(std::string s) {
-  while (!s.empty() && s[0] == '/') s.erase(0, 1);
-  return s;
+// sensor_msgs/Imu: the orientation's yaw (unless its covariance says there is none), the rates and
+// accelerations.
+LogImu decode_imu(ByteReader& r) {
+  LogImu m;
+  m.stamp_us = read_header(r).stamp_us;
+  const double qx = r.get<double>("orientation.x"), qy = r.get<double>("orientation.y");
+  const double qz = r.get<double>("orientation.z"), qw = r.get<double>("orientation.w");
+  const double c0 = r.get<double>("orientation_covariance");
+  r.take(8 * 8, "orientation_covariance");
+  for (int k = 0; k < 3; ++k) m.angular_velocity_radps[k] = r.get<double>("angular_velocity");
+  r.take(9 * 8, "angular_velocity_covariance");
+  for (int k = 0; k < 3; ++k) m.linear_acceleration_mps2[k] = r.get<double>("linear_acceleration");
+  r.take(9 * 8, "linear_acceleration_covariance");
+  if (c0 != -1.0 && std::isfinite(qx + qy + qz + qw) && qx * qx + qy * qy + qz * qz + qw * qw > 1e-9)
+    m.yaw_rad = yaw_of_quaternion(qx, qy, qz, qw);
+  return m;
 }
 
-// The pose of `to` in `from` through the static transforms (either direction), if linked: planar
-// (Pose2, each transform's planar part) or whole (Pose3).
-template <class Pose>
-std::optional<Pose> chain(const std::vector<StaticTransform>& tfs, const std::string& from, const std::string& to) {
-  const auto of = [](const StaticTransform& t) -> const Pose& {
-    if constexpr (std::is_same_v<Pose, Pose2>) return t.pose;
-    else return t.pose3;
-  };
-  std::map<std::string, Pose> reached{{from, Pose()}};
-  std::deque<std::string> queue{from};
-  while (!queue.empty()) {
-    const std::string f = queue.front();
-    queue.pop_front();
-    if (f == to) return reached[f];
-    for (const StaticTransform& t : tfs) {
-      const std::string p = strip_slash(t.parent), c = strip_slash(t.child);
-      if (p == f && !reached.count(c)) {
-        reached[c] = reached[f].compose(of(t));
-        queue.push_back(c);
-      } else if (c == f && !reached.count(p)) {
-        reached[p] = reached[f].compose(of(t).inverse());
-        queue.push_back(p);
-      }
-    }
-  }
-  return std::nullopt;
+// geometry_msgs/PoseStamped and PoseWithCovarianceStamped: the stamp and the planar pose.
+std::pair<std::int64_t, Pose2> decode_pose_stamped(ByteReader& r, bool with_covariance) {
+  const std::int64_t stamp = read_header(r).stamp_us;
+  const double x = r.get<double>("pose.position.x"), y = r.get<double>("pose.position.y");
+  r.get<double>("pose.position.z");
+  const double qx = r.get<double>("pose.orientation.x"), qy = r.get<double>("pose.orientation.y");
+  const double qz = r.get<double>("pose.orientation.z"), qw = r.get<double>("pose.orientation.w");
+  if (with_covariance) r.take(36 * 8, "pose.covariance");
+  const Pose2 pose(x, y, yaw_of_quaternion(qx, qy, qz, qw));
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(pose.yaw)) r.fail("pose", "not finite");
+  return {stamp, pose};
 }
 
 // sensor_msgs/PointCloud2: the x, y, z fields of every point, the points with a non-finite
@@ -370,88 +359,38 @@ BagPointCloud decode_point_cloud2(ByteReader& r) {
   c.stamp_us = h.stamp_us;
   c.frame_id = h.frame_id;
   const std::uint64_t height = r.u32("height"), width = r.u32("width");
+  if (height * width > kMaxCloudPoints)
+    r.fail("width", std::to_string(height) + " x " + std::to_string(width) + " points, more than the " +
+                        std::to_string(kMaxCloudPoints) + " a cloud may have");
   const std::uint32_t nfields = r.u32("fields");
   if (nfields > r.remaining() / 13) r.fail("fields", std::to_string(nfields) + " fields do not fit the message");
-  struct Field {
-    std::uint32_t offset = 0;
-    std::uint8_t datatype = 0;
-    bool found = false;
-  } xyz[3];
-  constexpr std::uint8_t kFloat32 = 7, kFloat64 = 8;
+  CloudLayout layout;
+  layout.height = height;
+  layout.width = width;
   for (std::uint32_t i = 0; i < nfields; ++i) {
     const std::string_view name = r.string("fields.name");
     const std::uint32_t offset = r.u32("fields.offset");
     const auto datatype = r.get<std::uint8_t>("fields.datatype");
     r.u32("fields.count");
-    const int axis = name == "x" ? 0 : name == "y" ? 1 : name == "z" ? 2 : -1;
-    if (axis < 0 || xyz[axis].found) continue;
-    if (datatype != kFloat32 && datatype != kFloat64)
-      r.fail("fields." + std::string(name), "datatype " + std::to_string(datatype) + ", expected FLOAT32 (7) or FLOAT64 (8)");
-    xyz[axis] = {offset, datatype, true};
+    if (const ScanCheck e = add_cloud_field(layout, name, offset, datatype); !e) r.fail(e.field, e.what);
   }
-  for (int a = 0; a < 3; ++a)
-    if (!xyz[a].found) r.fail("fields", std::string("no '") + "xyz"[a] + "' field");
-  const bool big_endian = r.get<std::uint8_t>("is_bigendian") != 0;
-  const std::uint64_t point_step = r.u32("point_step"), row_step = r.u32("row_step");
+  layout.big_endian = r.get<std::uint8_t>("is_bigendian") != 0;
+  layout.point_step = r.u32("point_step");
+  layout.row_step = r.u32("row_step");
   const std::uint32_t size = r.u32("data");
   const std::string_view data = r.take(size, "data");
   r.get<std::uint8_t>("is_dense");
-  for (const Field& f : xyz)
-    if (f.offset + (f.datatype == kFloat32 ? 4u : 8u) > point_step)
-      r.fail("point_step", "a coordinate field lies beyond point_step " + std::to_string(point_step));
-  if (height > 0 && width > 0) {
-    if (width > size / point_step) r.fail("data", std::to_string(size) + " bytes hold fewer than width points");
-    if (row_step < width * point_step) r.fail("row_step", "smaller than width x point_step");
-    if (height > size / row_step || (height - 1) * row_step + width * point_step > size)
-      r.fail("data", std::to_string(size) + " bytes hold fewer than height x width points");
-  }
-  const auto coordinate = [&](const char* p, const Field& f) {
-    char b[8];
-    const std::size_t n = f.datatype == kFloat32 ? 4 : 8;
-    std::memcpy(b, p + f.offset, n);
-    if (big_endian) std::reverse(b, b + n);
-    if (n == 4) {
-      float v;
-      std::memcpy(&v, b, 4);
-      return static_cast<double>(v);
-    }
-    double v;
-    std::memcpy(&v, b, 8);
-    return v;
-  };
-  c.points.reserve(static_cast<std::size_t>(height * width));
-  for (std::uint64_t row = 0; row < height; ++row)
-    for (std::uint64_t col = 0; col < width; ++col) {
-      const char* p = data.data() + row * row_step + col * point_step;
-      const Vec3 v(coordinate(p, xyz[0]), coordinate(p, xyz[1]), coordinate(p, xyz[2]));
-      if (v.allFinite()) c.points.push_back(v);
-      else ++c.dropped;
-    }
+  if (const ScanCheck e = check_cloud_layout(layout, size); !e) r.fail(e.field, e.what);
+  cloud_points(layout, data, c.points, c.dropped);
   return c;
 }
 
-// The one topic of `type`, or the named one.
-std::string choose_topic(const std::vector<BagConnection>& conns, const std::string& type, const std::string& wanted,
-                         const std::string& path, const char* flag) {
-  std::set<std::string> topics;
-  for (const BagConnection& c : conns)
-    if (c.type == type) topics.insert(c.topic);
-  if (!wanted.empty()) {
-    if (!topics.count(wanted)) {
-      std::string list;
-      for (const std::string& t : topics) list += (list.empty() ? "" : ", ") + t;
-      throw Error("no " + type + " topic '" + wanted + "' in the bag" + (list.empty() ? "" : " (it has " + list + ")"), path, 0,
-                  flag);
-    }
-    return wanted;
-  }
-  if (topics.size() > 1) {
-    std::string list;
-    for (const std::string& t : topics) list += (list.empty() ? "" : ", ") + t;
-    throw Error("several " + type + " topics (" + list + "): name one", path, 0, flag);
-  }
-  return topics.empty() ? std::string() : *topics.begin();
+std::vector<BagTopic> bag_topics(const std::vector<BagConnection>& conns) {
+  std::vector<BagTopic> topics;
+  for (const BagConnection& c : conns) topics.push_back({c.topic, c.type});
+  return topics;
 }
+
 
 }  // namespace
 
@@ -470,85 +409,81 @@ std::vector<BagConnection> bag_connections(std::string_view bytes, const std::st
 }
 
 RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const LogReadOptions& o) {
-  const std::vector<BagConnection> conns = bag_connections(bytes, path);
-  const std::string scan_topic = choose_topic(conns, "sensor_msgs/LaserScan", o.scan_topic, path, "--scan-topic");
-  const std::string odom_topic = choose_topic(conns, "nav_msgs/Odometry", o.odom_topic, path, "--odom-topic");
-  if (scan_topic.empty()) throw Error("has no sensor_msgs/LaserScan topic", path, 0, "--scan-topic");
-  RobotLog log;
-  log.path = path;
-  log.format = "ros1_bag";
-  log.params["scan_topic"] = scan_topic;
-  if (!odom_topic.empty()) log.params["odom_topic"] = odom_topic;
-  std::string laser_frame, base_frame;
-  std::vector<StaticTransform> statics;
+  BagLogAssembler log(bag_topics(bag_connections(bytes, path)), o, path, "ros1_bag");
   std::size_t index = 0;
+  std::vector<FrameTransform> transforms;
   for_each_bag_message(bytes, path, [&](const BagMessageView& m) {
     ++index;
     const BagConnection& c = *m.connection;
+    log.count(c.topic);
+    const BagTopicUse use = log.use(c.topic);
+    if (use == BagTopicUse::Skip) return;
     ByteReader r(m.data, path, 0, c.topic + " message " + std::to_string(index) + " (record at file byte " +
                                       std::to_string(m.file_offset) + "),");
-    if (c.topic == scan_topic) {
-      DecodedScan d = decode_laser_scan(r);
-      if (laser_frame.empty()) laser_frame = strip_slash(d.frame_id);
-      d.scan.source_index = index;
-      if (o.range_max_m) d.scan.range_max_m = *o.range_max_m;
-      if (o.flaser_beam_angles) set_flaser_beam_angles(d.scan, d.scan.ranges_m.size());
-      log.scans.push_back(std::move(d.scan));
-    } else if (c.topic == odom_topic) {
-      DecodedOdometry d = decode_odometry(r);
-      if (base_frame.empty()) base_frame = strip_slash(d.child_frame_id);
-      d.odometry.source_index = index;
-      log.odometry.push_back(d.odometry);
-    } else if (c.type == "tf2_msgs/TFMessage" && strip_slash(c.topic) == "tf_static") {
-      decode_tf(r, statics);
-    } else {
-      ++log.skipped[c.topic + " (" + c.type + ")"];
+    switch (use) {
+      case BagTopicUse::Scan: {
+        DecodedScan d = decode_laser_scan(r);
+        d.scan.source_index = index;
+        log.add_scan(std::move(d.scan), d.frame_id);
+        break;
+      }
+      case BagTopicUse::Odometry: {
+        DecodedOdometry d = decode_odometry(r);
+        d.odometry.source_index = index;
+        log.add_odometry(d.odometry, d.child_frame_id);
+        break;
+      }
+      case BagTopicUse::Truth: {
+        const std::string type = ros1_type_name(c.type);
+        if (type == "nav_msgs/Odometry") {
+          const DecodedOdometry d = decode_odometry(r);
+          log.add_truth(d.odometry.stamp_us, d.odometry.pose);
+        } else {
+          const auto [stamp, pose] = decode_pose_stamped(r, type == "geometry_msgs/PoseWithCovarianceStamped");
+          log.add_truth(stamp, pose);
+        }
+        break;
+      }
+      case BagTopicUse::Imu: {
+        LogImu imu = decode_imu(r);
+        imu.source_index = index;
+        log.add_imu(imu);
+        break;
+      }
+      case BagTopicUse::OdometryTf:
+      case BagTopicUse::TfStatic:
+        transforms.clear();
+        decode_tf(r, transforms);
+        log.add_transforms(transforms, use, index);
+        break;
+      case BagTopicUse::Skip: break;
     }
   });
-  if (base_frame.empty()) base_frame = "base_link";
-  if (!laser_frame.empty() && !statics.empty()) {
-    log.laser_in_base = chain<Pose2>(statics, base_frame, laser_frame);
-    if (log.laser_in_base) log.params["laser_frame"] = base_frame + " -> " + laser_frame;
-  }
-  return log;
+  return log.finish();
 }
 
 PointCloudBagIndex index_point_cloud_bag(std::string_view bytes, const std::string& path, const PointCloudBagOptions& o) {
   const std::vector<BagConnection> conns = bag_connections(bytes, path);
   PointCloudBagIndex ix;
-  ix.cloud_topic = choose_topic(conns, "sensor_msgs/PointCloud2", o.cloud_topic, path, "--cloud-topic");
-  if (ix.cloud_topic.empty()) throw Error("has no sensor_msgs/PointCloud2 topic", path, 0, "--cloud-topic");
-  if (!o.truth_topic.empty()) ix.truth_topic = choose_topic(conns, "nav_msgs/Odometry", o.truth_topic, path, "--truth-topic");
-  if (o.odom_topic.empty() && !ix.truth_topic.empty()) {
-    // The truth's topic is not the odometry's: the other Odometry topic, if exactly one.
-    std::set<std::string> others;
-    for (const BagConnection& c : conns)
-      if (c.type == "nav_msgs/Odometry" && c.topic != ix.truth_topic) others.insert(c.topic);
-    if (others.size() > 1) throw Error("several nav_msgs/Odometry topics besides the truth: name one", path, 0, "--odom-topic");
-    if (!others.empty()) ix.odom_topic = *others.begin();
-  } else {
-    ix.odom_topic = choose_topic(conns, "nav_msgs/Odometry", o.odom_topic, path, "--odom-topic");
-  }
-  if (!ix.truth_topic.empty() && ix.truth_topic == ix.odom_topic)
-    throw Error("the truth topic is also the odometry topic", path, 0, "--truth-topic");
-  std::vector<StaticTransform> statics;
+  choose_point_cloud_topics(bag_topics(conns), o, path, ix);
+  std::vector<FrameTransform> statics;
   std::size_t index = 0;
   for_each_bag_message(bytes, path, [&](const BagMessageView& m) {
     ++index;
     const BagConnection& c = *m.connection;
     if (c.topic != ix.cloud_topic && c.topic != ix.odom_topic && c.topic != ix.truth_topic &&
-        !(c.type == "tf2_msgs/TFMessage" && strip_slash(c.topic) == "tf_static"))
+        !(c.type == "tf2_msgs/TFMessage" && frame_name(c.topic) == "tf_static"))
       return;
     ByteReader r(m.data, path, 0, c.topic + " message " + std::to_string(index) + " (record at file byte " +
                                       std::to_string(m.file_offset) + "),");
     if (c.topic == ix.cloud_topic) {
       // Only the header: the points are decoded when streamed.
       const StampedHeader h = read_header(r);
-      if (ix.cloud_frame.empty()) ix.cloud_frame = strip_slash(h.frame_id);
+      if (ix.cloud_frame.empty()) ix.cloud_frame = frame_name(h.frame_id);
       ix.cloud_stamps_us.push_back(h.stamp_us);
     } else if (c.topic == ix.odom_topic) {
       DecodedOdometry d = decode_odometry(r);
-      if (ix.base_frame.empty()) ix.base_frame = strip_slash(d.child_frame_id);
+      if (ix.base_frame.empty()) ix.base_frame = frame_name(d.child_frame_id);
       d.odometry.source_index = index;
       ix.odometry.push_back(d.odometry);
     } else if (c.topic == ix.truth_topic) {
@@ -559,7 +494,7 @@ PointCloudBagIndex index_point_cloud_bag(std::string_view bytes, const std::stri
     }
   });
   if (ix.base_frame.empty()) ix.base_frame = "base_link";
-  if (!ix.cloud_frame.empty() && !statics.empty()) ix.sensor_in_base = chain<Pose3>(statics, ix.base_frame, ix.cloud_frame);
+  if (!ix.cloud_frame.empty() && !statics.empty()) ix.sensor_in_base = transform_chain(statics, ix.base_frame, ix.cloud_frame);
   return ix;
 }
 

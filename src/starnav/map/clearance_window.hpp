@@ -16,6 +16,7 @@
 
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
+#include "starnav/map/obstacle_distance_field.hpp"
 #include "starnav/map/distance_transform.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 
@@ -27,6 +28,11 @@ class ClearanceWindow {
   // whole cells), its distances exact for obstacles up to `pad_m` outside it. Reuses its buffers.
   void build(const OccupancyGrid& map, const Vec2& centre, double half_m, double pad_m,
              const OccupancyThresholds& thresholds = {});
+  // The same window read off a map's distance field (map/obstacle_distance_field.hpp, refreshed), without
+  // a transform of its own: the obstacles are the field's, the distances the field's (exact out to
+  // its range, which must reach `pad_m`: Error otherwise). An obstacle the field finds nearest but
+  // that lies beyond the padded window counts as none, as it would for the window's own transform.
+  void build(const ObstacleDistanceField& field, const Vec2& centre, double half_m, double pad_m);
 
   // The window's own grid: the map's lattice, shifted (cell (0, 0) is the window's first cell).
   const GridGeometry& geometry() const { return geometry_; }
@@ -68,6 +74,8 @@ class ClearanceWindow {
   void wavefront(std::span<const Cell> seeds, double pass_clearance_m, std::vector<double>& out) const;
 
  private:
+  void set_lattice(const GridGeometry& g, int ix0, int iy0, int half, double pad_m);
+  void index_obstacles();
   std::size_t padded_index(int ix, int iy) const {
     return static_cast<std::size_t>(iy + pad_) * static_cast<std::size_t>(padded_width_) + static_cast<std::size_t>(ix + pad_);
   }

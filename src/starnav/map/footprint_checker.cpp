@@ -102,15 +102,28 @@ bool FootprintChecker::collides_brute_force(const ClearanceWindow& map, const Po
   return hit;
 }
 
-FootprintMotionChecker::FootprintMotionChecker(const FootprintModel& model, const OccupancyGrid& obstacles)
-    : model_(model), checker_(model, 0.0), obstacles_(&obstacles) {}
+FootprintMotionChecker::FootprintMotionChecker(const FootprintModel& model) : model_(model), checker_(model, 0.0) {}
 
-bool FootprintMotionChecker::clear(const Pose2& pose, const BodyTwist& twist, double duration_s, double step_s) const {
-  const double reach = model_.bounding_radius_m() + std::hypot(twist.vx, twist.vy) * duration_s + 0.5;
-  window_.build(*obstacles_, pose.translation(), reach, model_.bounding_radius_m() + 0.2);
+double FootprintMotionChecker::reach_m(const BodyTwist& twist, double duration_s) const {
+  return model_.bounding_radius_m() + std::hypot(twist.vx, twist.vy) * duration_s + 0.5;
+}
+
+bool FootprintMotionChecker::clear_in_window(const Pose2& pose, const BodyTwist& twist, double duration_s, double step_s) const {
   for (double s = step_s; s <= duration_s + 1e-9; s += step_s)
     if (checker_.collides(window_, advance_on_arc(pose, twist.vx, twist.vy, twist.wz, s))) return false;
   return true;
+}
+
+bool FootprintMotionChecker::clear(const ObstacleDistanceField& field, const Pose2& pose, const BodyTwist& twist, double duration_s,
+                                   double step_s) const {
+  window_.build(field, pose.translation(), reach_m(twist, duration_s), model_.bounding_radius_m() + 0.2);
+  return clear_in_window(pose, twist, duration_s, step_s);
+}
+
+bool FootprintMotionChecker::clear(const OccupancyGrid& obstacles, const Pose2& pose, const BodyTwist& twist, double duration_s,
+                                   double step_s) const {
+  window_.build(obstacles, pose.translation(), reach_m(twist, duration_s), model_.bounding_radius_m() + 0.2);
+  return clear_in_window(pose, twist, duration_s, step_s);
 }
 
 }  // namespace starnav

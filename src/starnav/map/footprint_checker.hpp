@@ -71,18 +71,24 @@ class FootprintChecker {
   double cover_radius_m_ = 0.0;
 };
 
-// Whether driving a constant body twist from a pose keeps a footprint clear of the occupied cells
-// of an obstacle map (unknown cells are free), tested every `step_s` along the exact arc. The
-// window around the pose is built anew for each question (reusing its buffers).
+// Whether driving a constant body twist from a pose keeps a footprint clear of the obstacles of a
+// map, tested every `step_s` along the exact arc: the map's distance field (refreshed), or the
+// occupied cells of an occupancy grid (unknown cells free). The window around the pose is built
+// anew for each question (reusing its buffers).
 class FootprintMotionChecker {
  public:
-  FootprintMotionChecker(const FootprintModel& model, const OccupancyGrid& obstacles);
-  bool clear(const Pose2& pose, const BodyTwist& twist, double duration_s, double step_s = 0.05) const;
+  explicit FootprintMotionChecker(const FootprintModel& model);
+  bool clear(const ObstacleDistanceField& field, const Pose2& pose, const BodyTwist& twist, double duration_s,
+             double step_s = 0.05) const;
+  bool clear(const OccupancyGrid& obstacles, const Pose2& pose, const BodyTwist& twist, double duration_s,
+             double step_s = 0.05) const;
 
  private:
+  double reach_m(const BodyTwist& twist, double duration_s) const;
+  bool clear_in_window(const Pose2& pose, const BodyTwist& twist, double duration_s, double step_s) const;
+
   FootprintModel model_;
   FootprintChecker checker_;
-  const OccupancyGrid* obstacles_;
   mutable ClearanceWindow window_;
 };
 

@@ -80,13 +80,13 @@ std::vector<Cell> turning_cells(const std::vector<Cell>& cells) {
 
 namespace {
 
-// The recoveries' motion check: the robot's rectangle against the raw obstacles it knows.
+// The recoveries' motion check: the robot's rectangle against the obstacles of the navigation map,
+// read off its distance field.
 class FootprintMotionCheck final : public MotionCheck {
  public:
-  FootprintMotionCheck(const Footprint& footprint, const OccupancyGrid& obstacles)
-      : checker_(rectangle(footprint), obstacles) {}
+  FootprintMotionCheck(const Footprint& footprint, LayeredCostmap& map) : checker_(rectangle(footprint)), map_(&map) {}
   bool clear(const Pose2& pose, const BodyTwist& twist, double duration_s) const override {
-    return checker_.clear(pose, twist, duration_s);
+    return checker_.clear(map_->clearance(), pose, twist, duration_s);
   }
 
  private:
@@ -98,6 +98,7 @@ class FootprintMotionCheck final : public MotionCheck {
     return m;
   }
   FootprintMotionChecker checker_;
+  LayeredCostmap* map_;
 };
 
 }  // namespace
@@ -106,7 +107,7 @@ Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, Na
                      std::optional<double> goal_yaw)
     : config_(config),
       goal_(goal),
-      map_((config.validate(), config.geometry), config.map),
+      map_((config.validate(), config.geometry), config.map, std::move(parts.layers)),
       planner_(std::move(parts.planner)),
       controller_(std::move(parts.controller)),
       goal_checker_(std::move(parts.goal_checker)),
@@ -125,9 +126,7 @@ Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, Na
                 "", 0, "navigation.planner");
   incremental_ = parts.planner_capabilities.has(Capability::Incremental);
   if (incremental_) pending_mark_.assign(config_.geometry.cell_count(), 0);
-  motion_check_ = std::make_unique<FootprintMotionCheck>(footprint_, map_.raw_occupancy());
-
-  if (!config_.prior_obstacles.empty()) map_.set_static_obstacles(config_.prior_obstacles);
+  motion_check_ = std::make_unique<FootprintMotionCheck>(footprint_, map_);
   set_goal(goal, goal_yaw);
 }
 
@@ -167,7 +166,7 @@ NavCycle Navigator::on_points(const Vec3& sensor_origin, std::span<const Vec3> p
   return after_update(map_.integrate(sensor_origin, points), pose, t);
 }
 
-NavCycle Navigator::after_update(NodeMapUpdate update, const Pose2& pose, double t) {
+NavCycle Navigator::after_update(CostmapUpdate update, const Pose2& pose, double t) {
   NavCycle cycle;
   cycle.t_s = t;
   if (incremental_ && !plans_.empty()) {
@@ -373,6 +372,8 @@ BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& veloc
   in.pose = pose;
   in.velocity = velocity;
   in.local_map = &map_.raw_occupancy();
+  // The distance field, brought up to date, for a controller that checks its footprint against it.
+  if (controller_capabilities_.has(Capability::ChecksFootprint)) in.clearance = &map_.clearance();
   in.footprint = footprint_;
   in.limits = limits_;
   in.goal = goal_;

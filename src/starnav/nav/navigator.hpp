@@ -3,14 +3,14 @@
 // navigation loop"), independent of where scans and poses come from.
 //
 // Per sensor cycle (on_scan):
-//   1. the scan updates the NodeHeightMap (heights, evidence, beam clearing, walkable flags,
-//      expansion by the barrier distance);
+//   1. the scan updates the navigation map, a layered costmap (costmap/layered_costmap.hpp: by
+//      default the prior map's obstacles and Li 2019's 3D nodes, expanded by the barrier distance);
 //   2. the first cycle plans (cause "initial"); afterwards the navigator replans exactly when a
 //      cell of the remaining path is now blocked for planning (cause "blocked"; the cells of an
 //      escape prefix only when raw blocked), or when the follower reports it cannot reach the
 //      path's end (cause "missed"); otherwise it keeps the path;
 //   3. a plan starts at the robot's cell; when that cell lies inside the expansion band the path
-//      first leaves the band by NodeHeightMap::escape_cell and is planned from there. Unknown
+//      first leaves the band by LayeredCostmap::escape_cell and is planned from there. Unknown
 //      cells are free. No path (goal blocked, start raw blocked, goal enclosed) -> status NoPath,
 //      reported once; the caller stops.
 // Per control step (command): arrived when within goal_tolerance of the goal (status Arrived,
@@ -39,7 +39,7 @@
 #include "starnav/control/recovery.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
-#include "starnav/nav/node_height_map.hpp"
+#include "starnav/costmap/node_height_map.hpp"
 #include "starnav/plan/global_planner.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/robot/robot_model.hpp"
@@ -65,18 +65,19 @@ struct NavigatorParts {
   std::unique_ptr<GoalChecker> goal_checker;
   std::unique_ptr<ProgressChecker> progress_checker;
   std::vector<std::unique_ptr<Recovery>> recoveries;  // run in order; none: the robot never recovers
+  std::vector<std::unique_ptr<CostmapLayer>> layers;  // the navigation map's, in order (built on config.geometry)
 };
 
 struct NavigatorConfig {
   GridGeometry geometry;  // the map's grid (world-aligned, y up)
   NodeMapParams map;
-  std::vector<std::uint8_t> prior_obstacles;  // obstacles known before the run (2D map mode), empty: none
+  std::vector<std::uint8_t> prior_obstacles;  // obstacles known before the run (2D map mode; the static_map layer's), empty: none
   bool compare_astar = false;     // incremental planners: also A* from scratch at every plan
   double goal_tolerance_m = 0.15;
   double goal_yaw_tolerance_rad = 0.08726646259971647;  // 5 deg: with a goal heading, arrived within it
   double no_return_clear_m = 0.0;
   double no_path_retry_s = 0.0;  // > 0: no path keeps the robot waiting and planning this long before giving up
-  RecoveryConfig recovery; // see NodeHeightMap::integrate(const LidarScan&, double)
+  RecoveryConfig recovery;
   std::vector<std::string> warnings;  // from whoever built the configuration; Navigator::warnings() repeats them
   void validate() const;  // Error naming the field
 };
@@ -118,7 +119,7 @@ struct NavEvent {
 // What one sensor cycle did.
 struct NavCycle {
   double t_s = 0.0;
-  NodeMapUpdate update;
+  CostmapUpdate update;
   bool planned = false;
   std::string cause;  // when planned
 };
@@ -155,12 +156,13 @@ class Navigator {
   NavStatus status() const { return status_; }
   const std::string& no_path_reason() const { return no_path_reason_; }
   double arrival_time_s() const { return arrival_t_; }
-  const NodeHeightMap& map() const { return map_; }
+  const LayeredCostmap& map() const { return map_; }
   const NavigatorConfig& config() const { return config_; }
   const LocalController& controller() const { return *controller_; }
   LocalController& controller() { return *controller_; }
   const GlobalPlanner& planner() const { return *planner_; }
   const GoalChecker& goal_checker() const { return *goal_checker_; }
+  const Capabilities& controller_capabilities() const { return controller_capabilities_; }
   // What whoever built the configuration warned about (deprecated names, ignored sections).
   const std::vector<std::string>& warnings() const { return warnings_; }
   const Vec2& goal() const { return goal_; }
@@ -177,7 +179,7 @@ class Navigator {
   double distance_to_path(const Vec2& p) const;
 
  private:
-  NavCycle after_update(NodeMapUpdate update, const Pose2& pose, double t);
+  NavCycle after_update(CostmapUpdate update, const Pose2& pose, double t);
   // Recovery: starts the recoveries (false when the navigation gives up), and the twist of the
   // running one.
   bool start_recovery(const Pose2& pose, double t, const std::string& why);
@@ -190,7 +192,7 @@ class Navigator {
   NavigatorConfig config_;
   Vec2 goal_;
   Cell goal_cell_{};
-  NodeHeightMap map_;
+  LayeredCostmap map_;
   std::unique_ptr<GlobalPlanner> planner_;
   std::unique_ptr<LocalController> controller_;
   std::unique_ptr<GoalChecker> goal_checker_;

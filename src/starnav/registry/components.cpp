@@ -48,7 +48,12 @@ namespace starnav {
   X(back_up_recovery) /* control/recoveries.cpp */ \
   X(wait_recovery)    /* control/recoveries.cpp */
 
+#define STARNAV_COSTMAP_LAYERS(X)                                \
+  X(static_map_layer)  /* costmap/static_map_layer.cpp */       \
+  X(node_height_layer) /* costmap/node_height_layer.cpp */
+
 #define STARNAV_DECLARE_CONTROLLER(f) LocalControllerDef f();
+#define STARNAV_DECLARE_COSTMAP_LAYER(f) CostmapLayerDef f();
 #define STARNAV_DECLARE_GOAL_CHECKER(f) GoalCheckerDef f();
 #define STARNAV_DECLARE_PROGRESS_CHECKER(f) ProgressCheckerDef f();
 #define STARNAV_DECLARE_RECOVERY(f) RecoveryDef f();
@@ -61,6 +66,7 @@ STARNAV_LOCAL_CONTROLLERS(STARNAV_DECLARE_CONTROLLER)
 STARNAV_GOAL_CHECKERS(STARNAV_DECLARE_GOAL_CHECKER)
 STARNAV_PROGRESS_CHECKERS(STARNAV_DECLARE_PROGRESS_CHECKER)
 STARNAV_RECOVERIES(STARNAV_DECLARE_RECOVERY)
+STARNAV_COSTMAP_LAYERS(STARNAV_DECLARE_COSTMAP_LAYER)
 STARNAV_LOCALIZERS(STARNAV_DECLARE_LOCALIZER)
 STARNAV_SCAN_MATCHERS(STARNAV_DECLARE_SCAN_MATCHER)
 STARNAV_SCAN_MATCHERS_3D(STARNAV_DECLARE_SCAN_MATCHER_3D)
@@ -101,6 +107,11 @@ const std::vector<ProgressCheckerDef>& progress_checkers() {
 
 const std::vector<RecoveryDef>& recoveries() {
   static const std::vector<RecoveryDef> all = {STARNAV_RECOVERIES(STARNAV_LIST)};
+  return all;
+}
+
+const std::vector<CostmapLayerDef>& costmap_layers() {
+  static const std::vector<CostmapLayerDef> all = {STARNAV_COSTMAP_LAYERS(STARNAV_LIST)};
   return all;
 }
 
@@ -189,6 +200,9 @@ const ProgressCheckerDef& find_progress_checker(const std::string& name, const s
 const RecoveryDef& find_recovery(const std::string& name, const std::string& field, std::string* warning) {
   return find_in(recoveries(), name, field, warning, "recovery");
 }
+const CostmapLayerDef& find_costmap_layer(const std::string& name, const std::string& field, std::string* warning) {
+  return find_in(costmap_layers(), name, field, warning, "costmap layer");
+}
 const LocalizerDef& find_localizer(const std::string& name, const std::string& field, std::string* warning) {
   return find_in(localizers(), name, field, warning, "localizer");
 }
@@ -212,6 +226,7 @@ ComponentInfo find_component(Role role, const std::string& name, const std::stri
     case Role::GoalChecker: return find_goal_checker(name, field, warning).info;
     case Role::ProgressChecker: return find_progress_checker(name, field, warning).info;
     case Role::Recovery: return find_recovery(name, field, warning).info;
+    case Role::CostmapLayer: return find_costmap_layer(name, field, warning).info;
     case Role::Localizer: return find_localizer(name, field, warning).info;
     case Role::Slam: return find_slam(name, field, warning).info;
     case Role::ScanMatcher: return find_scan_matcher(name, field, warning).info;
@@ -227,6 +242,7 @@ std::vector<ComponentInfo> all_components() {
   append_infos(goal_checkers(), out);
   append_infos(progress_checkers(), out);
   append_infos(recoveries(), out);
+  append_infos(costmap_layers(), out);
   append_infos(localizers(), out);
   append_infos(slam_components(), out);
   append_infos(scan_matchers(), out);

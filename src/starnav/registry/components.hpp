@@ -11,6 +11,7 @@
 #include "starnav/control/local_controller.hpp"
 #include "starnav/control/progress_checker.hpp"
 #include "starnav/control/recovery.hpp"
+#include "starnav/costmap/costmap_layer.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/estimate/localizer.hpp"
 #include "starnav/plan/global_planner.hpp"
@@ -24,6 +25,7 @@ const std::vector<LocalControllerDef>& local_controllers();
 const std::vector<GoalCheckerDef>& goal_checkers();
 const std::vector<ProgressCheckerDef>& progress_checkers();
 const std::vector<RecoveryDef>& recoveries();
+const std::vector<CostmapLayerDef>& costmap_layers();
 const std::vector<LocalizerDef>& localizers();
 const std::vector<SlamDef>& slam_components();
 const std::vector<ScanMatcherDef>& scan_matchers();
@@ -41,6 +43,8 @@ const ProgressCheckerDef& find_progress_checker(const std::string& name, const s
                                                 std::string* warning = nullptr);
 const RecoveryDef& find_recovery(const std::string& name, const std::string& field = "recoveries",
                                  std::string* warning = nullptr);
+const CostmapLayerDef& find_costmap_layer(const std::string& name, const std::string& field = "layers",
+                                          std::string* warning = nullptr);
 const LocalizerDef& find_localizer(const std::string& name, const std::string& field = "localizer",
                                    std::string* warning = nullptr);
 const ScanMatcherDef& find_scan_matcher(const std::string& name, const std::string& field = "scan_matcher",

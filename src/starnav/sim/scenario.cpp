@@ -16,6 +16,7 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/io/ros_map.hpp"
+#include "starnav/io/yaml_document.hpp"
 #include "starnav/sim/occupancy_world.hpp"
 #include "starnav/sim/terrain_surface.hpp"
 
@@ -1207,9 +1208,9 @@ void apply_override(YAML::Node& root, const ScenarioOverride& o, const std::stri
   }
   YAML::Node value;
   try {
-    value = YAML::Load(o.value);
-  } catch (const YAML::Exception& e) {
-    throw Error("not a YAML value: " + one_line(e.msg, 60), "", 0, field);
+    value = load_yaml_document(o.value, "");
+  } catch (const Error& e) {
+    throw Error("not a YAML value: " + e.message(), "", 0, field);
   }
   // A fresh key (no mark): the value has no line in the file.
   node.remove(parts.back());
@@ -1238,12 +1239,7 @@ void check_user_overrides(std::span<const ScenarioOverride> overrides, std::span
 }
 
 ScenarioSpec parse_scenario(std::string_view yaml_text, const std::string& file, std::span<const ScenarioOverride> overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::Exception& e) {
-    throw Error("YAML syntax error: " + one_line(e.msg, 60), file, e.mark.is_null() ? 0 : e.mark.line + 1);
-  }
+  YAML::Node root = load_yaml_document(yaml_text, file);
   for (const ScenarioOverride& o : overrides) apply_override(root, o, file);
   try {
     return parse_document(root, file);
@@ -1279,7 +1275,7 @@ void check_simulation_steps(const ScenarioSpec& spec, const std::string& field) 
 
 ScenarioSpec load_scenario(const std::string& path, std::span<const ScenarioOverride> overrides) {
   const InputFileScope reading_path(path);
-  return parse_scenario(read_input_file(path), path, overrides);
+  return parse_scenario(read_yaml_file(path), path, overrides);
 }
 
 WorldDescription build_world(const ScenarioSpec& spec) {

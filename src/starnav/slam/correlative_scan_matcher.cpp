@@ -16,6 +16,16 @@ namespace {
 // The most cells a likelihood field may have (a reference spread over kilometres is refused).
 constexpr std::int64_t kMaxFieldCells = std::int64_t{1} << 26;
 
+// The field cell of a coordinate in cell units, clamped to +-2^30: a field has fewer than 2^26
+// cells, so a clamped point is outside it, and adding the search window's offsets cannot overflow
+// (a guess far from the reference is a miss, not undefined behaviour).
+int field_cell(double v) {
+  constexpr double kFar = 1073741824.0;
+  if (!(v > -kFar)) return -static_cast<int>(kFar);  // also NaN
+  if (v >= kFar) return static_cast<int>(kFar);
+  return static_cast<int>(std::floor(v));
+}
+
 // The bounds of blocks 2, 4, ..., 2^depth cells wide (padded grids: level k starts at cell
 // -(2^k - 1)), each from the one below in float and stored rounded up to 1/255.
 std::vector<std::vector<std::uint8_t>> block_bounds(const std::vector<float>& fine, int w, int h, int depth) {
@@ -100,8 +110,8 @@ class BranchAndBound {
       int* b = &base_[static_cast<std::size_t>(a + n_a) * n_points_ * 2];
       for (std::size_t i = 0; i < n_points_; ++i) {
         const double x = guess.x + cs * scan[i].x() - sn * scan[i].y(), y = guess.y + sn * scan[i].x() + cs * scan[i].y();
-        b[2 * i] = static_cast<int>(std::floor((x - f_.origin.x()) / f_.resolution));
-        b[2 * i + 1] = static_cast<int>(std::floor((y - f_.origin.y()) / f_.resolution));
+        b[2 * i] = field_cell((x - f_.origin.x()) / f_.resolution);
+        b[2 * i + 1] = field_cell((y - f_.origin.y()) / f_.resolution);
       }
     }
   }

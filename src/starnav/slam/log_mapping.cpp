@@ -31,7 +31,11 @@ LogMapResult map_with(const RobotLog& log, const OccupancyMappingParams& params,
     }
     const Pose2 sensor = is_sensor_pose ? *p : laser_pose(log, *p);
     const Pose2 base = is_sensor_pose ? sensor.compose(log.laser_in_base.value_or(Pose2()).inverse()) : *p;
-    mapper.add_scan(sensor, scan);
+    try {
+      mapper.add_scan(sensor, scan);
+    } catch (const Error& e) {
+      throw error_at_scan(log, scan, e);
+    }
     if (observer) observer(scan, base, sensor, mapper.last_changes());
     r.base_poses.push_back({scan.stamp_us, base});
     ++r.scans_mapped;
@@ -108,6 +112,9 @@ std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
       const std::string_view c = cols[k + 1];
       if (!parse_finite_number(c, v[k]))
         throw Error("expected a finite number, got '" + printable(c, 40) + "'", path, line_no, names[k]);
+      if (k < 2 && !plausible_coordinate(v[k]))
+        throw Error(format_number(v[k]) + " m lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position",
+                    path, line_no, names[k]);
     }
     p.pose = Pose2(v[0], v[1], wrap_angle(v[2]));
     out.push_back(p);

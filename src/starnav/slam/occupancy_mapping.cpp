@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -51,22 +52,44 @@ OccupancyMapper::OccupancyMapper(const OccupancyMappingParams& params) : params_
   hi_ = log_odds(params_.clamp_max_probability);
 }
 
+void OccupancyMapper::check_reach(const Vec2& from, const Vec2& to) const {
+  // In cell units, as doubles: nothing is converted to an integer before it is known to fit.
+  const double r = params_.resolution_m;
+  const double fx = std::floor(std::min(from.x(), to.x()) / r), fy = std::floor(std::min(from.y(), to.y()) / r);
+  const double tx = std::floor(std::max(from.x(), to.x()) / r) + 1, ty = std::floor(std::max(from.y(), to.y()) / r) + 1;
+  const auto where = [&] {
+    const Vec2& far = std::max(std::abs(from.x()), std::abs(from.y())) > std::max(std::abs(to.x()), std::abs(to.y())) ? from : to;
+    return "a pose or reading at (" + format_number(far.x()) + ", " + format_number(far.y()) + ") m lies far outside the mapped area";
+  };
+  if (!(std::abs(fx) <= kMaxLatticeIndex && std::abs(fy) <= kMaxLatticeIndex && std::abs(tx) <= kMaxLatticeIndex &&
+        std::abs(ty) <= kMaxLatticeIndex))
+    throw Error(where() + ": a map of " + format_number(r) + " m cells reaches at most " + format_number(kMaxLatticeIndex * r) +
+                    " m from the origin",
+                {}, 0, "resolution_m");
+  // The least box the map would cover with this segment (the cells it has, the segment's).
+  const double bx0 = w_ ? std::min(static_cast<double>(x0_), fx) : fx, by0 = h_ ? std::min(static_cast<double>(y0_), fy) : fy;
+  const double bx1 = w_ ? std::max(static_cast<double>(x0_ + w_), tx) : tx, by1 = h_ ? std::max(static_cast<double>(y0_ + h_), ty) : ty;
+  if ((bx1 - bx0) * (by1 - by0) > static_cast<double>(kMaxOccupancyMapCells))
+    throw Error(where() + ": the map would grow to " + format_number(bx1 - bx0) + " x " + format_number(by1 - by0) +
+                    " cells, more than the " + std::to_string(kMaxOccupancyMapCells) + " a map may have",
+                {}, 0, "resolution_m");
+}
+
 OccupancyMapper::Cell& OccupancyMapper::cell(std::int64_t ix, std::int64_t iy) {
   if (ix < x0_ || iy < y0_ || ix >= x0_ + w_ || iy >= y0_ + h_) {
     // Grow with a margin (half the new extent, at least 64 cells) so that a robot exploring in
-    // one direction reallocates a logarithmic number of times.
-    std::int64_t nx0 = w_ ? std::min(x0_, ix) : ix, ny0 = h_ ? std::min(y0_, iy) : iy;
-    std::int64_t nx1 = w_ ? std::max(x0_ + w_, ix + 1) : ix + 1, ny1 = h_ ? std::max(y0_ + h_, iy + 1) : iy + 1;
+    // one direction reallocates a logarithmic number of times; no margin where it would pass the
+    // cell limit (check_reach has made sure the cells themselves fit).
+    const std::int64_t tx0 = w_ ? std::min(x0_, ix) : ix, ty0 = h_ ? std::min(y0_, iy) : iy;
+    const std::int64_t tx1 = w_ ? std::max(x0_ + w_, ix + 1) : ix + 1, ty1 = h_ ? std::max(y0_ + h_, iy + 1) : iy + 1;
+    std::int64_t nx0 = tx0, ny0 = ty0, nx1 = tx1, ny1 = ty1;
     const std::int64_t mx = std::max<std::int64_t>(64, (nx1 - nx0) / 2), my = std::max<std::int64_t>(64, (ny1 - ny0) / 2);
     if (nx0 < x0_ || !w_) nx0 -= mx;
     if (nx1 > x0_ + w_ || !w_) nx1 += mx;
     if (ny0 < y0_ || !h_) ny0 -= my;
     if (ny1 > y0_ + h_ || !h_) ny1 += my;
+    if (nx1 - nx0 > kMaxOccupancyMapCells / (ny1 - ny0)) nx0 = tx0, ny0 = ty0, nx1 = tx1, ny1 = ty1;
     const std::int64_t nw = nx1 - nx0, nh = ny1 - ny0;
-    if (nw > kMaxOccupancyMapCells / nh)
-      throw Error("the map would grow to " + std::to_string(nw) + " x " + std::to_string(nh) +
-                      " cells: a pose or reading lies far outside the mapped area",
-                  {}, 0, "resolution_m");
     std::vector<Cell> grown(static_cast<std::size_t>(nw * nh));
     for (std::int64_t y = 0; y < h_; ++y)
       std::copy_n(cells_.begin() + y * w_, w_, grown.begin() + ((y + y0_ - ny0) * nw + (x0_ - nx0)));
@@ -92,6 +115,7 @@ void OccupancyMapper::update(std::int64_t ix, std::int64_t iy, bool hit) {
 }
 
 void OccupancyMapper::trace(const Vec2& from, const Vec2& to, bool hit) {
+  check_reach(from, to);
   std::int64_t ex = 0, ey = 0;
   for_each_cell_on_segment(from, to, params_.resolution_m, [&](std::int64_t ix, std::int64_t iy, bool last) {
     if (last) ex = ix, ey = iy;
@@ -147,10 +171,18 @@ void OccupancyMapper::add_scan(const Pose2& sensor_pose, const ScanMessage& scan
 
 namespace {
 
-// map_server's trinary reading of a log-odds value (thresholds 0.65 and 0.196, as write_ros_map).
-std::int8_t trinary_class(float log_odds) {
+// A log-odds value as the map stores it: the probability of occupancy in whole percent.
+std::int8_t occupancy_percent(float log_odds) {
   const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(log_odds)));
-  return p >= 0.65 ? 100 : (p <= 0.196 ? 0 : -1);
+  return static_cast<std::int8_t>(std::lround(100.0 * p));
+}
+
+// The class the written map file gives a cell: its percent as write_ros_map writes it with the
+// default thresholds (map_saver's rule: free at <= rint(19.6) = 20 %, occupied at >= 65 %), so
+// replaying the changes gives the written map's classes exactly, on the thresholds too.
+std::int8_t trinary_class(float log_odds) {
+  const int v = occupancy_percent(log_odds);
+  return v >= 65 ? 100 : (v <= 20 ? 0 : -1);
 }
 
 }  // namespace
@@ -200,8 +232,7 @@ OccupancyGrid OccupancyMapper::grid() const {
     for (int x = 0; x < g.width; ++x) {
       const Cell& c = cells_[static_cast<std::size_t>((by0 + y) * w_ + (bx0 + x))];
       if (!c.observed()) continue;
-      const double p = 1.0 - 1.0 / (1.0 + std::exp(static_cast<double>(c.log_odds)));
-      out(x, y) = static_cast<std::int8_t>(std::lround(100.0 * p));
+      out(x, y) = occupancy_percent(c.log_odds);
     }
   return out;
 }

@@ -28,6 +28,9 @@ namespace starnav {
 // The most cells a map built from scans may grow to (2^28, about 268 million): a pose or a
 // reading far off the map's scale is refused instead of allocating without bound.
 inline constexpr std::int64_t kMaxOccupancyMapCells = std::int64_t{1} << 28;
+// The farthest cell index from the origin a map may use (2^40: 5.5 million km at the finest 5 mm
+// cells), so that a wild pose is refused before any index arithmetic could overflow.
+inline constexpr double kMaxLatticeIndex = 1099511627776.0;
 
 // The cells of side `resolution` (lattice corner at the origin) that the segment from `from` to
 // `to` passes through, in order from the one holding `from` to the one holding `to` (visited last,
@@ -74,8 +77,9 @@ struct OccupancyMappingParams {
 const ParamTable<OccupancyMappingParams>& occupancy_mapping_params();
 
 // A cell whose class changed with one scan: its lattice index (the cell's corner is at
-// (ix, iy) * resolution) and its new value as map_server's trinary reading of the map gives it:
-// 100 occupied (p >= 0.65), 0 free (p <= 0.196), -1 neither (or never observed).
+// (ix, iy) * resolution) and its new value as map_server's trinary reading of the written map
+// gives it: 100 occupied (at least 65 %, the grid's rounded percent), 0 free (at most 20 %:
+// map_saver's rint(100 x 0.196)), -1 neither (or never observed).
 struct MapCellChange {
   std::int64_t ix = 0, iy = 0;
   std::int8_t value = -1;
@@ -114,6 +118,9 @@ class OccupancyMapper {
     bool observed() const { return last_scan != 0; }
   };
   Cell& cell(std::int64_t ix, std::int64_t iy);  // grows the grid
+  // Throws Error (field resolution_m) when the segment lies beyond kMaxLatticeIndex or the map
+  // would need more than kMaxOccupancyMapCells cells to hold it: before any cell is touched.
+  void check_reach(const Vec2& from, const Vec2& to) const;
   void update(std::int64_t ix, std::int64_t iy, bool hit);
   void trace(const Vec2& from, const Vec2& to, bool hit);
   // Beam i: range(i), at angle(i) from +x in the map frame.

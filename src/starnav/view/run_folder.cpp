@@ -1,8 +1,14 @@
 #include "starnav/view/run_folder.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "starnav/core/error.hpp"
@@ -22,13 +28,66 @@ bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-// JSON text safe inside a <script> element: "</" cannot close it.
-std::string script_safe(std::string text) {
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
-  return text;
+}  // namespace
+
+RunFile::RunFile(const std::string& dir, const std::string& name, Links links) : path_((fs::path(dir) / name).string()) {
+  if (!is_plain_file_name(name)) {
+    refusal_ = "not a plain file name";
+    return;
+  }
+  // O_NOFOLLOW: a symbolic link is refused, not followed (the name has no other component); O_NONBLOCK:
+  // opening a FIFO must not wait for a writer (it is refused below as not a regular file).
+  fd_ = ::open(path_.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | (links == Links::Refuse ? O_NOFOLLOW : 0));
+  if (fd_ < 0) {
+    refusal_ = errno == ELOOP ? "a symbolic link" : errno == ENOENT ? "missing" : "cannot be opened";
+    return;
+  }
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd_);
+    fd_ = -1;
+    refusal_ = "not a regular file";
+    return;
+  }
+  size_ = static_cast<std::uintmax_t>(st.st_size);
 }
 
-}  // namespace
+RunFile::~RunFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+std::size_t RunFile::read_at(std::uintmax_t offset, char* out, std::size_t n) const {
+  if (fd_ < 0) return 0;
+  for (;;) {
+    const ssize_t got = ::pread(fd_, out, n, static_cast<off_t>(offset));
+    if (got >= 0) return static_cast<std::size_t>(got);
+    if (errno != EINTR) return 0;
+  }
+}
+
+std::string RunFile::read_all(std::uintmax_t max_bytes) const {
+  if (fd_ < 0) throw Error("a run file must be a regular file of the folder, and this one is " + refusal_, path_, 0, "");
+  if (size_ > max_bytes)
+    throw Error("is " + std::to_string(size_) + " bytes, more than the " + std::to_string(max_bytes) + " this reader takes", path_, 0, "");
+  std::string out(static_cast<std::size_t>(size_), '\0');
+  std::size_t have = 0;
+  while (have < out.size()) {
+    const std::size_t got = read_at(have, out.data() + have, out.size() - have);
+    if (got == 0) throw Error("cannot read the whole file (it changed or the read failed)", path_, 0, "");
+    have += got;
+  }
+  return out;
+}
+
+std::string json_for_script(std::string json_text) {
+  std::string out;
+  out.reserve(json_text.size());
+  for (const char c : json_text) {
+    if (c == '<') out += "\\u003c";
+    else out += c;
+  }
+  return out;
+}
 
 bool is_plain_file_name(const std::string& name) {
   if (name.empty() || name.size() > 255 || name.front() == '.') return false;
@@ -42,7 +101,7 @@ std::vector<std::string> run_folder_files(const std::string& dir) {
   std::error_code ec;
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
-    if (e.is_regular_file(ec) && name != "run.json" && is_plain_file_name(name)) files.push_back(name);
+    if (name != "run.json" && RunFile(dir, name).is_open()) files.push_back(name);
   }
   std::sort(files.begin(), files.end());
   return files;
@@ -61,11 +120,13 @@ void write_run_manifest(const std::string& dir, const std::string& kind, const s
 
 RunFolder read_run_folder(const std::string& dir) {
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw Error("not a folder (give the --out folder of starnav sim)", dir, 0, "RUN_DIR");
+  if (!fs::is_directory(dir, ec)) throw Error("not a folder (give the --out folder of starnav sim, slam run, localize or slam3d)", dir, 0, "RUN_DIR");
   const std::string manifest = (fs::path(dir) / "run.json").string();
-  if (!fs::exists(manifest, ec))
-    throw Error("no run.json: not a run record (written by starnav sim since run-record version 1)", manifest, 0, "");
-  const std::string text = read_input_file(manifest);
+  const RunFile manifest_file(dir, "run.json");
+  if (manifest_file.refusal() == "missing")
+    throw Error("no run.json: not a run record (the --out folder of starnav sim, slam run, localize or slam3d holds one)", manifest, 0,
+                "");
+  const std::string text = manifest_file.read_all(kMaxRunManifestBytes);
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
@@ -90,7 +151,10 @@ RunFolder read_run_folder(const std::string& dir) {
     if (!f.is_string() || !is_plain_file_name(f.get<std::string>()))
       throw Error("each entry must be a plain file name", manifest, 0, "files");
     const std::string name = f.get<std::string>();
-    if (!fs::is_regular_file(fs::path(dir) / name, ec)) throw Error("listed but not in the folder: " + name, manifest, 0, "files");
+    const RunFile file(dir, name);
+    if (file.refusal() == "missing") throw Error("listed but not in the folder: " + name, manifest, 0, "files");
+    if (!file.is_open())
+      throw Error(name + " is " + file.refusal() + ": a run file must be a regular file of the folder", manifest, 0, "files");
     run.files.push_back(name);
   }
   if (std::find(run.files.begin(), run.files.end(), "world.json") == run.files.end())
@@ -125,11 +189,13 @@ std::string find_viewer_dir(const std::vector<std::string>& candidates) {
 std::string export_run_html(const RunFolder& run, const std::string& viewer_dir) {
   std::uintmax_t total = 0;
   std::error_code ec;
+  std::vector<std::unique_ptr<RunFile>> files_read;
   std::vector<std::string> names;
   for (const char* name : kViewerRunFiles) {
     if (std::string(name) != "run.json" && std::find(run.files.begin(), run.files.end(), name) == run.files.end()) continue;
     names.emplace_back(name);
-    total += fs::file_size(fs::path(run.dir) / name, ec);
+    files_read.push_back(std::make_unique<RunFile>(run.dir, name));
+    total += files_read.back()->size();
   }
   total += fs::file_size(fs::path(viewer_dir) / "viewer.js", ec);
   if (total > kMaxExportBytes)
@@ -137,7 +203,7 @@ std::string export_run_html(const RunFolder& run, const std::string& viewer_dir)
                     " MiB a page can hold: view it served (starnav view RUN_DIR)",
                 run.dir, 0, "--export");
   nlohmann::json files = nlohmann::json::object();
-  for (const std::string& name : names) files[name] = read_input_file((fs::path(run.dir) / name).string());
+  for (std::size_t i = 0; i < names.size(); ++i) files[names[i]] = files_read[i]->read_all();
   std::string page = read_input_file((fs::path(viewer_dir) / "index.html").string());
   const std::string script_tag = "<script src=\"viewer.js\"></script>";
   const std::string data_mark = "<!--starnav-run-->";
@@ -151,7 +217,7 @@ std::string export_run_html(const RunFolder& run, const std::string& viewer_dir)
   page.replace(script_at, script_tag.size(), "<script>" + script + "</script>");
   page.replace(data_at, data_mark.size(),
                "<script type=\"application/json\" id=\"starnav-run\">" +
-                   script_safe(files.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>");
+                   json_for_script(files.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) + "</script>");
   return page;
 }
 

@@ -32,8 +32,6 @@ std::string fmt(double v, int decimals) {
 }
 std::string px(double v) { return fmt(v, 2); }
 
-constexpr double kMaxPictureCoordinateM = 1e9;
-
 // XML text: escapes markup, replaces control characters and invalid UTF-8 by '?'.
 std::string xml_escape(std::string_view s) {
   std::string out;
@@ -438,11 +436,11 @@ MapPicture::MapPicture(const GridGeometry& geometry, PictureOptions options, Kin
     : geometry_(geometry), options_(std::move(options)), kind_(kind) {
   validate_geometry(geometry_, "picture");
   // Axis ticks, labels and pixel positions are computed in integers: beyond a planet's scale
-  // they would overflow. Every map corner lies within kMaxPictureCoordinateM of the origin.
+  // they would overflow. Every map corner lies within kMaxCoordinateM of the origin.
   const double w_m = geometry_.width * geometry_.resolution, h_m = geometry_.height * geometry_.resolution;
   for (const Vec2& corner : {geometry_.grid_to_world({0.0, 0.0}), geometry_.grid_to_world({w_m, 0.0}),
                              geometry_.grid_to_world({0.0, h_m}), geometry_.grid_to_world({w_m, h_m})})
-    if (!(std::abs(corner.x()) <= kMaxPictureCoordinateM && std::abs(corner.y()) <= kMaxPictureCoordinateM))
+    if (!(plausible_coordinate(corner.x()) && plausible_coordinate(corner.y())))
       throw Error("the map reaches " + fmt(std::max(std::abs(corner.x()), std::abs(corner.y())), 0) +
                       " m from the origin; pictures draw maps within 1e9 m of it",
                   {}, 0, "picture");

@@ -311,6 +311,62 @@ namespace {
 
 double clamp01(double v) { return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v); }
 
+// floor and ceil of a pixel coordinate, clamped to +-2^30 (NaN to the low end): a picture is under
+// 32768 pixels a side, so a clamped value is off the canvas and no conversion overflows.
+constexpr double kFarPixel = 1073741824.0;
+int clamp_px(double v, double (*to_whole)(double)) {
+  if (!(v > -kFarPixel)) return -static_cast<int>(kFarPixel);
+  if (v >= kFarPixel) return static_cast<int>(kFarPixel);
+  return static_cast<int>(to_whole(v));
+}
+int floor_px(double v) { return clamp_px(v, [](double x) { return std::floor(x); }); }
+int ceil_px(double v) { return clamp_px(v, [](double x) { return std::ceil(x); }); }
+int round_px(double v) { return clamp_px(v, [](double x) { return static_cast<double>(std::lround(x)); }); }
+
+// The part [t0, t1] of the segment a + t (b - a), t in [0, 1], inside the box [lo, hi]
+// (Liang-Barsky); false when none is.
+bool clip_segment(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2& hi, double& t0, double& t1) {
+  t0 = 0.0;
+  t1 = 1.0;
+  const Vec2 d = b - a;
+  for (int k = 0; k < 2; ++k) {
+    const double p[2] = {-d[k], d[k]}, q[2] = {a[k] - lo[k], hi[k] - a[k]};
+    for (int side = 0; side < 2; ++side) {
+      if (p[side] == 0.0) {
+        if (q[side] < 0.0) return false;  // parallel to this edge and outside it
+        continue;
+      }
+      const double t = q[side] / p[side];
+      if (p[side] < 0.0) t0 = std::max(t0, t);
+      else t1 = std::min(t1, t);
+    }
+  }
+  return t0 <= t1;
+}
+
+// The visible part p-q of the segment a-b in the box, both ends computed from the original end
+// nearer to the box (from a far end every digit the near one needs would be lost); t0 is where p
+// lies on a-b. False when nothing of it is visible, or when both ends were too far for the
+// rounding to place it.
+bool visible_part(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2& hi, Vec2& p, Vec2& q, double& t0) {
+  const Vec2 centre = (lo + hi) / 2.0;
+  double u0 = 0.0, u1 = 1.0;
+  if ((a - centre).cwiseAbs().maxCoeff() <= (b - centre).cwiseAbs().maxCoeff()) {
+    if (!clip_segment(a, b, lo, hi, u0, u1)) return false;
+    p = a + (b - a) * u0;
+    q = a + (b - a) * u1;
+    t0 = u0;
+  } else {
+    if (!clip_segment(b, a, lo, hi, u0, u1)) return false;
+    p = b + (a - b) * u1;
+    q = b + (a - b) * u0;
+    t0 = 1.0 - u1;
+  }
+  const Vec2 slack = Vec2::Constant(1.0);
+  const auto near = [&](const Vec2& v) { return (v.array() >= (lo - slack).array()).all() && (v.array() <= (hi + slack).array()).all(); };
+  return near(p) && near(q);
+}
+
 double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 ab = b - a;
   const double len2 = ab.squaredNorm();
@@ -324,10 +380,10 @@ double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
 Canvas::Canvas(RgbaImage& image) : image_(image) { reset_clip(); }
 
 void Canvas::set_clip(double x0, double y0, double x1, double y1) {
-  cx0_ = std::max(0, static_cast<int>(std::floor(x0)));
-  cy0_ = std::max(0, static_cast<int>(std::floor(y0)));
-  cx1_ = std::min(image_.width, static_cast<int>(std::ceil(x1)));
-  cy1_ = std::min(image_.height, static_cast<int>(std::ceil(y1)));
+  cx0_ = std::max(0, floor_px(x0));
+  cy0_ = std::max(0, floor_px(y0));
+  cx1_ = std::min(image_.width, ceil_px(x1));
+  cy1_ = std::min(image_.height, ceil_px(y1));
 }
 
 void Canvas::reset_clip() {
@@ -339,10 +395,10 @@ void Canvas::reset_clip() {
 void Canvas::fill_rect(double x0, double y0, double x1, double y1, Rgba c) {
   if (x1 < x0) std::swap(x0, x1);
   if (y1 < y0) std::swap(y0, y1);
-  const int ix0 = std::max(cx0_, static_cast<int>(std::floor(x0)));
-  const int iy0 = std::max(cy0_, static_cast<int>(std::floor(y0)));
-  const int ix1 = std::min(cx1_, static_cast<int>(std::ceil(x1)));
-  const int iy1 = std::min(cy1_, static_cast<int>(std::ceil(y1)));
+  const int ix0 = std::max(cx0_, floor_px(x0));
+  const int iy0 = std::max(cy0_, floor_px(y0));
+  const int ix1 = std::min(cx1_, ceil_px(x1));
+  const int iy1 = std::min(cy1_, ceil_px(y1));
   for (int y = iy0; y < iy1; ++y) {
     const double cy = std::min(y + 1.0, y1) - std::max<double>(y, y0);
     for (int x = ix0; x < ix1; ++x) {
@@ -361,10 +417,10 @@ void Canvas::stroke_polyline(const std::vector<Vec2>& points, double width, Rgba
   std::vector<std::size_t> touched;
   auto paint_segment = [&](const Vec2& a, const Vec2& b) {
     if (!a.allFinite() || !b.allFinite()) return;
-    const int x0 = std::max(cx0_, static_cast<int>(std::floor(std::min(a.x(), b.x()) - half - 1)));
-    const int x1 = std::min(cx1_, static_cast<int>(std::ceil(std::max(a.x(), b.x()) + half + 1)));
-    const int y0 = std::max(cy0_, static_cast<int>(std::floor(std::min(a.y(), b.y()) - half - 1)));
-    const int y1 = std::min(cy1_, static_cast<int>(std::ceil(std::max(a.y(), b.y()) + half + 1)));
+    const int x0 = std::max(cx0_, floor_px(std::min(a.x(), b.x()) - half - 1));
+    const int x1 = std::min(cx1_, ceil_px(std::max(a.x(), b.x()) + half + 1));
+    const int y0 = std::max(cy0_, floor_px(std::min(a.y(), b.y()) - half - 1));
+    const int y1 = std::min(cy1_, ceil_px(std::max(a.y(), b.y()) + half + 1));
     for (int y = y0; y < y1; ++y) {
       for (int x = x0; x < x1; ++x) {
         const double d = distance_to_segment({x + 0.5, y + 0.5}, a, b);
@@ -377,26 +433,42 @@ void Canvas::stroke_polyline(const std::vector<Vec2>& points, double width, Rgba
       }
     }
   };
+  // Segments are cut to the clip box grown by the stroke's reach, so that a segment running far
+  // off the canvas (a wild pose in a trajectory) costs what its visible part costs.
+  const Vec2 lo(cx0_ - half - 2.0, cy0_ - half - 2.0), hi(cx1_ + half + 2.0, cy1_ + half + 2.0);
   if (points.size() == 1) {
     paint_segment(points[0], points[0]);
   } else if (!dashed) {
-    for (std::size_t i = 1; i < points.size(); ++i) paint_segment(points[i - 1], points[i]);
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      Vec2 p, q;
+      double t0 = 0.0;
+      if (points[i - 1].allFinite() && points[i].allFinite() && visible_part(points[i - 1], points[i], lo, hi, p, q, t0))
+        paint_segment(p, q);
+    }
   } else {
     // Dashes of 4 widths with gaps of 2 widths (at least 3 and 2 pixels), continued across vertices.
-    const double dash = std::max(3.0, 4.0 * width), gap = std::max(2.0, 2.0 * width);
+    const double dash = std::max(3.0, 4.0 * width), gap = std::max(2.0, 2.0 * width), period = dash + gap;
     double phase = 0.0;  // position within the dash + gap period
     for (std::size_t i = 1; i < points.size(); ++i) {
       const Vec2 a = points[i - 1], b = points[i];
-      const double len = (b - a).norm();
-      double s = 0.0;
-      while (s < len) {
-        const bool on = phase < dash;
-        const double step = std::min(len - s, on ? dash - phase : dash + gap - phase);
-        if (on) paint_segment(a + (b - a) * (s / len), a + (b - a) * ((s + step) / len));
-        s += step;
-        phase += step;
-        if (phase >= dash + gap) phase -= dash + gap;
+      const double len = std::hypot(b.x() - a.x(), b.y() - a.y());  // no overflow of the squares at 1e300
+      if (!std::isfinite(len)) continue;
+      Vec2 p, q;
+      double t0 = 0.0;
+      if (len > 0.0 && visible_part(a, b, lo, hi, p, q, t0)) {
+        // The pattern enters the visible part where the whole segment would have it.
+        const double end = (q - p).norm();
+        double at = std::fmod(phase + t0 * len, period), s = 0.0;
+        while (s < end) {
+          const bool on = at < dash;
+          const double step = std::min(end - s, on ? dash - at : period - at);
+          if (on) paint_segment(p + (q - p) * (s / end), p + (q - p) * ((s + step) / end));
+          s += step;
+          at += step;
+          if (at >= period) at -= period;
+        }
       }
+      phase = std::fmod(phase + len, period);
     }
   }
   std::sort(touched.begin(), touched.end());  // deterministic order (blending is per pixel anyway)
@@ -409,10 +481,10 @@ void Canvas::stroke_polyline(const std::vector<Vec2>& points, double width, Rgba
 
 void Canvas::fill_disc(const Vec2& centre, double radius, Rgba c) {
   if (!centre.allFinite() || !(radius > 0.0)) return;
-  const int x0 = std::max(cx0_, static_cast<int>(std::floor(centre.x() - radius - 1)));
-  const int x1 = std::min(cx1_, static_cast<int>(std::ceil(centre.x() + radius + 1)));
-  const int y0 = std::max(cy0_, static_cast<int>(std::floor(centre.y() - radius - 1)));
-  const int y1 = std::min(cy1_, static_cast<int>(std::ceil(centre.y() + radius + 1)));
+  const int x0 = std::max(cx0_, floor_px(centre.x() - radius - 1));
+  const int x1 = std::min(cx1_, ceil_px(centre.x() + radius + 1));
+  const int y0 = std::max(cy0_, floor_px(centre.y() - radius - 1));
+  const int y1 = std::min(cy1_, ceil_px(centre.y() + radius + 1));
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
       const double d = (Vec2(x + 0.5, y + 0.5) - centre).norm();
@@ -425,10 +497,10 @@ void Canvas::stroke_circle(const Vec2& centre, double radius, double width, Rgba
   if (!centre.allFinite() || !(radius > 0.0) || !(width > 0.0)) return;
   const double half = width / 2.0;
   const double outer = radius + half + 1;
-  const int x0 = std::max(cx0_, static_cast<int>(std::floor(centre.x() - outer)));
-  const int x1 = std::min(cx1_, static_cast<int>(std::ceil(centre.x() + outer)));
-  const int y0 = std::max(cy0_, static_cast<int>(std::floor(centre.y() - outer)));
-  const int y1 = std::min(cy1_, static_cast<int>(std::ceil(centre.y() + outer)));
+  const int x0 = std::max(cx0_, floor_px(centre.x() - outer));
+  const int x1 = std::min(cx1_, ceil_px(centre.x() + outer));
+  const int y0 = std::max(cy0_, floor_px(centre.y() - outer));
+  const int y1 = std::min(cy1_, ceil_px(centre.y() + outer));
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
       const double d = std::abs((Vec2(x + 0.5, y + 0.5) - centre).norm() - radius);
@@ -456,10 +528,10 @@ void Canvas::fill_convex_polygon(const std::vector<Vec2>& points, Rgba c) {
   }
   if (area2 == 0.0) return;
   const double sign = area2 > 0 ? 1.0 : -1.0;
-  const int x0 = std::max(cx0_, static_cast<int>(std::floor(minx)));
-  const int x1 = std::min(cx1_, static_cast<int>(std::ceil(maxx)));
-  const int y0 = std::max(cy0_, static_cast<int>(std::floor(miny)));
-  const int y1 = std::min(cy1_, static_cast<int>(std::ceil(maxy)));
+  const int x0 = std::max(cx0_, floor_px(minx));
+  const int x1 = std::min(cx1_, ceil_px(maxx));
+  const int y0 = std::max(cy0_, floor_px(miny));
+  const int y1 = std::min(cy1_, ceil_px(maxy));
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
       const Vec2 p(x + 0.5, y + 0.5);
@@ -480,8 +552,8 @@ void Canvas::fill_convex_polygon(const std::vector<Vec2>& points, Rgba c) {
 
 void Canvas::glyph_pass(const Vec2& origin, std::string_view s, Rgba c, int scale, int dx, int dy) {
   // origin: top-left of the first glyph cell, in whole pixels
-  const int ox = static_cast<int>(std::lround(origin.x())) + dx;
-  const int oy = static_cast<int>(std::lround(origin.y())) + dy;
+  const int ox = round_px(origin.x()) + dx;
+  const int oy = round_px(origin.y()) + dy;
   for (std::size_t i = 0; i < s.size(); ++i) {
     const auto& g = BitmapFont::glyph(s[i]);
     const int gx = ox + static_cast<int>(i) * BitmapFont::kAdvance * scale;

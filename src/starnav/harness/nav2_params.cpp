@@ -1,0 +1,394 @@
+#include "starnav/harness/nav2_params.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
+#include "starnav/harness/navigation_run.hpp"
+#include "starnav/registry/components.hpp"
+
+namespace starnav {
+
+// A named namespace: the unity build puts this file beside others with helpers of the same names.
+namespace nav2_detail {
+
+constexpr std::uint64_t kMaxNav2FileBytes = std::uint64_t{16} << 20;
+
+// One leaf of a node's ros__parameters, its dotted key relative to them.
+struct Leaf {
+  std::string key;  // "FollowPath.max_vel_x"
+  std::string value;
+  int line = 0;
+  bool scalar = true;
+};
+
+// The value under `key` of a map node, or an undefined node (never yaml-cpp's invalid node, which
+// throws on use).
+YAML::Node child(const YAML::Node& n, const std::string& key) {
+  if (!n.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  for (const auto& kv : n)
+    if (kv.first.IsScalar() && kv.first.Scalar() == key) return kv.second;
+  return YAML::Node(YAML::NodeType::Undefined);
+}
+
+void flatten(const YAML::Node& n, const std::string& prefix, std::vector<Leaf>& out, int depth) {
+  if (depth > 16) throw Error("nested deeper than 16 maps", {}, n.Mark().line + 1);
+  for (const auto& kv : n) {
+    if (!kv.first.IsScalar()) throw Error("a key that is not a name", {}, kv.first.Mark().line + 1);
+    const std::string key = prefix.empty() ? kv.first.Scalar() : prefix + "." + kv.first.Scalar();
+    const YAML::Node& v = kv.second;
+    if (v.IsMap()) {
+      flatten(v, key, out, depth + 1);
+    } else {
+      std::string text;
+      if (v.IsScalar()) {
+        text = v.Scalar();
+      } else if (v.IsSequence()) {
+        std::ostringstream s;
+        s << YAML::Dump(v);
+        text = one_line(s.str(), 80);
+      }
+      out.push_back({key, text, v.Mark().line + 1, v.IsScalar()});
+    }
+  }
+}
+
+// The spec of a starnav key, for its range (null: not declared in a table starnav exposes).
+std::optional<ParamSpec> spec_of(const std::string& key) {
+  const auto find = [](const std::vector<ParamSpec>& specs, const std::string& k) -> std::optional<ParamSpec> {
+    for (const ParamSpec& s : specs)
+      if (s.key == k) return s;
+    return std::nullopt;
+  };
+  const auto after = [&](const std::string& prefix) { return key.substr(prefix.size()); };
+  if (key.rfind("localization.amcl.", 0) == 0) return find(find_localizer("amcl").info.params, after("localization.amcl."));
+  if (key.rfind("amcl.", 0) == 0) return find(find_localizer("amcl").info.params, after("amcl."));
+  if (key.rfind("navigation.dwa.", 0) == 0) return find(find_local_controller("dwa").info.params, after("navigation.dwa."));
+  if (key.rfind("navigation.follower.", 0) == 0) return find(find_local_controller("path_follower").info.params, after("navigation.follower."));
+  if (key == "navigation.map.barrier_distance_m") {
+    ParamSpec s;
+    s.key = "map.barrier_distance_m";
+    s.range = non_negative();
+    s.unit = "m";
+    return s;
+  }
+  if (key.rfind("navigation.", 0) == 0) return find(navigation_params().specs(), after("navigation."));
+  return std::nullopt;
+}
+
+struct Rule {
+  Rule(std::string key = {}, double s = 1.0, std::string n = {}, bool inv = false)
+      : starnav(std::move(key)), scale(s), note(std::move(n)), invert(inv) {}
+  std::string starnav;  // the key relative to the target's root ("alpha1" for AMCL; the caller prefixes)
+  double scale;         // starnav = nav2 * scale
+  std::string note;     // "rad -> deg"
+  bool invert;          // starnav = 1 / nav2 (Hz -> s)
+};
+
+const double kDeg = 180.0 / kPi;
+
+const std::map<std::string, Rule>& amcl_rules() {
+  static const std::map<std::string, Rule> r = {
+      {"alpha1", {"alpha1"}}, {"alpha2", {"alpha2"}}, {"alpha3", {"alpha3"}}, {"alpha4", {"alpha4"}}, {"alpha5", {"alpha5"}},
+      {"z_hit", {"z_hit"}}, {"z_rand", {"z_rand"}}, {"z_short", {"z_short"}}, {"z_max", {"z_max"}},
+      {"sigma_hit", {"sigma_hit_m"}}, {"lambda_short", {"lambda_short"}},
+      {"laser_likelihood_max_dist", {"laser_likelihood_max_dist_m"}},
+      {"laser_max_range", {"laser_max_range_m"}}, {"laser_min_range", {"laser_min_range_m"}},
+      {"max_beams", {"max_beams"}}, {"min_particles", {"min_particles"}}, {"max_particles", {"max_particles"}},
+      {"pf_err", {"pf_err"}}, {"pf_z", {"pf_z"}},
+      {"recovery_alpha_slow", {"recovery_alpha_slow"}}, {"recovery_alpha_fast", {"recovery_alpha_fast"}},
+      {"resample_interval", {"resample_interval"}}, {"update_min_d", {"update_min_d_m"}},
+      {"update_min_a", {"update_min_a_deg", kDeg, "rad -> deg"}},
+  };
+  return r;
+}
+
+// DWB (dwb_core::DWBLocalPlanner): its keys and its critics' scales.
+const std::map<std::string, Rule>& dwb_rules() {
+  static const std::map<std::string, Rule> r = {
+      {"max_vel_x", {"max_vx_mps"}}, {"min_vel_x", {"min_vx_mps"}}, {"max_vel_y", {"max_vy_mps"}},
+      {"max_speed_xy", {"max_speed_xy_mps"}}, {"max_vel_theta", {"max_yaw_rate_degps", kDeg, "rad/s -> deg/s"}},
+      {"acc_lim_x", {"acc_x_mps2"}}, {"acc_lim_y", {"acc_y_mps2"}}, {"acc_lim_theta", {"acc_yaw_degps2", kDeg, "rad/s^2 -> deg/s^2"}},
+      {"vx_samples", {"vx_samples"}}, {"vy_samples", {"vy_samples"}}, {"vtheta_samples", {"wz_samples"}},
+      {"sim_time", {"sim_time_s"}},
+      {"PathAlign.scale", {"path_align_weight"}}, {"PathDist.scale", {"path_dist_weight"}},
+      {"GoalAlign.scale", {"goal_align_weight"}}, {"GoalDist.scale", {"goal_dist_weight"}},
+      {"BaseObstacle.scale", {"obstacle_weight"}}, {"ObstacleFootprint.scale", {"obstacle_weight"}},
+      {"Oscillation.scale", {"oscillation_weight"}}, {"RotateToGoal.scale", {"rotate_to_goal_weight"}},
+      {"Twirling.scale", {"twirling_weight"}}, {"PreferForward.scale", {"prefer_forward_weight"}},
+      {"PathAlign.forward_point_distance", {"forward_point_m"}}, {"GoalAlign.forward_point_distance", {"forward_point_m"}},
+      {"Oscillation.oscillation_reset_dist", {"oscillation_reset_m"}},
+      {"Oscillation.oscillation_reset_angle", {"oscillation_reset_deg", kDeg, "rad -> deg"}},
+  };
+  return r;
+}
+
+const std::map<std::string, Rule>& rpp_rules() {
+  static const std::map<std::string, Rule> r = {
+      {"desired_linear_vel", {"cruise_speed_mps"}},
+      {"lookahead_dist", {"pursuit_look_ahead_m"}},
+      {"rotate_to_heading_angular_vel", {"max_yaw_rate_degps", kDeg, "rad/s -> deg/s"}},
+  };
+  return r;
+}
+
+const std::string kPlumbing = "ROS plumbing (frames, topics, transforms, QoS, introspection): the log's or the simulator's own";
+
+bool is_plumbing(const std::string& key) {
+  static const char* words[] = {"frame", "topic", "tf_broadcast", "transform_tolerance", "introspection", "use_sim_time",
+                                "save_pose_rate", "qos", "service", "timeout", "bond", "plugin"};
+  for (const char* w : words)
+    if (key.find(w) != std::string::npos) return true;
+  return false;
+}
+
+class Mapper {
+ public:
+  Mapper(std::string file, const Nav2Target& t) : target_(t) { p_.file = std::move(file); }
+
+  void node(const std::string& name, const std::vector<Leaf>& leaves) {
+    if (name == "amcl") return amcl(leaves);
+    if (name == "controller_server") return controller(leaves);
+    if (name == "local_costmap" || name == "global_costmap") return costmap(name, leaves);
+    for (const Leaf& l : leaves) ignore(name, l, name + " is not a starnav component (starnav's navigation: docs/navigation.md)");
+  }
+
+  Nav2Params take() { return std::move(p_); }
+
+ private:
+  void ignore(const std::string& node, const Leaf& l, const std::string& why) { p_.ignored.push_back({node + "." + l.key, l.line, l.value, "", "", why}); }
+
+  void map(const std::string& node, const Leaf& l, const std::string& key, const Rule& rule) {
+    const std::string nav2 = node + "." + l.key;
+    std::optional<ParamSpec> spec = spec_of(key);
+    std::string converted = l.value;
+    if (!spec || spec->type == ParamType::Real || spec->type == ParamType::Integer) {
+      double v = 0;
+      try {
+        v = std::stod(l.value);
+      } catch (const std::exception&) {
+        throw Error("expected a number, got '" + printable(l.value, 40) + "'", p_.file, l.line, nav2 + " (" + key + ")");
+      }
+      if (!std::isfinite(v)) throw Error("not finite", p_.file, l.line, nav2 + " (" + key + ")");
+      const double s = rule.invert ? (v != 0 ? 1.0 / v : std::numeric_limits<double>::infinity()) : v * rule.scale;
+      if (spec && spec->type == ParamType::Integer) {
+        if (s != std::floor(s)) throw Error("expected an integer, got " + l.value, p_.file, l.line, nav2 + " (" + key + ")");
+        converted = std::to_string(static_cast<long long>(s));
+      } else {
+        converted = format_param_real(s);
+      }
+      if (spec && !spec->range.contains(s))
+        throw Error(l.value + (rule.note.empty() ? "" : " (" + converted + " " + spec->unit + ")") + " is outside " + key + "'s range " +
+                        spec->range.text() + (spec->unit.empty() ? "" : " " + spec->unit),
+                    p_.file, l.line, nav2 + " (" + key + ")");
+    }
+    p_.mapped.push_back({nav2, l.line, l.value, key, converted, rule.note});
+  }
+
+  void map_choice(const std::string& node, const Leaf& l, const std::string& key, const std::string& value) {
+    p_.mapped.push_back({node + "." + l.key, l.line, l.value, key, value, "'" + l.value + "' -> " + value});
+  }
+
+  // "amcl." + key for localize; "localization.amcl." for a scenario whose localizer is amcl.
+  std::optional<std::string> amcl_root() const {
+    if (target_.kind == Nav2Target::Kind::Localize) return std::string("amcl.");
+    if (target_.localizer == "amcl") return std::string("localization.amcl.");
+    return std::nullopt;
+  }
+
+  void amcl(const std::vector<Leaf>& leaves) {
+    const std::optional<std::string> root = amcl_root();
+    for (const Leaf& l : leaves) {
+      if (!root) {
+        ignore("amcl", l, "the scenario's localizer is " + (target_.localizer.empty() ? std::string("none") : target_.localizer) + ", not amcl");
+        continue;
+      }
+      const auto rule = amcl_rules().find(l.key);
+      if ((l.key == "laser_max_range" || l.key == "laser_min_range") && l.value.rfind("-1", 0) == 0) {
+        ignore("amcl", l, "-1: the laser's own range, which is starnav's default too");
+      } else if (rule != amcl_rules().end()) {
+        map("amcl", l, *root + rule->second.starnav, rule->second);
+      } else if (l.key == "laser_model_type") {
+        if (l.value == "likelihood_field" || l.value == "beam") map_choice("amcl", l, *root + "laser_model_type", l.value);
+        else ignore("amcl", l, "starnav's AMCL has the likelihood_field and beam models only");
+      } else if (l.key == "robot_model_type") {
+        if (l.value.find("Differential") != std::string::npos || l.value == "differential")
+          map_choice("amcl", l, *root + "robot_model_type", "differential");
+        else if (l.value.find("Omni") != std::string::npos || l.value == "omnidirectional")
+          map_choice("amcl", l, *root + "robot_model_type", "omnidirectional");
+        else ignore("amcl", l, "an unknown motion model");
+      } else if (l.key == "random_seed") {
+        ignore("amcl", l, "the run's seed is starnav's (--seed)");
+      } else if (l.key.rfind("beam_skip", 0) == 0 || l.key == "do_beamskip") {
+        ignore("amcl", l, "starnav's AMCL has no beam skipping");
+      } else if (l.key.rfind("initial_pose", 0) == 0 || l.key == "set_initial_pose" || l.key == "always_reset_initial_pose" ||
+                 l.key == "first_map_only") {
+        ignore("amcl", l, "the start is the scenario's (localization.amcl.initial) or localize's --initial");
+      } else if (is_plumbing(l.key)) {
+        ignore("amcl", l, kPlumbing);
+      } else {
+        ignore("amcl", l, "no equivalent in starnav's AMCL (starnav params, section amcl)");
+      }
+    }
+  }
+
+  void controller(const std::vector<Leaf>& leaves) {
+    // The plugin of each sub-map ("FollowPath.plugin: dwb_core::DWBLocalPlanner").
+    std::map<std::string, std::string> plugins;
+    for (const Leaf& l : leaves) {
+      const std::size_t dot = l.key.find('.');
+      if (dot != std::string::npos && l.key.substr(dot + 1) == "plugin") plugins[l.key.substr(0, dot)] = l.value;
+    }
+    const std::string node = "controller_server";
+    for (const Leaf& l : leaves) {
+      const std::size_t dot = l.key.find('.');
+      const std::string owner = dot == std::string::npos ? "" : l.key.substr(0, dot);
+      const std::string rest = dot == std::string::npos ? l.key : l.key.substr(dot + 1);
+      const std::string plugin = plugins.count(owner) ? plugins[owner] : "";
+      if (owner.empty()) {
+        if (l.key == "controller_frequency" && target_.controller == "dwa" && target_.kind == Nav2Target::Kind::Scenario)
+          map(node, l, "navigation.dwa.control_period_s", {"", 1.0, "Hz -> s", true});
+        else if (l.key == "controller_frequency")
+          ignore(node, l, "the control period is the DWA's (navigation.dwa.control_period_s); the scenario's controller is " + target_.controller);
+        else
+          ignore(node, l, is_plumbing(l.key) ? kPlumbing : "no starnav equivalent (the controller server's own bookkeeping)");
+        continue;
+      }
+      if (rest == "plugin") {
+        ignore(node, l, "the scenario names its controller (navigation.controller; starnav's dwa is Nav2's DWB)");
+        continue;
+      }
+      if (target_.kind == Nav2Target::Kind::Localize || !target_.navigation) {
+        ignore(node, l, target_.kind == Nav2Target::Kind::Localize ? "localize runs AMCL only" : "the scenario has no navigation section");
+        continue;
+      }
+      if (plugin.find("DWBLocalPlanner") != std::string::npos) {
+        const auto rule = dwb_rules().find(rest);
+        if (rule == dwb_rules().end()) ignore(node, l, rest == "critics" ? "starnav's DWA has DWB's critics; their weights are the scales" : "no equivalent in starnav's DWA");
+        else if (target_.controller != "dwa") ignore(node, l, "the scenario's controller is " + target_.controller + ", not dwa (Nav2's DWB)");
+        else map(node, l, "navigation.dwa." + rule->second.starnav, rule->second);
+      } else if (plugin.find("RegulatedPurePursuit") != std::string::npos) {
+        const auto rule = rpp_rules().find(rest);
+        if (rule == rpp_rules().end()) ignore(node, l, "no equivalent in starnav's path follower");
+        else if (target_.controller != "path_follower") ignore(node, l, "the scenario's controller is " + target_.controller + ", not path_follower");
+        else map(node, l, "navigation.follower." + rule->second.starnav, rule->second);
+      } else if (plugin.find("MPPI") != std::string::npos) {
+        ignore(node, l, "starnav has no MPPI controller");
+      } else if (plugin.find("GoalChecker") != std::string::npos) {
+        if (rest == "xy_goal_tolerance") map(node, l, "navigation.goal_tolerance_m", {});
+        else if (rest == "yaw_goal_tolerance") map(node, l, "navigation.goal_yaw_tolerance_deg", {"", kDeg, "rad -> deg"});
+        else ignore(node, l, "no equivalent in starnav's goal check (navigation.goal_tolerance_m, goal_yaw_tolerance_deg)");
+      } else {
+        ignore(node, l, "no starnav equivalent (" + (plugin.empty() ? std::string("no plugin") : printable(plugin, 60)) + ")");
+      }
+    }
+  }
+
+  void costmap(const std::string& node, const std::vector<Leaf>& leaves) {
+    std::map<std::string, std::string> plugins;
+    for (const Leaf& l : leaves) {
+      const std::size_t dot = l.key.rfind('.');
+      if (dot != std::string::npos && l.key.substr(dot + 1) == "plugin") plugins[l.key.substr(0, dot)] = l.value;
+    }
+    const bool local = node == "local_costmap";
+    for (const Leaf& l : leaves) {
+      const std::size_t dot = l.key.rfind('.');
+      const std::string owner = dot == std::string::npos ? "" : l.key.substr(0, dot);
+      const std::string rest = dot == std::string::npos ? l.key : l.key.substr(dot + 1);
+      const bool inflation = plugins.count(owner) && plugins[owner].find("InflationLayer") != std::string::npos;
+      if (target_.kind == Nav2Target::Kind::Localize || !target_.navigation) {
+        ignore(node, l, target_.kind == Nav2Target::Kind::Localize ? "localize runs AMCL only" : "the scenario has no navigation section");
+      } else if (inflation && (rest == "inflation_radius" || rest == "cost_scaling_factor")) {
+        if (!local) ignore(node, l, "the global planner plans on the barrier map (navigation.map) with its own costs (navigation.PLANNER.cost_*)");
+        else if (target_.controller != "dwa") ignore(node, l, "the local costs are the DWA's obstacle critic; the scenario's controller is " + target_.controller);
+        else map(node, l, rest == "inflation_radius" ? "navigation.dwa.inflation_radius_m" : "navigation.dwa.cost_scaling_per_m", {});
+      } else if (rest == "robot_radius" && owner.empty()) {
+        if (local) ignore(node, l, "the DWA's footprint is the robot's body (navigation.dwa.footprint=circle with footprint_radius_m takes a radius)");
+        else map(node, l, "navigation.map.barrier_distance_m", {});
+      } else if (rest == "footprint" && owner.empty()) {
+        ignore(node, l, "starnav's footprint is the robot's body (the robot section), not a polygon");
+      } else {
+        ignore(node, l, is_plumbing(l.key) ? kPlumbing : "no starnav equivalent (starnav's navigation map is built from its LiDAR: docs/navigation.md)");
+      }
+    }
+  }
+
+  Nav2Target target_;
+  Nav2Params p_;
+};
+
+}  // namespace nav2_detail
+
+std::vector<ParamSetting> Nav2Params::settings() const {
+  std::vector<ParamSetting> out;
+  for (const Nav2Key& k : mapped) out.push_back({k.starnav, k.converted, file, k.line, k.nav2 + " (" + k.starnav + ")"});
+  return out;
+}
+
+Nav2Params read_nav2_params(const std::string& path, const Nav2Target& target) {
+  const InputFileScope reading(path);
+  const std::string text = read_input_file(path, nav2_detail::kMaxNav2FileBytes);
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw Error("not YAML: " + one_line(e.msg, 200), path, e.mark.line + 1);
+  }
+  if (!root.IsMap()) throw Error("expected a map of Nav2 nodes (NODE: ros__parameters: ...)", path);
+  nav2_detail::Mapper mapper(path, target);
+  int nodes = 0;
+  try {
+    for (const auto& kv : root) {
+      const std::string name = kv.first.IsScalar() ? kv.first.Scalar() : std::string();
+      YAML::Node params = nav2_detail::child(kv.second, "ros__parameters");
+      // Costmaps nest their node: local_costmap: local_costmap: ros__parameters.
+      if (!params.IsMap()) params = nav2_detail::child(nav2_detail::child(kv.second, name), "ros__parameters");
+      if (!params.IsMap()) continue;
+      std::vector<nav2_detail::Leaf> leaves;
+      try {
+        nav2_detail::flatten(params, "", leaves, 0);
+      } catch (const Error& e) {
+        throw Error(e.message(), path, e.line(), name);
+      }
+      mapper.node(name, leaves);
+      ++nodes;
+    }
+  } catch (const YAML::Exception& e) {
+    throw Error(one_line(e.msg, 200), path, e.mark.line + 1);
+  }
+  if (nodes == 0) throw Error("has no NODE: ros__parameters: map: not a Nav2 parameter file", path);
+  return mapper.take();
+}
+
+std::string nav2_params_text(const Nav2Params& p) {
+  std::ostringstream out;
+  out << p.file << ": " << p.mapped.size() << " keys mapped, " << p.ignored.size() << " ignored\n";
+  for (const Nav2Key& k : p.mapped)
+    out << "  mapped  " << k.nav2 << " = " << k.value << "  ->  " << k.starnav << " = " << k.converted << (k.note.empty() ? "" : "  (" + k.note + ")")
+        << "  [line " << k.line << "]\n";
+  for (const Nav2Key& k : p.ignored) out << "  ignored " << k.nav2 << ": " << k.note << "  [line " << k.line << "]\n";
+  return out.str();
+}
+
+std::string nav2_params_json(const Nav2Params& p) {
+  nlohmann::ordered_json j;
+  j["file"] = p.file;
+  nlohmann::ordered_json mapped = nlohmann::ordered_json::array(), ignored = nlohmann::ordered_json::array();
+  for (const Nav2Key& k : p.mapped)
+    mapped.push_back({{"nav2", k.nav2}, {"line", k.line}, {"value", k.value}, {"starnav", k.starnav}, {"converted", k.converted}, {"note", k.note}});
+  for (const Nav2Key& k : p.ignored) ignored.push_back({{"nav2", k.nav2}, {"line", k.line}, {"value", k.value}, {"reason", k.note}});
+  j["mapped"] = mapped;
+  j["ignored"] = ignored;
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace starnav

@@ -1,0 +1,193 @@
+// Nav2 parameter files (harness/nav2_params.hpp): Nav2's shipped nav2_params.yaml (tests/data/nav2)
+// leaves no amcl, inflation or controller key unaccounted for; each conversion on hand-written
+// files; values out of range refused naming the file, the line and both keys.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "starnav/core/angle.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/harness/nav2_params.hpp"
+#include "support/test_support.hpp"
+
+namespace starnav {
+namespace {
+
+// Every leaf key under NODE's ros__parameters, dotted, read here with yaml-cpp on its own.
+void leaves(const YAML::Node& n, const std::string& prefix, std::set<std::string>& out) {
+  for (const auto& kv : n) {
+    const std::string key = prefix + "." + kv.first.Scalar();
+    if (kv.second.IsMap()) leaves(kv.second, key, out);
+    else out.insert(key);
+  }
+}
+
+std::map<std::string, const Nav2Key*> by_name(const std::vector<Nav2Key>& keys) {
+  std::map<std::string, const Nav2Key*> m;
+  for (const Nav2Key& k : keys) m[k.nav2] = &k;
+  return m;
+}
+
+Nav2Target scenario(const std::string& localizer, const std::string& controller) {
+  Nav2Target t;
+  t.navigation = true;
+  t.localizer = localizer;
+  t.controller = controller;
+  return t;
+}
+
+TEST(Nav2Params, TheShippedFileLeavesNoAmclInflationOrControllerKeyUnaccountedFor) {
+  const std::string file = test::test_data("nav2/nav2_params.yaml");
+  const YAML::Node root = YAML::LoadFile(file);
+  std::set<std::string> amcl, controller, inflation;
+  leaves(root["amcl"]["ros__parameters"], "amcl", amcl);
+  leaves(root["controller_server"]["ros__parameters"], "controller_server", controller);
+  for (const char* c : {"local_costmap", "global_costmap"}) {
+    std::set<std::string> all;
+    leaves(root[c][c]["ros__parameters"], c, all);
+    for (const std::string& k : all)
+      if (k.find("inflation") != std::string::npos || k.find("robot_radius") != std::string::npos) inflation.insert(k);
+  }
+  ASSERT_GT(amcl.size(), 30u);
+  ASSERT_GT(controller.size(), 50u);
+  for (const Nav2Target& target : {scenario("amcl", "dwa"), scenario("amcl", "path_follower"), Nav2Target{Nav2Target::Kind::Localize, false, "", ""}}) {
+    const Nav2Params p = read_nav2_params(file, target);
+    const auto mapped = by_name(p.mapped), ignored = by_name(p.ignored);
+    for (const auto* set : {&amcl, &controller, &inflation})
+      for (const std::string& k : *set) {
+        const bool m = mapped.count(k) > 0, i = ignored.count(k) > 0;
+        EXPECT_TRUE(m != i) << k << " is " << (m ? "mapped and ignored" : "neither mapped nor ignored");
+        if (i) {
+          EXPECT_FALSE(ignored.at(k)->note.empty()) << k << " ignored without a reason";
+        }
+      }
+    // Nothing mapped that the file does not hold, each at its line.
+    for (const Nav2Key& k : p.mapped) {
+      EXPECT_GT(k.line, 0) << k.nav2;
+      EXPECT_FALSE(k.starnav.empty()) << k.nav2;
+    }
+    // AMCL: the same keys map whatever the target, to its section.
+    const std::string root_key = target.kind == Nav2Target::Kind::Localize ? "amcl." : "localization.amcl.";
+    ASSERT_TRUE(mapped.count("amcl.update_min_a"));
+    EXPECT_EQ(mapped.at("amcl.update_min_a")->starnav, root_key + "update_min_a_deg");
+    EXPECT_NEAR(std::stod(mapped.at("amcl.update_min_a")->converted), rad_to_deg(0.2), 1e-12);
+    EXPECT_EQ(mapped.at("amcl.sigma_hit")->starnav, root_key + "sigma_hit_m");
+    EXPECT_EQ(mapped.at("amcl.robot_model_type")->converted, "differential");
+    EXPECT_EQ(mapped.at("amcl.max_particles")->converted, "2000");
+    EXPECT_TRUE(ignored.count("amcl.laser_min_range"));  // -1: the laser's own
+    EXPECT_TRUE(ignored.count("amcl.base_frame_id"));
+    if (target.kind == Nav2Target::Kind::Scenario) {
+      // The shipped controller is MPPI: starnav has none, so its keys are ignored and say so.
+      EXPECT_NE(ignored.at("controller_server.FollowPath.vx_max")->note.find("MPPI"), std::string::npos);
+      EXPECT_EQ(mapped.at("controller_server.general_goal_checker.xy_goal_tolerance")->starnav, "navigation.goal_tolerance_m");
+      EXPECT_NEAR(std::stod(mapped.at("controller_server.general_goal_checker.yaw_goal_tolerance")->converted), rad_to_deg(0.25), 1e-12);
+      EXPECT_EQ(mapped.at("global_costmap.robot_radius")->starnav, "navigation.map.barrier_distance_m");
+      if (target.controller == "dwa") {
+        EXPECT_EQ(mapped.at("local_costmap.inflation_layer.inflation_radius")->starnav, "navigation.dwa.inflation_radius_m");
+        EXPECT_EQ(mapped.at("local_costmap.inflation_layer.cost_scaling_factor")->converted, "3");
+        EXPECT_NEAR(std::stod(mapped.at("controller_server.controller_frequency")->converted), 0.05, 1e-15);
+      } else {
+        EXPECT_NE(ignored.at("local_costmap.inflation_layer.inflation_radius")->note.find("path_follower"), std::string::npos);
+      }
+    } else {
+      EXPECT_EQ(ignored.at("controller_server.general_goal_checker.xy_goal_tolerance")->note, "localize runs AMCL only");
+    }
+  }
+  // A scenario whose localizer is not AMCL: the amcl keys are ignored with that reason.
+  const Nav2Params ekf = read_nav2_params(file, scenario("ekf", "dwa"));
+  EXPECT_NE(by_name(ekf.ignored).at("amcl.alpha1")->note.find("ekf, not amcl"), std::string::npos);
+}
+
+TEST(Nav2Params, EachConversionOnAHandWrittenFile) {
+  const test::ScratchDir dir;
+  const std::string file = dir.file("dwb.yaml");
+  test::write_text(file,
+                   "controller_server:\n"
+                   "  ros__parameters:\n"
+                   "    controller_frequency: 10.0\n"
+                   "    FollowPath:\n"
+                   "      plugin: \"dwb_core::DWBLocalPlanner\"\n"
+                   "      max_vel_x: 0.4\n"
+                   "      min_vel_x: -0.1\n"
+                   "      max_vel_theta: 1.0\n"
+                   "      acc_lim_theta: 2.0\n"
+                   "      vx_samples: 15\n"
+                   "      vtheta_samples: 25\n"
+                   "      sim_time: 1.5\n"
+                   "      critics: [\"RotateToGoal\", \"PathAlign\"]\n"
+                   "      PathAlign.scale: 32.0\n"
+                   "      RotateToGoal.scale: 40.0\n"
+                   "      Oscillation.oscillation_reset_angle: 0.5\n"
+                   "    goal_checker:\n"
+                   "      plugin: \"nav2_controller::SimpleGoalChecker\"\n"
+                   "      xy_goal_tolerance: 0.3\n"
+                   "amcl:\n"
+                   "  ros__parameters:\n"
+                   "    laser_model_type: beam\n"
+                   "    update_min_d: 0.1\n");
+  const Nav2Params p = read_nav2_params(file, scenario("amcl", "dwa"));
+  std::map<std::string, std::pair<std::string, std::string>> got;
+  for (const Nav2Key& k : p.mapped) got[k.nav2] = {k.starnav, k.converted};
+  using V = std::pair<std::string, std::string>;
+  EXPECT_EQ(got["controller_server.controller_frequency"], V("navigation.dwa.control_period_s", "0.1"));
+  EXPECT_EQ(got["controller_server.FollowPath.max_vel_x"], V("navigation.dwa.max_vx_mps", "0.4"));
+  EXPECT_EQ(got["controller_server.FollowPath.min_vel_x"], V("navigation.dwa.min_vx_mps", "-0.1"));
+  EXPECT_EQ(got["controller_server.FollowPath.max_vel_theta"].first, "navigation.dwa.max_yaw_rate_degps");
+  EXPECT_DOUBLE_EQ(std::stod(got["controller_server.FollowPath.max_vel_theta"].second), 180.0 / kPi);
+  EXPECT_DOUBLE_EQ(std::stod(got["controller_server.FollowPath.acc_lim_theta"].second), 360.0 / kPi);
+  EXPECT_EQ(got["controller_server.FollowPath.vx_samples"], V("navigation.dwa.vx_samples", "15"));
+  EXPECT_EQ(got["controller_server.FollowPath.vtheta_samples"], V("navigation.dwa.wz_samples", "25"));
+  EXPECT_EQ(got["controller_server.FollowPath.sim_time"], V("navigation.dwa.sim_time_s", "1.5"));
+  EXPECT_EQ(got["controller_server.FollowPath.PathAlign.scale"], V("navigation.dwa.path_align_weight", "32"));
+  EXPECT_EQ(got["controller_server.FollowPath.RotateToGoal.scale"], V("navigation.dwa.rotate_to_goal_weight", "40"));
+  EXPECT_DOUBLE_EQ(std::stod(got["controller_server.FollowPath.Oscillation.oscillation_reset_angle"].second), rad_to_deg(0.5));
+  EXPECT_EQ(got["controller_server.goal_checker.xy_goal_tolerance"], V("navigation.goal_tolerance_m", "0.3"));
+  EXPECT_EQ(got["amcl.laser_model_type"], V("localization.amcl.laser_model_type", "beam"));
+  EXPECT_EQ(got["amcl.update_min_d"], V("localization.amcl.update_min_d_m", "0.1"));
+  // The settings carry the file and line for errors.
+  for (const ParamSetting& s : p.settings()) {
+    EXPECT_EQ(s.file, file);
+    EXPECT_GT(s.line, 0);
+  }
+
+  // Regulated Pure Pursuit on the path follower.
+  test::write_text(dir.file("rpp.yaml"),
+                   "controller_server:\n  ros__parameters:\n    FollowPath:\n"
+                   "      plugin: \"nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController\"\n"
+                   "      desired_linear_vel: 0.5\n      lookahead_dist: 0.6\n      rotate_to_heading_angular_vel: 1.8\n"
+                   "      use_collision_detection: true\n");
+  const Nav2Params rpp = read_nav2_params(dir.file("rpp.yaml"), scenario("", "path_follower"));
+  std::map<std::string, std::pair<std::string, std::string>> r;
+  for (const Nav2Key& k : rpp.mapped) r[k.nav2] = {k.starnav, k.converted};
+  EXPECT_EQ(r["controller_server.FollowPath.desired_linear_vel"], V("navigation.follower.cruise_speed_mps", "0.5"));
+  EXPECT_EQ(r["controller_server.FollowPath.lookahead_dist"], V("navigation.follower.pursuit_look_ahead_m", "0.6"));
+  EXPECT_EQ(rpp.ignored.size(), 2u);  // the plugin line and use_collision_detection
+}
+
+TEST(Nav2Params, ValuesOutOfRangeNameTheFileLineAndBothKeys) {
+  const test::ScratchDir dir;
+  struct Row {
+    std::string yaml, expect;
+    int line;
+  };
+  for (const Row& r : {Row{"amcl:\n  ros__parameters:\n    alpha1: 0.2\n    update_min_a: 7.0\n", "amcl.update_min_a (localization.amcl.update_min_a_deg)", 4},
+                       Row{"amcl:\n  ros__parameters:\n    z_hit: 1.5\n", "amcl.z_hit (localization.amcl.z_hit)", 3},
+                       Row{"amcl:\n  ros__parameters:\n    max_particles: 10.5\n", "expected an integer", 3},
+                       Row{"amcl:\n  ros__parameters:\n    sigma_hit: fast\n", "expected a number", 3},
+                       Row{"amcl: [1, 2]\n", "not a Nav2 parameter file", 0},
+                       Row{"amcl:\n  ros__parameters: {alpha1: [\n", "not YAML", 0}}) {
+    const std::string file = dir.file("bad.yaml");
+    test::write_text(file, r.yaml);
+    const std::string what = test::error_of([&] { read_nav2_params(file, scenario("amcl", "dwa")); });
+    EXPECT_NE(what.find(r.expect), std::string::npos) << what;
+    if (r.line > 0) {
+      EXPECT_NE(what.find("bad.yaml:" + std::to_string(r.line) + ":"), std::string::npos) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace starnav
