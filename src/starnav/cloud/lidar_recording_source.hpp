@@ -24,6 +24,7 @@ class LidarRecordingSource final : public SensorSource {
   // The first `frames` frames of `recording` (0: all); `recording` must outlive the source.
   LidarRecordingSource(const LidarRecording& recording, std::size_t frames = 0, LidarRecordingStreams streams = {});
   std::size_t readings() const override { return count_; }
+  const std::string& origin() const override { return recording_.path; }
   void play(SensorBus& bus, const std::function<void(std::size_t)>& published) override;
 
  private:

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "starnav/core/cpu_time.hpp"
+#include "starnav/core/error.hpp"
 #include "starnav/registry/components.hpp"
 
 namespace starnav {
@@ -67,9 +68,11 @@ SlamDriveTimes drive_slam(Slam& slam, SensorSource& source, const SlamStreams& s
     if (progress) progress(done, total);
   });
   bus.deliver_all();
-  {
+  try {
     const WallTimer timer(times.slam_wall_s);
     slam.finish();
+  } catch (const Error& e) {
+    throw e.file().empty() ? e.with_file(source.origin()) : e;
   }
   times.cpu_s = thread_cpu_s() - cpu0;
   times.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

@@ -5,7 +5,7 @@
 // (logs/robot_log_source.hpp, cloud/lidar_recording_source.hpp) delivers odometry, IMU samples and
 // the scans or the clouds (whichever the method's SlamSpace takes) to the Slam role, reading by
 // reading; then finish(). What the run is judged by (relations, the truth) and the files it
-// writes are the experiment layer's (experiment/slam_report.hpp, experiment/slam3d_run.hpp).
+// writes are the experiment layer's (harness/slam_report.hpp, harness/slam3d_run.hpp).
 #include <cstddef>
 #include <cstdint>
 #include <functional>

@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "starnav/core/error.hpp"
+
 namespace starnav {
 
 ScanMessage scan_message(const LogScan& scan, const Pose3& mount, const std::string& stream) {
@@ -43,7 +45,12 @@ void RobotLogSource::play(SensorBus& bus, const std::function<void(std::size_t)>
       bus.publish(std::move(o));
     }
     bus.publish(scan_message(scan, mount, streams_.scan));
-    if (published) published(k + 1);
+    if (!published) continue;
+    try {
+      published(k + 1);
+    } catch (const Error& e) {
+      throw error_at_scan(log_, scan, e);
+    }
   }
 }
 

@@ -34,7 +34,9 @@ class RobotLogSource final : public SensorSource {
   // `log` must outlive the source.
   explicit RobotLogSource(const RobotLog& log, RobotLogStreams streams = {});
   std::size_t readings() const override { return log_.scans.size(); }
+  const std::string& origin() const override { return log_.path; }
   // Scans in time order (a log's scans out of order are sorted, equal stamps kept in file order).
+  // An Error from `published` that names no file names the scan's line (error_at_scan).
   void play(SensorBus& bus, const std::function<void(std::size_t)>& published) override;
 
  private:

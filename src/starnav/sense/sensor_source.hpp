@@ -12,6 +12,7 @@
 // odometry, so the same rule holds there.
 #include <cstddef>
 #include <functional>
+#include <string>
 
 #include "starnav/sense/sensor_bus.hpp"
 
@@ -22,8 +23,13 @@ class SensorSource {
   virtual ~SensorSource() = default;
   // The readings (scans, frames) the source will publish: what progress counts.
   virtual std::size_t readings() const = 0;
+  // The recording's file or folder: what an error after the last reading (a SLAM's final
+  // optimisation, say) names.
+  virtual const std::string& origin() const = 0;
   // Publishes every reading on `bus`, in time order; after each, `published(k)` with the readings
-  // published so far. Errors name the recording's file and field.
+  // published so far. Errors name the recording's file and field; a source may
+  // locate an Error thrown by `published` (by a consumer of the reading's messages) that names no
+  // file at the reading's place in the recording (a log's line: RobotLogSource).
   virtual void play(SensorBus& bus, const std::function<void(std::size_t)>& published) = 0;
 };
 

@@ -242,6 +242,7 @@ bool GraphSlam3d::add(double t_s, std::span<const Vec3> points, const std::optio
     fr.converged = true;
     keyframe_odometry_ = odometry;
     frames_.push_back(fr);
+    count(fr);
     return true;
   }
   Rigid3 guess = last_relative_ * last_step_;
@@ -271,7 +272,16 @@ bool GraphSlam3d::add(double t_s, std::span<const Vec3> points, const std::optio
     fr.keyframe_created = true;
   }
   frames_.push_back(fr);
+  count(fr);
   return fr.keyframe_created;
+}
+
+void GraphSlam3d::count(const Slam3dFrameResult& f) {
+  totals_.raw += f.raw_points;
+  totals_.windowed += f.windowed;
+  totals_.voxelised += f.voxelised;
+  totals_.kept += f.filtered_points;
+  totals_.match_s += f.match_s;
 }
 
 void GraphSlam3d::finish() { optimise(); }
@@ -342,12 +352,7 @@ SlamGraph GraphSlam3d::graph() const {
 }
 
 std::vector<std::pair<std::string, double>> GraphSlam3d::statistics() const {
-  double raw = 0, kept = 0, match = 0;
-  for (const Slam3dFrameResult& f : frames_) {
-    raw += static_cast<double>(f.raw_points);
-    kept += static_cast<double>(f.filtered_points);
-    match += f.match_s;
-  }
+  const Slam3dTotals& t = totals_;
   const double nf = static_cast<double>(std::max<std::size_t>(1, frames_.size()));
   const auto d = [](std::size_t v) { return static_cast<double>(v); };
   return {{"frames", d(frames_.size())},
@@ -356,9 +361,14 @@ std::vector<std::pair<std::string, double>> GraphSlam3d::statistics() const {
           {"floor_edges", d(plane_edges_.size())},
           {"optimisations", static_cast<double>(optimisations_)},
           {"optimise_s", optimise_s_},
-          {"mean_raw_points", raw / nf},
-          {"mean_filtered_points", kept / nf},
-          {"mean_match_s", match / nf}};
+          {"raw_points", d(t.raw)},
+          {"windowed_points", d(t.windowed)},
+          {"voxelised_points", d(t.voxelised)},
+          {"filtered_points", d(t.kept)},
+          {"match_s", t.match_s},
+          {"mean_raw_points", d(t.raw) / nf},
+          {"mean_filtered_points", d(t.kept) / nf},
+          {"mean_match_s", t.match_s / nf}};
 }
 
 SlamDef graph_slam_3d() {

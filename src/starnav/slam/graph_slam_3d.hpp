@@ -112,8 +112,11 @@ class GraphSlam3d final : public Slam {
   // Key frames as nodes (their base poses, planar), registration edges Local, closures Loop (score:
   // the registration's fitness, m^2).
   SlamGraph graph() const override;
-  // frames, keyframes, loop_closures, floor_edges, optimisations, optimise_s, and per frame the
-  // means of mean_raw_points, mean_filtered_points and mean_match_s.
+  // frames, keyframes, loop_closures, floor_edges, optimisations, optimise_s; the prefilter's
+  // points over all frames (raw_points, windowed_points, voxelised_points, filtered_points) and
+  // the registrations' time (match_s), and their means per frame (mean_raw_points,
+  // mean_filtered_points, mean_match_s). Totals so far: a caller who wants a frame's figures takes
+  // the difference across its on_cloud.
   std::vector<std::pair<std::string, double>> statistics() const override;
 
   const std::vector<Slam3dKeyframe>& keyframes() const { return keyframes_; }
@@ -133,6 +136,12 @@ class GraphSlam3d final : public Slam {
   Eigen::Matrix<double, 6, 6> registration_information() const;
   void detect_loops();
   void optimise();
+  void count(const Slam3dFrameResult& frame);
+
+  struct Slam3dTotals {
+    std::size_t raw = 0, windowed = 0, voxelised = 0, kept = 0;
+    double match_s = 0.0;
+  };
 
   GraphSlam3dConfig c_;
   std::optional<Pose3> mount_;
@@ -152,6 +161,7 @@ class GraphSlam3d final : public Slam {
   double last_loop_accum_m_ = -1e300;
   double optimise_s_ = 0.0;
   int optimisations_ = 0;
+  Slam3dTotals totals_;  // over frames_
 };
 
 // The key frames' clouds at their poses into an octree (rays clear free space).

@@ -1,4 +1,4 @@
-#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/slam3d_run.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -70,9 +70,9 @@ Slam3dRunResult run_slam3d(const std::string& input, const Slam3dRunConfig& conf
   r.duration_s = r.input.frames.back().t_s - r.input.frames.front().t_s;
   for (const SlamPose& p : slam->trajectory()) r.trajectory.push_back(p.sensor);
   r.keyframes = slam->keyframes_3d();
+  r.graph = slam->graph();
   for (const auto& [name, value] : slam->statistics()) {
     if (name == "frames") r.frames = static_cast<std::size_t>(value);
-    if (name == "loop_closures") r.loops = static_cast<std::size_t>(value);
     if (name == "floor_edges") r.plane_edges = static_cast<std::size_t>(value);
     if (name == "mean_raw_points") r.mean_raw_points = value;
     if (name == "mean_filtered_points") r.mean_filtered_points = value;
@@ -137,7 +137,7 @@ std::string slam3d_summary_json(const Slam3dRunResult& r) {
   j["matcher"] = r.matcher;
   j["frames"] = r.frames;
   j["keyframes"] = r.keyframes.size();
-  j["loop_closures"] = r.loops;
+  j["loop_closures"] = r.graph.closures();
   j["floor_edges"] = r.plane_edges;
   j["mean_raw_points"] = r.mean_raw_points;
   j["mean_filtered_points"] = r.mean_filtered_points;

@@ -1,4 +1,4 @@
-#include "starnav/experiment/slam_report.hpp"
+#include "starnav/harness/slam_report.hpp"
 
 #include <malloc.h>
 #include <sys/resource.h>

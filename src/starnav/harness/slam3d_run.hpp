@@ -35,7 +35,8 @@ struct Slam3dRunResult {
   std::string matcher;
   std::vector<Rigid3> trajectory;  // per frame, the sensor in the map frame
   std::vector<Slam3dKeyframe> keyframes;
-  std::size_t frames = 0, loops = 0, plane_edges = 0;
+  SlamGraph graph;  // key frames as nodes; the loop closures are its Loop edges, between key frames
+  std::size_t frames = 0, plane_edges = 0;
   double mean_raw_points = 0.0, mean_filtered_points = 0.0, mean_match_s = 0.0;  // per frame
   double wall_s = 0.0;        // the whole run, reading the clouds included
   double mapping_s = 0.0;     // GraphSlam3d alone (prefilter, registration, graph), the pipeline's cost

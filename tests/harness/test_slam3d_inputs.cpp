@@ -14,7 +14,7 @@
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/cloud/lidar_recording.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/slam3d_run.hpp"
 #include "starnav/harness/lidar_frame_recorder.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "starnav/sim/simulation.hpp"
