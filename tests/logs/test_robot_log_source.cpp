@@ -1,6 +1,7 @@
-// A robot log played as sensor messages: per scan, in time order, the odometry at its stamp (the
+// A robot log played as sensor messages: per scan, in file order, the odometry at its stamp (the
 // pose scan_odometry gives it, interpolated or carried by the line) just before the scan itself,
-// in the laser's frame with its mount; a scan without odometry alone; the scan's beams as read.
+// in the laser's frame with its mount; a scan without odometry alone; the scan's beams as read; a
+// consumer's error located at the scan's line.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <variant>
 #include <vector>
 
+#include "starnav/core/error.hpp"
 #include "starnav/logs/robot_log_source.hpp"
 
 namespace starnav {
@@ -25,17 +27,15 @@ LogScan scan_at(std::int64_t stamp_us, std::size_t line) {
   return s;
 }
 
-// Every message of a played source, in delivery order.
-std::vector<SensorMessage> played(SensorSource& source) {
-  SensorBus bus;
+// Every message of a played source, in the order given, and the readings counted after each.
+std::vector<SensorMessage> played(SensorSource& source, std::vector<std::size_t>* messages_at_reading = nullptr) {
   std::vector<SensorMessage> out;
-  bus.subscribe<OdometryMessage>("", [&](const OdometryMessage& m) { out.emplace_back(m); });
-  bus.subscribe<ScanMessage>("", [&](const ScanMessage& m) { out.emplace_back(m); });
   std::size_t readings = 0;
-  source.play(bus, [&](std::size_t k) {
-    readings = k;
-    bus.deliver_all();
-  });
+  source.play([&](const SensorMessage& m) { out.push_back(m); },
+              [&](std::size_t k) {
+                readings = k;
+                if (messages_at_reading) messages_at_reading->push_back(out.size());
+              });
   EXPECT_EQ(readings, source.readings());
   return out;
 }
@@ -74,18 +74,45 @@ TEST(RobotLogSource, OdometryAtEachScansStampJustBeforeTheScan) {
   EXPECT_EQ(s0.mount.to_pose2().yaw, 0.5);
 }
 
-TEST(RobotLogSource, ScansInTimeOrderAndWithoutOdometryAlone) {
+TEST(RobotLogSource, ScansInFileOrderEvenWhenStampsGoBackAndWithoutOdometryAlone) {
   RobotLog log;
   log.scans = {scan_at(3'000'000, 1), scan_at(1'000'000, 2), scan_at(3'000'000, 3)};
   log.scans[2].ranges_m = {7.0f};
   log.scans[0].odometry = Pose2(1, 1, 0);  // the others have none: no odometry in the log
   RobotLogSource source(log);
-  const std::vector<SensorMessage> m = played(source);
+  std::vector<std::size_t> at;
+  const std::vector<SensorMessage> m = played(source, &at);
   ASSERT_EQ(m.size(), 4u);
-  EXPECT_EQ(std::get<ScanMessage>(m[0]).header.t_s, 1.0);  // alone: it has no odometry
-  EXPECT_EQ(std::get<OdometryMessage>(m[1]).pose.x, 1.0);
-  EXPECT_EQ(std::get<ScanMessage>(m[2]).ranges_m.size(), 4u);  // equal stamps in file order
+  // As received (rosbag play's order), the stamp that goes back included.
+  EXPECT_EQ(std::get<OdometryMessage>(m[0]).pose.x, 1.0);
+  EXPECT_EQ(std::get<ScanMessage>(m[1]).header.t_s, 3.0);
+  EXPECT_EQ(std::get<ScanMessage>(m[2]).header.t_s, 1.0);  // alone: it has no odometry
   EXPECT_EQ(std::get<ScanMessage>(m[3]).ranges_m.size(), 1u);
+  // Each reading counted once its messages were given.
+  EXPECT_EQ(at, (std::vector<std::size_t>{2, 3, 4}));
+  // Played onto a bus, which keeps time order, the stamp that goes back is refused.
+  SensorBus bus;
+  EXPECT_THROW(play_onto_bus(source, bus), Error);
+}
+
+TEST(RobotLogSource, AConsumersErrorNamesTheScansLine) {
+  RobotLog log;
+  log.path = "run.clf";
+  log.format = "carmen";
+  log.scans = {scan_at(1'000'000, 4), scan_at(2'000'000, 9)};
+  RobotLogSource source(log);
+  try {
+    source.play(
+        [&](const SensorMessage& m) {
+          if (header_of(m).t_s == 2.0) throw Error("cannot place it", {}, 0, "scan");
+        },
+        {});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.file(), "run.clf");
+    EXPECT_EQ(e.line(), 9);
+    EXPECT_EQ(e.field(), "scan");
+  }
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ inline void play_log(Slam& slam, const RobotLog& log) {
   bus.subscribe<OdometryMessage>("odom", [&](const OdometryMessage& m) { slam.on_odometry(m); });
   bus.subscribe<ScanMessage>("lidar", [&](const ScanMessage& m) { slam.on_scan(m); });
   RobotLogSource source(log);
-  source.play(bus, [&](std::size_t) { bus.deliver_all(); });
+  play_onto_bus(source, bus);
   slam.finish();
 }
 

@@ -3,8 +3,7 @@
 // (sense/sensor_source.hpp): per frame, in order, the wheel odometry at the frame's time as an
 // OdometryMessage when the recording has it (frames.csv's columns, a bag's odometry interpolated
 // to the cloud's stamp), then the cloud as a CloudMessage in the sensor frame with the sensor's
-// mount. Frames must come in time order: one stamped before the frame before it is an error
-// naming the recording and the frame.
+// mount, in the recording's order.
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -25,7 +24,7 @@ class LidarRecordingSource final : public SensorSource {
   LidarRecordingSource(const LidarRecording& recording, std::size_t frames = 0, LidarRecordingStreams streams = {});
   std::size_t readings() const override { return count_; }
   const std::string& origin() const override { return recording_.path; }
-  void play(SensorBus& bus, const std::function<void(std::size_t)>& published) override;
+  void play(const SensorSink& sink, const std::function<void(std::size_t)>& published) override;
 
  private:
   const LidarRecording& recording_;

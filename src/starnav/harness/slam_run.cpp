@@ -36,38 +36,28 @@ class WallTimer {
 
 SlamDriveTimes drive_slam(Slam& slam, SensorSource& source, const SlamStreams& streams, const SlamProgress& progress) {
   SlamDriveTimes times;
-  SensorBus bus;
-  bus.subscribe<OdometryMessage>(streams.odometry, [&](const OdometryMessage& m) {
+  const bool planar = slam.space() == SlamSpace::Planar;
+  // Each message to the role's call for its type, on the streams the run listens to.
+  const auto deliver = [&](const SensorMessage& message) {
+    const std::string& stream = header_of(message).stream;
     const WallTimer timer(times.slam_wall_s);
-    slam.on_odometry(m);
-  });
-  bus.subscribe<ImuMessage>(streams.imu, [&](const ImuMessage& m) {
-    const WallTimer timer(times.slam_wall_s);
-    slam.on_imu(m);
-  });
-  switch (slam.space()) {
-    case SlamSpace::Planar:
-      bus.subscribe<ScanMessage>(streams.scan, [&](const ScanMessage& m) {
-        const WallTimer timer(times.slam_wall_s);
-        slam.on_scan(m);
-      });
-      break;
-    case SlamSpace::ThreeD:
-      bus.subscribe<CloudMessage>(streams.cloud, [&](const CloudMessage& m) {
-        const WallTimer timer(times.slam_wall_s);
-        slam.on_cloud(m);
-      });
-      break;
-  }
+    if (const auto* m = std::get_if<OdometryMessage>(&message)) {
+      if (stream == streams.odometry) slam.on_odometry(*m);
+    } else if (const auto* s = std::get_if<ScanMessage>(&message)) {
+      if (planar && stream == streams.scan) slam.on_scan(*s);
+    } else if (const auto* c = std::get_if<CloudMessage>(&message)) {
+      if (!planar && stream == streams.cloud) slam.on_cloud(*c);
+    } else if (const auto* i = std::get_if<ImuMessage>(&message)) {
+      if (stream == streams.imu) slam.on_imu(*i);
+    }
+  };
   const std::size_t total = source.readings();
   const double cpu0 = thread_cpu_s();
   const auto wall0 = std::chrono::steady_clock::now();
   if (progress) progress(0, total);
-  source.play(bus, [&](std::size_t done) {
-    bus.deliver_all();
-    if (progress) progress(done, total);
+  source.play(deliver, [&](std::size_t done) {
+    if (progress && (done % 100 == 0 || done == total)) progress(done, total);
   });
-  bus.deliver_all();
   try {
     const WallTimer timer(times.slam_wall_s);
     slam.finish();

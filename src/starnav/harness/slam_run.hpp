@@ -1,11 +1,11 @@
 #pragma once
 // A SLAM method run over a recording: the one driver of `starnav slam run`, `starnav slam3d` and
 // `starnav bench slam`. The method is built by name from the registry (its factory composes it
-// with the scan matcher it names); a SensorBus fed by the recording's SensorSource
-// (logs/robot_log_source.hpp, cloud/lidar_recording_source.hpp) delivers odometry, IMU samples and
-// the scans or the clouds (whichever the method's SlamSpace takes) to the Slam role, reading by
-// reading; then finish(). What the run is judged by (relations, the truth) and the files it
-// writes are the experiment layer's (harness/slam_report.hpp, harness/slam3d_run.hpp).
+// with the scan matcher it names); the recording's SensorSource (logs/robot_log_source.hpp,
+// cloud/lidar_recording_source.hpp) gives odometry, IMU samples and the scans or the clouds
+// (whichever the method's SlamSpace takes) to the Slam role in the recording's order; then
+// finish(). What the run is judged by and the files it writes: harness/slam_report.hpp (a log:
+// relations, truth, map, pose graph) and harness/slam3d_run.hpp (a LiDAR recording).
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -46,8 +46,9 @@ struct SlamDriveTimes {
 };
 using SlamProgress = std::function<void(std::size_t done, std::size_t total)>;
 
-// Plays `source` onto a bus, delivering after each reading, then finish(). `progress(done, total)`
-// before the first reading and after each.
+// Plays `source` into `slam` (messages on other streams are not the run's), then finish().
+// `progress(done, total)` before the first reading, every 100 and after the last. Errors from the
+// role name the reading's place (as its source locates them) or, from finish(), the recording.
 SlamDriveTimes drive_slam(Slam& slam, SensorSource& source, const SlamStreams& streams = {}, const SlamProgress& progress = {});
 
 }  // namespace starnav

@@ -1,7 +1,5 @@
 #include "starnav/logs/robot_log_source.hpp"
 
-#include <algorithm>
-#include <numeric>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -29,25 +27,20 @@ Pose3 log_laser_mount(const RobotLog& log) {
 
 RobotLogSource::RobotLogSource(const RobotLog& log, RobotLogStreams streams) : log_(log), streams_(std::move(streams)) {}
 
-void RobotLogSource::play(SensorBus& bus, const std::function<void(std::size_t)>& published) {
+void RobotLogSource::play(const SensorSink& sink, const std::function<void(std::size_t)>& published) {
   const std::vector<std::optional<Pose2>> odometry = scan_odometry(log_);
-  std::vector<std::size_t> order(log_.scans.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return log_.scans[a].stamp_us < log_.scans[b].stamp_us; });
   const Pose3 mount = log_laser_mount(log_);
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const LogScan& scan = log_.scans[order[k]];
-    if (const std::optional<Pose2>& odom = odometry[order[k]]) {
-      OdometryMessage o;
-      o.header = {scan.t_s(), streams_.odometry};
-      o.pose = *odom;
-      bus.publish(std::move(o));
-    }
-    bus.publish(scan_message(scan, mount, streams_.scan));
-    if (!published) continue;
+  for (std::size_t k = 0; k < log_.scans.size(); ++k) {
+    const LogScan& scan = log_.scans[k];
     try {
-      published(k + 1);
+      if (const std::optional<Pose2>& odom = odometry[k]) {
+        OdometryMessage o;
+        o.header = {scan.t_s(), streams_.odometry};
+        o.pose = *odom;
+        sink(SensorMessage(std::move(o)));
+      }
+      sink(SensorMessage(scan_message(scan, mount, streams_.scan)));
+      if (published) published(k + 1);
     } catch (const Error& e) {
       throw error_at_scan(log_, scan, e);
     }

@@ -1,6 +1,6 @@
 #pragma once
 // A robot log (robot_log.hpp) played as the messages its robot's drivers gave
-// (sense/sensor_source.hpp): per scan, in time order, the odometry at the scan's stamp as an
+// (sense/sensor_source.hpp): per scan, in file order (the order of receipt), the odometry at the scan's stamp as an
 // OdometryMessage on the odometry stream, then the scan as a ScanMessage in its sensor frame with
 // the laser's mount (the log's laser_in_base, else zero) on the scan stream. The odometry is the
 // one rule of robot_log.hpp's scan_odometry: the pose the scan's line carries, else the odometry
@@ -35,9 +35,9 @@ class RobotLogSource final : public SensorSource {
   explicit RobotLogSource(const RobotLog& log, RobotLogStreams streams = {});
   std::size_t readings() const override { return log_.scans.size(); }
   const std::string& origin() const override { return log_.path; }
-  // Scans in time order (a log's scans out of order are sorted, equal stamps kept in file order).
-  // An Error from `published` that names no file names the scan's line (error_at_scan).
-  void play(SensorBus& bus, const std::function<void(std::size_t)>& published) override;
+  // Scans in file order. An Error from `sink` or `published` that names no file names the scan's
+  // line (error_at_scan).
+  void play(const SensorSink& sink, const std::function<void(std::size_t)>& published) override;
 
  private:
   const RobotLog& log_;
