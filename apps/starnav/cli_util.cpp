@@ -33,7 +33,7 @@ bool parse_double(const std::string& s, double& out) {
 std::uint64_t parse_unsigned(const std::string& text, const std::string& flag, const std::string& what) {
   const std::optional<std::uint64_t> v = parse_unsigned_text(text);
   if (v) return *v;
-  const std::string_view digits = std::string_view(text).substr(!text.empty() && text.front() == '+' ? 1 : 0);
+  const std::string_view digits = text;
   if (!digits.empty() && digits.find_first_not_of("0123456789") == std::string_view::npos)
     throw Error("out of range (at most 2^64 - 1), got '" + printable(text, 40) + "'", {}, 0, flag);
   throw Error("expected " + what + ", got '" + printable(text, 40) + "'", {}, 0, flag);
@@ -52,12 +52,15 @@ void apply_number_rules(CLI::App& app) {
         "", name);
   };
   for (CLI::Option* opt : app.get_options()) {
-    const std::string type = opt->get_type_name();
-    if (type == "UINT")
+    // A check already on the option (CLI::Range) extends the name: "INT:INT in [0 - 65535]".
+    const std::string full_type = opt->get_type_name();
+    const std::string type = full_type.substr(0, full_type.find(':'));
+    // Every whole number a flag takes is a count, a size, a port or a seed (signed quantities are
+    // reals): one rule for them, whatever C++ type holds the value, so that no flag reads "-1" as
+    // "all" while another refuses it.
+    if (type == "UINT" || type == "INT")
       opt->check(rule([](const std::string& t) { return parse_unsigned_text(t).has_value(); }, "a non-negative whole number",
                       "decimal count"));
-    else if (type == "INT")
-      opt->check(rule([](const std::string& t) { return parse_integer_text(t).has_value(); }, "a whole number", "decimal integer"));
     else if (type == "FLOAT")
       opt->check(rule([](const std::string& t) { return parse_real_text(t).has_value(); }, "a finite number", "decimal number"));
     else if (type == "TEXT")

@@ -101,7 +101,9 @@ int run_bench_movingai(const MovingAiBenchOptions& o) {
   // Every repeat runs the whole scenario file again: 1,000 is already hours on a large map.
   if (o.repeat < 1 || o.repeat > kMaxRepeats) throw Error("must be 1.." + std::to_string(kMaxRepeats) + ", got " + std::to_string(o.repeat), {}, 0, "--repeat");
   MovingAiConfig config;
-  config.planners = movingai_planners(o.planners);  // an unknown name fails before any map is read
+  std::vector<std::string> warnings;
+  config.planners = movingai_planners(o.planners, &warnings);  // an unknown name fails before any map is read
+  for (const std::string& w : warnings) print_warning("--planner: " + w);
   config.limit = o.limit;
   config.repeat = o.repeat;
   config.pairs = find_pairs(o);

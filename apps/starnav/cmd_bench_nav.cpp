@@ -35,7 +35,6 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
-#include "starnav/control/path_follower.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/run_limits.hpp"
 #include "starnav/experiment/navigation_experiment.hpp"
@@ -77,8 +76,6 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
   const std::uint64_t base = o.seed_base.empty() ? 0 : parse_count(o.seed_base, "--seed-base", "a non-negative integer");
   if (base > std::numeric_limits<std::uint64_t>::max() - (n - 1))
     throw Error("the last seed B + N - 1 exceeds 2^64 - 1", {}, 0, "--seed-base");
-  std::optional<MotionMode> mode;
-  if (!o.motion_mode.empty()) mode = parse_motion_mode(o.motion_mode, "--motion-mode");
   if (o.json && o.csv) throw Error("give --json or --csv, not both", {}, 0, "--csv");
   if (!o.out.empty()) {
     std::error_code ec;
@@ -105,7 +102,6 @@ void run_bench_nav(const NavBenchOptions& o, Context& ctx) {
   config.scenario = load_scenario(o.scenario, overrides);
   if (!config.scenario.navigation)
     throw Error("not a navigation scenario (no navigation section; see docs/scenarios.md)", o.scenario, 0, "navigation");
-  if (mode) (void)resolve_motion_mode(*mode, config.scenario.vehicle.robot.drive, "--motion-mode");
   config.seed_base = base;
   config.seeds = n;
   if (!o.motion_mode.empty()) config.motion_mode = o.motion_mode;

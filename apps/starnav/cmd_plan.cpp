@@ -112,19 +112,23 @@ void run_plan(PlanOptions& o, Context& ctx) {
   }
   if (const CLI::Option* f = o.terrain.first_given())
     throw Error("applies to elevation maps only (planners oa, aoea, ia)", {}, 0, f->get_name());
-  {
-    // The registry says which map a planner needs; an old spelling works with a warning.
-    std::string warning;
-    const GlobalPlannerDef& def = find_global_planner(o.request.planner, "--planner", &warning);
-    if (!warning.empty()) print_warning("--planner: " + warning);
-    if (def.info.has(Capability::NeedsElevation))
-      throw Error("'" + o.request.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
-  }
+  // The registry says which map a planner needs and whether it takes a weight; an old spelling
+  // works with a warning.
+  std::string warning;
+  const GlobalPlannerDef& def = find_global_planner(o.request.planner, "--planner", &warning);
+  if (!warning.empty()) print_warning("--planner: " + warning);
+  if (def.info.has(Capability::NeedsElevation))
+    throw Error("'" + o.request.planner + "' plans on elevation maps; " + o.map + " is an occupancy map", {}, 0, "--planner");
   if (o.unknown != "free" && o.unknown != "blocked")
     throw Error("expected free or blocked, got '" + o.unknown + "'", {}, 0, "--unknown");
   PlanRequest& rq = o.request;
   GridPlannerOptions& options = rq.options;
-  if (options.weight != 1.0 && rq.planner != "wastar") throw Error("only --planner wastar takes a weight", {}, 0, "--weight");
+  if (options.weight != 1.0 && !def.info.has(Capability::HeuristicWeight)) {
+    std::string weighted;
+    for (const ComponentInfo& i : all_components())
+      if (i.has(Capability::HeuristicWeight)) weighted += (weighted.empty() ? "" : ", ") + i.name;
+    throw Error("'" + rq.planner + "' takes no weight (planners that do: " + weighted + ")", {}, 0, "--weight");
+  }
   const OccupancyGrid& grid = loaded.occupancy();
   const GridGeometry& geometry = grid.geometry();
   const bool index_grid = loaded.format == MapFormat::MovingAi || geometry.y_down;

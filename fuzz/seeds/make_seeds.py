@@ -422,6 +422,9 @@ def carmen_logs():
         "far_pose.clf": b"ODOM 1e19 0 0 0 0 0 1.0 h 0\n",
         "stray_above_saturation.clf": flaser * 12 + flaser.replace(b"81.91", b"81.92"),
         "float_overflow.clf": flaser.replace(b"81.91", b"1e308"),
+        "odometry_only.clf": b"ODOM 0 0 0 0 0 0 1.0 h 1.0\nODOM x 0 0 0 0 0 2.0 h 2.0\n",
+        "odometry_only.txt": b"ODOMETRY 1.0 0 0 0 0 0\nODOMETRY 2.0 x 0 0 0 0\n",
+        "bare_odom.clf": b"ODOM 0 0 0 0 0 0 1\n" * 64,
     }
 
 

@@ -75,8 +75,10 @@ TEST(BenchNavCli, MissingScenarioFileIsNamed) {
 TEST(BenchNavCli, OtherBadFlagsAreNamed) {
   expect_one_error_line(run_cli({"bench", "nav", "--scenario", kE1, "--seeds", "2", "--seed-base", "-1"}),
                         {"--seed-base"}, "negative --seed-base");
-  expect_one_error_line(run_cli({"bench", "nav", "--scenario", kE1, "--seeds", "2", "--motion-mode", "sideways"}),
-                        {"--motion-mode"}, "unknown --motion-mode");
+  // The motion mode is the controller's parameter: checked against the scenario's controller.
+  expect_one_error_line(run_cli({"bench", "nav", "--scenario", starnav::test::scenario_path("e2_stochastic_pit_mound.yaml"), "--seeds",
+                                 "2", "--motion-mode", "sideways"}),
+                        {"--motion-mode", "unknown value 'sideways'"}, "unknown --motion-mode");
   expect_one_error_line(run_cli({"bench", "nav", "--scenario", kE1, "--seeds", "2", "--json", "--csv"}), {"--csv"},
                         "--json with --csv");
 }

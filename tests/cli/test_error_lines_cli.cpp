@@ -44,6 +44,9 @@ TEST(ErrorLinesCli, UsageMistakesAreNamedForWhatTheyAre) {
       {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--bogus", "3"}, "unknown option --bogus"},
       // An option given twice, in plain words.
       {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--goal", "2,2"}, "--goal: given 2 times; give it once"},
+      // Which planners take a weight is their capability (the registry's word, not the CLI's).
+      {{"plan", "--map", map, "--start", "0,0", "--goal", "1,1", "--planner", "astar", "--weight", "2"},
+       "--weight: 'astar' takes no weight (planners that do: wastar)"},
       {{"sim", ".", "--out", dir.file("o")}, "is a directory"},
       // A misspelt command is named, with the commands it may have meant.
       {{"simulate", "scenarios/e1_terrain_platform.yaml"}, "unknown command 'simulate' for starnav (did you mean 'sim'?)"},
@@ -89,6 +92,34 @@ TEST(ErrorLinesCli, EveryCountSeedAndCoordinateIsReadOneWay) {
        "--start: (50, 50) m is outside the map"},
   };
   for (const ErrorLineCase& c : cases) expect_one_error_line(c);
+}
+
+// One rule per kind of number and name, whatever command reads it: a count, a size or a seed
+// takes no sign (not "-3" for "all" on one command, not "+16"), and a planner is named as the
+// registry names it (an old spelling warns everywhere `plan` accepts it).
+TEST(ErrorLinesCli, CountsTakeNoSignAndPlannersAreTheRegistrysEverywhere) {
+  test::ScratchDir dir;
+  const std::string map = test::test_data("movingai_tiny.map");
+  const std::string no_sign = "expected a non-negative whole number, got ";
+  const std::vector<ErrorLineCase> cases = {
+      {{"bench", "ablation", "--map", map, "--random", "2", "--svg-limit", "-3", "--out", dir.file("a1")}, "--svg-limit: " + no_sign + "'-3'"},
+      {{"bench", "terrain", "--generate", "1", "--svg-limit", "-3", "--out", dir.file("t1")}, "--svg-limit: " + no_sign + "'-3'"},
+      {{"bench", "ablation", "--map", map, "--random", "2", "--seed", "+16", "--out", dir.file("a2")}, "--seed: " + no_sign + "'+16'"},
+      {{"bench", "ablation", "--map", map, "--random", "+2", "--out", dir.file("a3")}, "--random: " + no_sign + "'+2'"},
+      {{"bench", "movingai", "--map", map, "--repeat", "-1"}, "--repeat: " + no_sign + "'-1'"},
+      {{"sim", test::kE1, "--out", dir.file("s1"), "--quiet", "--seed", "+16"}, "--seed: expected a non-negative integer, got '+16'"},
+      {{"sim", test::kE1, "--out", dir.file("s2"), "--quiet", "--set", "sim.seed=+16"}, "sim.seed"},
+      {{"bench", "movingai", "--map", map, "--planner", "oa"}, "--planner: 'oa' plans on elevation maps"},
+      {{"bench", "movingai", "--map", map, "--planner", "nosuch"}, "--planner: unknown planner 'nosuch' (dijkstra, astar"},
+  };
+  for (const ErrorLineCase& c : cases) expect_one_error_line(c);
+  // The old spelling runs under its registry name, with plan's warning, not "unknown planner".
+  test::write_text(dir.file("tiny.scen"), "version 1\n0\tmovingai_tiny.map\t5\t3\t0\t0\t1\t0\t1\n");
+  const test::CliResult old =
+      test::run_cli({"bench", "movingai", "--map", map, "--scen", dir.file("tiny.scen"), "--planner", "dstarlite", "--json"});
+  EXPECT_EQ(old.exit_code, 0) << old.err;
+  EXPECT_NE(old.err.find("starnav: warning: --planner: 'dstarlite' is deprecated; use 'dstar_lite'\n"), std::string::npos) << old.err;
+  EXPECT_NE(old.out.find("\"dstar_lite\""), std::string::npos) << old.out;
 }
 
 TEST(ErrorLinesCli, AblationQueriesMustBeForTheMapTheyRunOn) {

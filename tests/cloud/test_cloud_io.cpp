@@ -2,7 +2,12 @@
 // frames, and one clear error for each kind of malformed file.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstring>
+#include <filesystem>
 
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/core/error.hpp"
@@ -150,6 +155,41 @@ TEST(CloudIo, MalformedFilesNameTheirField) {
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()).find('\x1b'), std::string::npos);
   }
+}
+
+// A KITTI frame of one point more than the limit (800 MB, sparse on disk) is refused from its size:
+// read in a child whose address space (200 MB) could not hold the file.
+TEST(CloudIo, AnOversizedKittiFrameIsRefusedFromItsSizeBeforeReading) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#endif
+#endif
+  test::ScratchDir dir;
+  const std::string path = dir.file("big.bin");
+  test::write_text(path, "");
+  std::filesystem::resize_file(path, (kMaxCloudPoints + 1) * 16);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlimit limit{200u << 20, 200u << 20};
+    ::setrlimit(RLIMIT_AS, &limit);
+    int code = 3;
+    try {
+      read_point_cloud(path);
+    } catch (const Error& e) {
+      code = std::string(e.what()).find("50000000") != std::string::npos ? 0 : 4;
+    } catch (...) {
+      code = 5;  // out of memory: the file was read first
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: read, 4: another error, 5: out of memory";
 }
 
 TEST(CloudIo, ReadsTheSharedKittiFrames) {

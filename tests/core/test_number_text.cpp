@@ -41,9 +41,21 @@ TEST(NumberText, IntegersAndCountsNeverWrapOrChangeBase) {
   EXPECT_EQ(parse_unsigned_text("18446744073709551616"), std::nullopt);
   EXPECT_EQ(parse_unsigned_text("-1"), std::nullopt);  // not 2^64 - 1
   EXPECT_EQ(parse_unsigned_text("-0"), std::nullopt);
-  EXPECT_EQ(parse_unsigned_text("+3"), 3u);
+  EXPECT_EQ(parse_unsigned_text("+3"), std::nullopt);  // a count takes no sign, '+' neither
   EXPECT_EQ(parse_unsigned_text(""), std::nullopt);
   EXPECT_EQ(parse_unsigned_text("1e3"), std::nullopt);
+}
+
+TEST(NumberText, AWholeNumberInARangeFromZeroIsACountWithoutASign) {
+  struct Row {
+    const char* text;
+    std::int64_t lo, hi;
+    std::optional<std::int64_t> expected;
+  };
+  for (const Row& r : {Row{"7", 0, 10, 7}, Row{"+7", 0, 10, std::nullopt}, Row{"-0", 0, 10, std::nullopt},
+                       Row{"11", 0, 10, std::nullopt}, Row{"+7", -5, 10, 7}, Row{"-5", -5, 10, -5}, Row{"-6", -5, 10, std::nullopt},
+                       Row{"010", 1, 10, 10}, Row{"18446744073709551615", 0, 10, std::nullopt}})
+    EXPECT_EQ(parse_integer_in(r.text, r.lo, r.hi), r.expected) << r.text << " in " << r.lo << ".." << r.hi;
 }
 
 TEST(InputFileScope, TheInnermostFileAnExceptionLeavesIsNamedAfterUnwinding) {

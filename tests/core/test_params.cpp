@@ -57,7 +57,7 @@ TEST(Params, AppliesValuesThroughTheDeclaredScaleAndReadsDefaultsBack) {
   table().apply(c, at("yaw_rate_degps", "90"));
   table().apply(c, at("enabled", "false"));
   table().apply(c, at("mode", "b"));
-  table().apply(c, at("inner.count", "+7"));
+  table().apply(c, at("inner.count", "7"));
   EXPECT_EQ(c.speed_mps, 0.35);
   EXPECT_EQ(c.yaw_rate_radps, 90.0 * (kPi / 180.0));
   EXPECT_FALSE(c.enabled);
@@ -87,7 +87,7 @@ TEST(Params, BadValuesNameTheFileLineAndFullKey) {
   for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
            {"speed_mps", "0"}, {"speed_mps", "-1"}, {"speed_mps", "fast"}, {"speed_mps", "nan"}, {"speed_mps", "inf"},
            {"speed_mps", ""}, {"speed_mps", "1e400"}, {"speed_mps", "0.2m"}, {"yaw_rate_degps", "361"},
-           {"enabled", "yes please"}, {"mode", "c"}, {"inner.count", "1.5"}, {"inner.count", "11"},
+           {"enabled", "yes please"}, {"mode", "c"}, {"inner.count", "1.5"}, {"inner.count", "11"}, {"inner.count", "+7"},
            {"inner.count", "99999999999999999999"}, {"nope", "1"}}) {
     const Error e = error_applying(at(key, value));
     EXPECT_EQ(e.file(), "s.yaml") << key << "=" << value;

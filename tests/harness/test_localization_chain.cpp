@@ -86,5 +86,28 @@ TEST(LocalizationChain, AmclWithoutAMapIsOneErrorNamingTheField) {
   }
 }
 
+// `odometry:` takes wheel, none, or a localizer that filters odometry (by capability, not by name);
+// the errors list what it takes and name the field.
+TEST(LocalizationChainConfig, OdometryTakesTheLocalizersThatFilterOdometry) {
+  const auto error_of = [](std::vector<ScenarioOverride> overrides) {
+    try {
+      localization_config(load_scenario(scenario_path("ekf_square.yaml"), overrides));
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), "localization.odometry (--set)") << e.what();
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error_of({{"localization.odometry", "amcl"}}).find("unknown odometry 'amcl' (wheel, none, ekf)"), std::string::npos);
+  EXPECT_NE(error_of({{"localization.odometry", "ekf"}}).find("the ekf would run twice"), std::string::npos);
+  const LocalizationConfig c =
+      localization_config(load_scenario(scenario_path("ekf_square.yaml"), std::vector<ScenarioOverride>{
+          {"localization.odometry", "ekf"}, {"localization.localizer", "odometry"}}));
+  EXPECT_EQ(c.odometry, "wheel");
+  ASSERT_TRUE(c.odometry_filter.has_value());
+  EXPECT_EQ(c.odometry_filter->name, "ekf");
+  EXPECT_EQ(localization_config(load_scenario(scenario_path("ekf_square.yaml"))).odometry_filter, std::nullopt);
+}
+
 }  // namespace
 }  // namespace starnav

@@ -255,10 +255,13 @@ TEST(LogReaders, MalformedInputNamesFileLineAndField) {
       {"PARAM robot_frontlaser_offset 1e12 h 0\n", false, 1, "PARAM robot_frontlaser_offset"},
       {"ODOMETRY 1.0 3e9 2 3 4 5\n", true, 1, "ODOMETRY x"},
   };
+  // Read as `log info` reads them: a log without scans is listed, not refused.
+  LogReadOptions listing;
+  listing.allow_no_scans = true;
   for (const Row& r : rows) {
     try {
-      if (r.odomscan) read_odomscan_text(r.text, "bad.txt");
-      else read_carmen_log(r.text, "bad.clf");
+      if (r.odomscan) read_odomscan_text(r.text, "bad.txt", listing);
+      else read_carmen_log(r.text, "bad.clf", listing);
       ADD_FAILURE() << "accepted: " << r.text;
     } catch (const Error& e) {
       EXPECT_EQ(e.line(), r.line) << r.text;
@@ -283,6 +286,59 @@ std::string bag_fixture(const std::string& compression) {
   w.message(3, 11, 0, std::string("\x02\x00\x00\x00hi", 6));
   w.message(2, 11, 0, test::odometry(11, 0, "base_link", 2.0, 2.0, -0.5, 0.0, 0.0));
   return w.bytes();
+}
+
+template <class F>
+Error error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no error";
+  return Error("none");
+}
+
+// A log its command needs scans from but that has none is refused from its lines' first words,
+// before any record is read: the malformed ODOM line 2 is never reached (with allow_no_scans it is).
+TEST(LogReaders, ALogWithoutScansIsRefusedBeforeItsOdometryIsRead) {
+  struct Row {
+    std::string text;
+    bool odomscan;
+    std::string refusal;
+  };
+  const std::vector<Row> rows = {
+      {"ODOM 0 0 0 0 0 0 1.0 h 1.0\nODOM x 0 0 0 0 0 2.0 h 2.0\n", false, "holds no laser scan line (FLASER, ROBOTLASER1, RAWLASER1..4)"},
+      {"ODOMETRY 1.0 0 0 0 0 0\nODOMETRY 2.0 x 0 0 0 0\n", true, "holds no LASERSCAN line"},
+  };
+  for (const Row& r : rows) {
+    SCOPED_TRACE(r.text);
+    const auto read = [&](const LogReadOptions& o) { return r.odomscan ? read_odomscan_text(r.text, "a.log", o) : read_carmen_log(r.text, "a.log", o); };
+    const Error e = error_of([&] { read({}); });
+    EXPECT_EQ(e.file(), "a.log");
+    EXPECT_EQ(e.line(), 0);
+    EXPECT_NE(e.message().find(r.refusal), std::string::npos) << e.what();
+    LogReadOptions listing;
+    listing.allow_no_scans = true;
+    EXPECT_EQ(error_of([&] { read(listing); }).line(), 2);
+  }
+}
+
+// Records cost more than their text only in a degenerate log: 2 million bare ODOM lines (40 MB)
+// would take 112 MB parsed, more than their text plus 64 MiB, and are refused from the count of
+// their lines; the same number of bytes in real lines (long ODOM lines) is read.
+TEST(LogReaders, ParsedRecordsAreBoundedByTheTextTheyComeFrom) {
+  std::string bare;
+  for (int i = 0; i < 2'000'000; ++i) bare += "ODOM 0 0 0 0 0 0 1\n";
+  LogReadOptions o;
+  o.allow_no_scans = true;
+  const Error e = error_of([&] { read_carmen_log(bare, "bare.clf", o); });
+  EXPECT_EQ(e.file(), "bare.clf");
+  EXPECT_NE(e.message().find("0 scan, 2000000 odometry and 0 ground-truth lines would take more than"), std::string::npos) << e.what();
+  std::string real;
+  const std::string line = "ODOM 1.000000 2.000000 0.500000 0.100000 0.010000 0.000000 1134864629.895182 nebula 0.013291\n";
+  for (std::size_t i = 0; i < bare.size() / line.size() + 1; ++i) real += line;
+  EXPECT_EQ(read_carmen_log(real, "real.clf", o).odometry.size(), bare.size() / line.size() + 1);
 }
 
 TEST(RosBag, ReadsScansOdometryAndTheStaticTransformFromEveryChunkCompression) {

@@ -375,7 +375,16 @@ PointCloudFile parse_kitti_bin(std::string_view bytes, const std::string& path) 
 
 PointCloudFile read_point_cloud(const std::string& path) {
   const InputFileScope reading_path(path);
-  std::string bytes = read_file_bytes(path);
+  // A KITTI frame's size is its point count: refused from the size before the file is read.
+  const auto check_head = [&](std::string_view head, std::uint64_t size) {
+    if (is_gzip(head) || head.substr(0, 3) == "ply" || head.substr(0, 1) == "#" || head.substr(0, 7) == "VERSION") return;
+    const std::string ext = lower_extension(path);
+    if (ext != ".bin") return;
+    if (size % 16 != 0)
+      fail(path, 0, "size", std::to_string(size) + " bytes is not a whole number of 16-byte (x, y, z, reflectance) records");
+    check_point_count(static_cast<std::size_t>(size / 16), path, 0, "size");
+  };
+  std::string bytes = read_input_file(path, kMaxInputFileBytes, 16, check_head);
   if (is_gzip(bytes)) bytes = gunzip(bytes, path);
   const std::string_view v = bytes;
   if (v.substr(0, 4) == "ply\n" || v.substr(0, 5) == "ply\r\n") return parse_ply(v, path);

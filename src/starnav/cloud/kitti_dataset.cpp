@@ -63,7 +63,14 @@ Rigid3 kitti_velodyne_to_camera(const std::string& sequence) {
 Rigid3 kitti_lidar_pose(const Rigid3& camera_pose, const Rigid3& velodyne_to_camera) { return camera_pose * velodyne_to_camera; }
 
 std::vector<std::uint16_t> read_kitti_labels(const std::string& path) {
-  std::string bytes = read_file_bytes(path);
+  // One label per point: a file of more labels than a cloud may have points is refused from its size.
+  const auto check_head = [&](std::string_view head, std::uint64_t size) {
+    if (!is_gzip(head) && size / 4 > kMaxCloudPoints)
+      throw Error(std::to_string(size / 4) + " labels, more than the " + std::to_string(kMaxCloudPoints) +
+                      " points a cloud may have",
+                  path, 0, "size");
+  };
+  std::string bytes = read_input_file(path, kMaxInputFileBytes, 4, check_head);
   if (is_gzip(bytes)) bytes = gunzip(bytes, path);
   if (bytes.size() % 4 != 0) throw Error(std::to_string(bytes.size()) + " bytes is not a whole number of uint32 labels", path, 0, "size");
   std::vector<std::uint16_t> out(bytes.size() / 4);

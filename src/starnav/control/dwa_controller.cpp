@@ -6,6 +6,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -372,10 +373,18 @@ LocalControllerDef dwa_controller() {
   d.info.section = "dwa";
   d.info.summary = "Dynamic Window Approach (Fox et al. 1997) with Nav2 DWB's critics; samples vy on a Mecanum base";
   d.info.capabilities = {Capability::GoalHeading, Capability::ChecksFootprint, Capability::VelocitySpace};
+  d.info.nav2_counterpart = "dwb_core::DWBLocalPlanner";
   d.info.params = dwa_params().specs();
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const DwaConfig c = configured(dwa_params(), settings, ctx.file);
     try {
+      if (ctx.map_resolution_m > 0.0 && c.window_m > 0.0) {
+        const double side = std::ceil(c.window_m / ctx.map_resolution_m);
+        if (side * side > kMaxDwaWindowCells)
+          throw Error("window_m / the map's resolution_m gives a window of " + format_number(side) + " x " + format_number(side) +
+                          " cells, more than " + format_number(kMaxDwaWindowCells) + ": shrink window_m or coarsen the map",
+                      "", 0, "window_m");
+      }
       return std::make_unique<DwaController>(c, ctx.robot);
     } catch (const Error& e) {
       rethrow_at_setting(e, settings, ctx.file);

@@ -118,6 +118,7 @@ class LocalController {
 struct LocalControllerContext {
   RobotConfig robot;
   std::string file;
+  double map_resolution_m = 0.0;  // of the map it will read (0: not known yet): bounds its windows in cells
 };
 using LocalControllerDef = ComponentDef<LocalController, LocalControllerContext>;
 

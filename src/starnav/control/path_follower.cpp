@@ -413,6 +413,8 @@ LocalControllerDef path_follower_controller() {
   d.info.section = "follower";
   d.info.summary = "Li et al. 2019 path following: turn_then_drive, holonomic or pure_pursuit (spec li2019 section 9)";
   d.info.params = path_follower_params().specs();
+  // Its pure_pursuit mode takes the keys of Nav2's pure pursuit (docs/ros2.md).
+  d.info.nav2_counterpart = "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController";
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const PathFollowerConfig c = configured(path_follower_params(), settings, ctx.file);
     try {

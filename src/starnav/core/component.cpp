@@ -40,6 +40,8 @@ const char* capability_name(Capability c) {
     case Capability::Planar: return "planar";
     case Capability::ThreeD: return "3d";
     case Capability::PriorMap: return "prior_map";
+    case Capability::FiltersOdometry: return "filters_odometry";
+    case Capability::HeuristicWeight: return "heuristic_weight";
   }
   return "unknown";
 }

@@ -55,10 +55,13 @@ enum class Capability : std::uint8_t {
   Planar,            // SLAM, scan matchers: 2D scans
   ThreeD,            // SLAM, scan matchers: 3D clouds
   PriorMap,          // a costmap layer that holds the obstacles of navigation.map.prior
+  FiltersOdometry,   // a localizer that fuses wheel odometry with the IMU and can stand in as the odometry
+  HeuristicWeight,   // a planner whose heuristic takes a weight (plan --weight)
 };
-inline constexpr int kCapabilityCount = 12;
+inline constexpr int kCapabilityCount = 14;
 // "admissible", "incremental", "occupancy", "needs_elevation", "needs_map", "goal_heading",
-// "checks_footprint", "velocity_space", "plugin", "planar", "3d", "prior_map"
+// "checks_footprint", "velocity_space", "plugin", "planar", "3d", "prior_map", "filters_odometry",
+// "heuristic_weight"
 const char* capability_name(Capability c);
 
 // A set of capabilities, in declaration order when listed.
@@ -85,6 +88,9 @@ struct ComponentInfo {
   std::string summary;                          // one line
   Capabilities capabilities;
   std::vector<ParamSpec> params;
+  // The Nav2 plugin this component stands for ("dwb_core::DWBLocalPlanner"; empty: none): a Nav2
+  // parameter file's keys for that plugin map onto this component's section (docs/ros2.md).
+  std::string nav2_counterpart;
   bool has(Capability c) const { return capabilities.has(c); }
 };
 

@@ -44,7 +44,10 @@ InputFileScope::~InputFileScope() {
 const std::string* input_file_being_read() { return current_input_file; }
 const char* input_file_left_by_exception() { return file_left_by_exception.data(); }
 
-std::string read_input_file(const std::string& path, std::uint64_t max_bytes) {
+std::string read_input_file(const std::string& path, std::uint64_t max_bytes) { return read_input_file(path, max_bytes, 0, {}); }
+
+std::string read_input_file(const std::string& path, std::uint64_t max_bytes, std::size_t head_bytes,
+                            const InputFileHeadCheck& check) {
   if (path.empty()) throw Error("empty file name", path);
   // O_NONBLOCK: opening a FIFO for reading must not wait for a writer before it is refused.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -65,18 +68,29 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes) {
   const auto size = static_cast<std::uint64_t>(st.st_size);
   if (size > max_bytes)
     throw Error("is " + std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) + " read at most", path);
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      throw Error(std::string("read error: ") + std::strerror(errno), path);
+  // Reads up to `want` more bytes; fewer only at the end of the file (it may have shrunk meanwhile).
+  std::string bytes;
+  const auto read_up_to = [&](std::size_t want) {
+    std::size_t done = bytes.size();
+    bytes.resize(done + want);
+    while (done < bytes.size()) {
+      const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        throw Error(std::string("read error: ") + std::strerror(errno), path);
+      }
+      if (n == 0) break;
+      done += static_cast<std::size_t>(n);
     }
-    if (n == 0) break;  // the file shrank meanwhile
-    done += static_cast<std::size_t>(n);
+    bytes.resize(done);
+  };
+  if (check) {
+    read_up_to(static_cast<std::size_t>(std::min<std::uint64_t>(head_bytes, size)));
+    check(bytes, size);
+    if (bytes.size() < head_bytes || bytes.size() == size) return bytes;
   }
-  bytes.resize(done);
+  bytes.reserve(static_cast<std::size_t>(size));
+  read_up_to(static_cast<std::size_t>(size) - bytes.size());
   return bytes;
 }
 

@@ -39,7 +39,20 @@ std::optional<std::int64_t> parse_integer_text(std::string_view text) { return p
 
 std::optional<std::uint64_t> parse_unsigned_text(std::string_view text) {
   // from_chars for an unsigned type refuses '-', so "-1" does not wrap; "-0" is refused too.
+  if (!text.empty() && text.front() == '+') return std::nullopt;
   return parse_whole<std::uint64_t>(text);
+}
+
+std::optional<std::int64_t> parse_integer_in(std::string_view text, std::int64_t lo, std::int64_t hi) {
+  std::optional<std::int64_t> v;
+  if (lo >= 0) {
+    const std::optional<std::uint64_t> u = parse_unsigned_text(text);
+    if (u && *u <= static_cast<std::uint64_t>(hi)) v = static_cast<std::int64_t>(*u);
+  } else {
+    v = parse_integer_text(text);
+  }
+  if (!v || *v < lo || *v > hi) return std::nullopt;
+  return v;
 }
 
 }  // namespace starnav

@@ -122,8 +122,14 @@ double parse_param_real(const ParamSetting& v) {
   bad_value(v, "expected a finite number, found " + quoted(s));
 }
 
-long long parse_param_integer(const ParamSetting& v) {
+long long parse_param_integer(const ParamSetting& v, bool count) {
   const std::string& s = v.value;
+  if (count) {
+    const std::optional<std::uint64_t> u = parse_unsigned_text(s);
+    if (!u || *u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      bad_value(v, "expected a whole number without a sign, found " + quoted(s));
+    return static_cast<long long>(*u);
+  }
   const std::optional<std::int64_t> x = parse_integer_text(s);
   if (!x) bad_value(v, "expected an integer, found " + quoted(s));
   return *x;

@@ -69,7 +69,9 @@ std::string format_param_name_list(const std::vector<std::string>& names);  // "
 
 // Strict text -> value conversions shared by every table (Errors name `setting`).
 double parse_param_real(const ParamSetting& setting);
-long long parse_param_integer(const ParamSetting& setting);
+// A count (an integer parameter whose range starts at 0 or above) takes no sign, as on the
+// command line (core/number_text.hpp).
+long long parse_param_integer(const ParamSetting& setting, bool count = false);
 bool parse_param_boolean(const ParamSetting& setting);
 std::string format_param_real(double v);  // shortest text that reads back the same double
 // The text of a stored value in the user's unit (stored / scale): 12 significant digits when
@@ -105,7 +107,7 @@ class ParamTable {
     ParamSpec s{std::move(key), ParamType::Integer, {}, range, {}, std::move(unit), std::move(doc)};
     add(std::move(s),
         [access, range](Config& c, const ParamSetting& v) {
-          const long long x = parse_param_integer(v);
+          const long long x = parse_param_integer(v, range.lo >= 0);
           param_check_range(v, range, static_cast<double>(x));
           ref(c, access) = static_cast<std::remove_reference_t<decltype(ref(c, access))>>(x);
         },

@@ -223,6 +223,7 @@ LocalizerDef amcl_localizer() {
   d.info.section = "amcl";
   d.info.summary = "Adaptive Monte Carlo localization on a known map (Nav2's AMCL: KLD sampling, recovery, global start)";
   d.info.capabilities = {Capability::NeedsMap};
+  d.info.nav2_counterpart = "nav2_amcl::AmclNode";
   d.info.params = amcl_localizer_params().specs();
   d.make = [](const LocalizerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Localizer> {
     return std::make_unique<AmclLocalizer>(configured(amcl_localizer_params(), settings, ctx.file), ctx);

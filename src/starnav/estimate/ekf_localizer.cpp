@@ -143,6 +143,7 @@ LocalizerDef ekf_localizer() {
   d.info.name = "ekf";
   d.info.section = "ekf";
   d.info.summary = "EKF of wheel odometry and IMU yaw, optionally with the gyro bias in the state";
+  d.info.capabilities = {Capability::FiltersOdometry};
   d.info.params = ekf_localizer_params().specs();
   d.make = [](const LocalizerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Localizer> {
     EkfLocalizerConfig c = configured(ekf_localizer_params(), settings, ctx.file);

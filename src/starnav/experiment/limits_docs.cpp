@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "starnav/cloud/cloud_io.hpp"
+#include "starnav/control/dwa.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/core/input_file.hpp"
@@ -13,6 +14,7 @@
 #include "starnav/io/yaml_document.hpp"
 #include "starnav/logs/decompress.hpp"
 #include "starnav/logs/log_file.hpp"
+#include "starnav/logs/robot_log.hpp"
 #include "starnav/sense/lidar.hpp"
 #include "starnav/sim/occupancy_world.hpp"
 #include "starnav/sim/scenario.hpp"
@@ -47,8 +49,14 @@ std::string limits_markdown() {
             "the size of the file"},
            {"readings of one laser scan", count(static_cast<double>(kMaxScanBeams)),
             "CARMEN lines, text extracts, ROS bags' LaserScan messages", "checked from the count before the readings are stored"},
-           {"decompressed data", bytes(static_cast<double>(kMaxDecompressedBytes)), ".gz, bzip2 and LZ4 inputs",
-            "a small archive that inflates without bound is refused while inflating"},
+           {"decompressed data", bytes(static_cast<double>(kMaxDecompressedBytes)), ".gz, bzip2 and LZ4 inputs, the pixels of a PNG map image",
+            "a small archive that inflates without bound is refused while inflating; a PNG from its IHDR header before its pixels are read"},
+           {"parsed records of a robot log", "its (decompressed) size + " + bytes_mib(static_cast<double>(kLogRecordSlackBytes)),
+            "CARMEN logs and text extracts: scans with their readings, odometry, ground truth",
+            "counted from the lines before any record is stored; a log for `slam`, `localize` or `map build` with odometry but no "
+            "scan line is refused there"},
+           {"a file's head", "its format's header", "MovingAI maps and scenarios, ESRI ASCII grids, PNG and PGM images, KITTI .bin clouds",
+            "read and checked before the rest of the file: a file of another kind, or larger than its header says, costs its first bytes"},
            {"cells of a grid", count(static_cast<double>(kMaxGridCells)), "every map format's width x height",
             "cell indices are 32-bit; checked from the header before the body is read"},
            {"points of a cloud file", count(static_cast<double>(kMaxCloudPoints)), "PCD, PLY and KITTI .bin clouds, PointCloud2 messages of bags",
@@ -71,6 +79,8 @@ std::string limits_markdown() {
             "a sensor samples at most once per step; a faster rate would repeat the same state"},
            {"terrain cells", count(static_cast<double>(kMaxTerrainCells)), "`world.terrain` size_m / resolution_m", ""},
            {"gravel pieces", count(static_cast<double>(kMaxGravelPieces)), "`world.obstacles` gravel fields", ""},
+           {"DWA window cells", count(kMaxDwaWindowCells), "`navigation.dwa.window_m` / `navigation.map.resolution_m`, squared",
+            "the window's arrays are rebuilt at every command"},
            {"wall boxes of an occupancy world", count(static_cast<double>(kMaxOccupancyWallBoxes)), "`world.occupancy_map`",
             "occupied runs merged into boxes"},
        }},

@@ -12,6 +12,7 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/harness/localization_chain.hpp"
 #include "starnav/harness/route_drive.hpp"
+#include "starnav/registry/components.hpp"
 #include "starnav/sim/simulation.hpp"
 #include "starnav/viz/plot_svg.hpp"
 
@@ -100,8 +101,14 @@ EkfSquareResult run_ekf_square(const EkfSquareConfig& config, const ExperimentPr
   if (!base.imu) throw Error("the scenario has no sensors.imu", base.file, 0, "sensors.imu");
   if (base.imu) result.bias_truth_radps = base.imu->config.yaw_rate_bias_radps;
   const LocalizationConfig chain_config = localization_config(base);
-  if (chain_config.localizer.name != "ekf" || chain_config.odometry != "wheel")
-    throw Error("the EKF square needs localization {odometry: wheel, localizer: ekf}", base.file, 0, "localization");
+  // The square compares one localizer with and without its gyro-bias state: one that declares it.
+  const auto declares = [&](const char* key) {
+    const ComponentInfo& info = find_localizer(chain_config.localizer.name).info;
+    return std::any_of(info.params.begin(), info.params.end(), [&](const ParamSpec& p) { return p.key == key; });
+  };
+  if (!declares("bias_state") || !declares("imu_yaw_sigma_deg") || chain_config.odometry != "wheel" || chain_config.odometry_filter)
+    throw Error("the EKF square needs localization {odometry: wheel, localizer: ekf} (a localizer with a bias_state)", base.file, 0,
+                "localization");
   std::vector<ParamSetting> bias = chain_config.localizer.settings;
   std::vector<ParamSetting> plain = with_setting(with_setting(bias, "bias_state", "false"), "imu_yaw_sigma_deg",
                                                  format_param_real(config.plain_imu_yaw_sigma_deg));

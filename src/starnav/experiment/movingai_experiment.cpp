@@ -14,6 +14,7 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/io/movingai.hpp"
 #include "starnav/plan/grid_planner.hpp"
+#include "starnav/registry/components.hpp"
 
 namespace starnav {
 
@@ -121,17 +122,18 @@ std::vector<std::size_t> select_instances(std::size_t total, std::size_t limit) 
   return idx;
 }
 
-std::vector<std::string> movingai_planners(const std::vector<std::string>& requested) {
+std::vector<std::string> movingai_planners(const std::vector<std::string>& requested, std::vector<std::string>* warnings) {
+  // Names are the registry's, as `plan` and scenarios read them: an old spelling works with a
+  // warning and runs under its current name.
   std::vector<std::string> planners;
-  for (const std::string& p : requested.empty() ? std::vector<std::string>{"astar", "jps", "jpsplus"} : requested)
-    if (std::find(planners.begin(), planners.end(), p) == planners.end()) planners.push_back(p);
-  const std::vector<std::string> known = grid_planner_names();
-  for (const std::string& p : planners)
-    if (std::find(known.begin(), known.end(), p) == known.end()) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw Error("unknown planner '" + p + "' (" + list + ")", {}, 0, "--planner");
-    }
+  for (const std::string& p : requested.empty() ? std::vector<std::string>{"astar", "jps", "jpsplus"} : requested) {
+    std::string warning;
+    const GlobalPlannerDef& def = find_global_planner(p, "--planner", &warning);
+    if (!def.info.has(Capability::Occupancy))
+      throw Error("'" + def.info.name + "' plans on elevation maps; MovingAI maps are occupancy grids", {}, 0, "--planner");
+    if (!warning.empty() && warnings) warnings->push_back(warning);
+    if (std::find(planners.begin(), planners.end(), def.info.name) == planners.end()) planners.push_back(def.info.name);
+  }
   return planners;
 }
 

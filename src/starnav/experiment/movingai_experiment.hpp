@@ -89,9 +89,10 @@ struct MovingAiResult {
   std::string csv;                     // with csv_rows: the header and one row per problem and planner
 };
 
-// The planners to run: `requested` without repeats (the default three when empty). Throws Error
-// (field "--planner") for a name that is not an occupancy grid planner.
-std::vector<std::string> movingai_planners(const std::vector<std::string>& requested);
+// The planners to run: `requested` by their registry names without repeats (the default three
+// when empty); a deprecated spelling adds its warning to `warnings`. Throws Error (field
+// "--planner") for a name that is not an occupancy planner of the registry.
+std::vector<std::string> movingai_planners(const std::vector<std::string>& requested, std::vector<std::string>* warnings = nullptr);
 
 // Throws Error for an unknown planner, a bad repeat count, a map or scenario file that cannot be
 // read, or a scenario for another map size.

@@ -14,7 +14,6 @@ namespace starnav {
 
 namespace {
 
-constexpr const char* kFilterName = "ekf";  // the odometry filter of `odometry: ekf`
 
 // Covariances span many decades (1e-10 m^2 after a standstill, metres squared when lost).
 std::string format_covariance(double v) {
@@ -44,18 +43,31 @@ LocalizationConfig localization_config(const ScenarioSpec& spec) {
   c.localizer.settings = settings_under(rest, def->info.section);
   for (const ParamSetting& v : rest)
     if (v.key == "odometry") {
-      if (v.value != "wheel" && v.value != "ekf" && v.value != "none")
-        throw Error("unknown odometry '" + one_line(v.value, 40) + "' (wheel, ekf, none)", v.file, v.line, v.field);
+      // wheel, none, or a localizer that filters the wheel odometry with the IMU (by its name).
+      const LocalizerDef* filter = nullptr;
+      if (v.value != "wheel" && v.value != "none") {
+        for (const ComponentInfo& i : all_components())
+          if (i.role == Role::Localizer && i.name == v.value && i.has(Capability::FiltersOdometry)) filter = &find_localizer(i.name);
+        if (!filter) {
+          std::string known = "wheel, none";
+          for (const ComponentInfo& i : all_components())
+            if (i.role == Role::Localizer && i.has(Capability::FiltersOdometry)) known += ", " + i.name;
+          throw Error("unknown odometry '" + one_line(v.value, 40) + "' (" + known + ")", v.file, v.line, v.field);
+        }
+      }
       if (v.value != "none" && !wheel_ok)
         throw Error(spec.encoders ? "wheel odometry needs a mecanum or differential robot" : "wheel odometry needs sensors.encoders",
                     v.file, v.line, v.field);
-      if (v.value == "ekf" && !spec.imu) throw Error("odometry ekf needs sensors.imu", v.file, v.line, v.field);
-      if (v.value == "ekf" && def->info.name == kFilterName)
-        throw Error("the EKF would run twice (as the odometry and as the localizer): use odometry wheel with localizer ekf",
+      if (filter && !spec.imu) throw Error("odometry " + filter->info.name + " needs sensors.imu", v.file, v.line, v.field);
+      if (filter && filter == def)
+        throw Error("the " + filter->info.name + " would run twice (as the odometry and as the localizer): use odometry wheel with localizer " +
+                        filter->info.name,
                     v.file, v.line, v.field);
-      c.odometry = v.value;
+      c.odometry = filter ? "wheel" : v.value;
+      c.odometry_filter = {};
+      if (filter) c.odometry_filter = ComponentChoice{filter->info.name, {}, v.field, v.line, v.file};
     }
-  if (c.odometry == "ekf") c.odometry_filter = settings_under(rest, kFilterName);
+  if (c.odometry_filter) c.odometry_filter->settings = settings_under(rest, find_localizer(c.odometry_filter->name).info.section);
   for (const ParamSetting& v : rest) {
     if (v.key == "localizer" || v.key == "odometry") continue;
     if (v.key == "map") {
@@ -90,7 +102,7 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
   try {
     localizers_.push_back(def.make(ctx, config_.localizer.settings));
     records_.emplace_back();
-    if (config_.odometry == "ekf") filter_ = find_localizer(kFilterName).make(ctx, config_.odometry_filter);
+    if (config_.odometry_filter) filter_ = find_localizer(config_.odometry_filter->name).make(ctx, config_.odometry_filter->settings);
   } catch (const Error& e) {
     if (!e.file().empty()) throw;
     throw Error(e.message(), spec.file, 0, "localization." + e.field());

@@ -11,6 +11,7 @@
 //   write_text_file("estimate.csv", estimate_csv(chain.records()), "--out");
 #include <memory>
 #include <span>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,9 +27,11 @@ namespace starnav {
 // has them; ekf: wheel odometry fused with the IMU; none), the odometry filter's settings (section
 // `ekf` when odometry is ekf) and the localizer with its settings.
 struct LocalizationConfig {
-  std::string odometry = "none";
+  std::string odometry = "none";  // wheel or none (a filter below runs on the wheel odometry)
   ComponentChoice localizer{"ground_truth", {}, "localization.localizer", 0, {}};
-  std::vector<ParamSetting> odometry_filter;  // odometry: ekf
+  // `odometry: NAME`, a localizer with the filters_odometry capability: the wheel odometry filtered
+  // with the IMU becomes the odometry the localizer reads.
+  std::optional<ComponentChoice> odometry_filter;
   std::string map_file;                       // the localizer's known map (map_server YAML), if any
 };
 // Errors name the scenario file, line and field.

@@ -70,10 +70,20 @@ std::optional<ParamSpec> spec_of(const std::string& key) {
     return std::nullopt;
   };
   const auto after = [&](const std::string& prefix) { return key.substr(prefix.size()); };
-  if (key.rfind("localization.amcl.", 0) == 0) return find(find_localizer("amcl").info.params, after("localization.amcl."));
-  if (key.rfind("amcl.", 0) == 0) return find(find_localizer("amcl").info.params, after("amcl."));
-  if (key.rfind("navigation.dwa.", 0) == 0) return find(find_local_controller("dwa").info.params, after("navigation.dwa."));
-  if (key.rfind("navigation.follower.", 0) == 0) return find(find_local_controller("path_follower").info.params, after("navigation.follower."));
+  // A component's key: ROOT.SECTION.KEY (localize's own: SECTION.KEY), found by its section.
+  // (Prefixes built by append: g++ 12 warns falsely (-Wrestrict) on a literal + string here.)
+  const auto prefixed = [](std::string_view root, const std::string& section) {
+    std::string p(root);
+    p.append(section).append(".");
+    return p;
+  };
+  for (const ComponentInfo& c : all_components()) {
+    const std::string own = prefixed("", c.section), in_localization = prefixed("localization.", c.section),
+                      in_navigation = prefixed("navigation.", c.section);
+    if (c.role == Role::Localizer && (key.rfind(in_localization, 0) == 0 || key.rfind(own, 0) == 0))
+      return find(c.params, key.rfind(own, 0) == 0 ? after(own) : after(in_localization));
+    if (c.role == Role::LocalController && key.rfind(in_navigation, 0) == 0) return find(c.params, after(in_navigation));
+  }
   if (key == "navigation.map.barrier_distance_m") {
     ParamSpec s;
     s.key = "map.barrier_distance_m";
@@ -151,15 +161,20 @@ bool is_plumbing(const std::string& key) {
   return false;
 }
 
+// The Nav2 plugins whose keys map onto the starnav component that declares it stands for them.
+constexpr std::string_view kNav2Amcl = "nav2_amcl::AmclNode";
+constexpr std::string_view kNav2Dwb = "dwb_core::DWBLocalPlanner";
+constexpr std::string_view kNav2Rpp = "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController";
+
 class Mapper {
  public:
   Mapper(std::string file, const Nav2Target& t) : target_(t) { p_.file = std::move(file); }
 
-  void node(const std::string& name, const std::vector<Leaf>& leaves) {
-    if (name == "amcl") return amcl(leaves);
-    if (name == "controller_server") return controller(leaves);
-    if (name == "local_costmap" || name == "global_costmap") return costmap(name, leaves);
-    for (const Leaf& l : leaves) ignore(name, l, name + " is not a starnav component (starnav's navigation: docs/navigation.md)");
+  void node(const std::string& nav2_node, const std::vector<Leaf>& leaves) {
+    if (nav2_node == "amcl") return amcl(leaves);
+    if (nav2_node == "controller_server") return controller(leaves);
+    if (nav2_node == "local_costmap" || nav2_node == "global_costmap") return costmap(nav2_node, leaves);
+    for (const Leaf& l : leaves) ignore(nav2_node, l, nav2_node + " is not a starnav component (starnav's navigation: docs/navigation.md)");
   }
 
   Nav2Params take() { return std::move(p_); }
@@ -198,10 +213,24 @@ class Mapper {
     p_.mapped.push_back({node + "." + l.key, l.line, l.value, key, value, "'" + l.value + "' -> " + value});
   }
 
-  // "amcl." + key for localize; "localization.amcl." for a scenario whose localizer is amcl.
+  // The section of the scenario's component of `role` when it stands for Nav2's `plugin` (its
+  // declared counterpart), else nothing: Nav2's keys for that plugin map onto it.
+  std::optional<std::string> section_standing_for(Role role, const std::string& name, std::string_view plugin) const {
+    if (name.empty()) return std::nullopt;
+    const ComponentInfo info = find_component(role, name, role == Role::Localizer ? "localization.localizer" : "navigation.controller");
+    if (info.nav2_counterpart != plugin) return std::nullopt;
+    return info.section;
+  }
+  std::optional<std::string> controller_standing_for(std::string_view plugin) const {
+    if (!target_.navigation) return std::nullopt;
+    return section_standing_for(Role::LocalController, target_.controller, plugin);
+  }
+
+  // "amcl." + key for localize (AMCL itself); "localization.SECTION." for a scenario whose
+  // localizer stands for Nav2's AMCL.
   std::optional<std::string> amcl_root() const {
     if (target_.kind == Nav2Target::Kind::Localize) return std::string("amcl.");
-    if (target_.localizer == "amcl") return std::string("localization.amcl.");
+    if (const auto section = section_standing_for(Role::Localizer, target_.localizer, kNav2Amcl)) return "localization." + *section + ".";
     return std::nullopt;
   }
 
@@ -255,8 +284,8 @@ class Mapper {
       const std::string rest = dot == std::string::npos ? l.key : l.key.substr(dot + 1);
       const std::string plugin = plugins.count(owner) ? plugins[owner] : "";
       if (owner.empty()) {
-        if (l.key == "controller_frequency" && target_.controller == "dwa" && target_.kind == Nav2Target::Kind::Scenario)
-          map(node, l, "navigation.dwa.control_period_s", {"", 1.0, "Hz -> s", true});
+        if (const auto dwb = controller_standing_for(kNav2Dwb); l.key == "controller_frequency" && dwb && target_.kind == Nav2Target::Kind::Scenario)
+          map(node, l, "navigation." + *dwb + ".control_period_s", {"", 1.0, "Hz -> s", true});
         else if (l.key == "controller_frequency")
           ignore(node, l, "the control period is the DWA's (navigation.dwa.control_period_s); the scenario's controller is " + target_.controller);
         else
@@ -274,13 +303,15 @@ class Mapper {
       if (plugin.find("DWBLocalPlanner") != std::string::npos) {
         const auto rule = dwb_rules().find(rest);
         if (rule == dwb_rules().end()) ignore(node, l, rest == "critics" ? "starnav's DWA has DWB's critics; their weights are the scales" : "no equivalent in starnav's DWA");
-        else if (target_.controller != "dwa") ignore(node, l, "the scenario's controller is " + target_.controller + ", not dwa (Nav2's DWB)");
-        else map(node, l, "navigation.dwa." + rule->second.starnav, rule->second);
+        else if (const auto dwb = controller_standing_for(kNav2Dwb); !dwb)
+          ignore(node, l, "the scenario's controller is " + target_.controller + ", not one that stands for Nav2's DWB (dwa)");
+        else map(node, l, "navigation." + *dwb + "." + rule->second.starnav, rule->second);
       } else if (plugin.find("RegulatedPurePursuit") != std::string::npos) {
         const auto rule = rpp_rules().find(rest);
         if (rule == rpp_rules().end()) ignore(node, l, "no equivalent in starnav's path follower");
-        else if (target_.controller != "path_follower") ignore(node, l, "the scenario's controller is " + target_.controller + ", not path_follower");
-        else map(node, l, "navigation.follower." + rule->second.starnav, rule->second);
+        else if (const auto rpp = controller_standing_for(kNav2Rpp); !rpp)
+          ignore(node, l, "the scenario's controller is " + target_.controller + ", not one that stands for Nav2's pure pursuit (path_follower)");
+        else map(node, l, "navigation." + *rpp + "." + rule->second.starnav, rule->second);
       } else if (plugin.find("MPPI") != std::string::npos) {
         ignore(node, l, "starnav has no MPPI controller");
       } else if (plugin.find("GoalChecker") != std::string::npos) {
@@ -309,8 +340,9 @@ class Mapper {
         ignore(node, l, target_.kind == Nav2Target::Kind::Localize ? "localize runs AMCL only" : "the scenario has no navigation section");
       } else if (inflation && (rest == "inflation_radius" || rest == "cost_scaling_factor")) {
         if (!local) ignore(node, l, "the global planner plans on the barrier map (navigation.map) with its own costs (navigation.PLANNER.cost_*)");
-        else if (target_.controller != "dwa") ignore(node, l, "the local costs are the DWA's obstacle critic; the scenario's controller is " + target_.controller);
-        else map(node, l, rest == "inflation_radius" ? "navigation.dwa.inflation_radius_m" : "navigation.dwa.cost_scaling_per_m", {});
+        else if (const auto dwb = controller_standing_for(kNav2Dwb); !dwb)
+          ignore(node, l, "the local costs are the DWA's obstacle critic; the scenario's controller is " + target_.controller);
+        else map(node, l, "navigation." + *dwb + (rest == "inflation_radius" ? ".inflation_radius_m" : ".cost_scaling_per_m"), {});
       } else if (rest == "robot_radius" && owner.empty()) {
         if (local) ignore(node, l, "the DWA's footprint is the robot's body (navigation.dwa.footprint=circle with footprint_radius_m takes a radius)");
         else map(node, l, "navigation.map.barrier_distance_m", {});

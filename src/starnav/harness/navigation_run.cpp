@@ -433,7 +433,7 @@ NavigatorParts make_navigator_parts(const NavigationComponents& components, cons
   const ComponentChoice& c = components.controller;
   const LocalControllerDef& controller =
       at_choice(c, [&]() -> const LocalControllerDef& { return find_local_controller(c.name, c.field); });
-  parts.controller = controller.make({robot, c.file}, c.settings);
+  parts.controller = controller.make({robot, c.file, config.geometry.resolution}, c.settings);
   parts.controller_capabilities = controller.info.capabilities;
   const ComponentChoice& g = components.goal_checker;
   parts.goal_checker = at_choice(g, [&] { return find_goal_checker(g.name, g.field).make({g.file}, g.settings); });
@@ -510,7 +510,7 @@ void check_navigation_scenario(const ScenarioSpec& spec) {
   const LocalizerContext ctx = localizer_context(spec);
   // Without its map (not loaded here) a map-based localizer still checks its parameters.
   find_localizer(l.localizer.name).make(ctx, l.localizer.settings);
-  if (l.odometry == "ekf") find_localizer("ekf").make(ctx, l.odometry_filter);
+  if (l.odometry_filter) find_localizer(l.odometry_filter->name).make(ctx, l.odometry_filter->settings);
 }
 
 NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& options)
@@ -733,8 +733,9 @@ std::string navigation_metrics_json(const NavigationRun& run) {
   j["seed"] = run.spec().seed;
   j["planner"] = m.planner;
   j["motion_mode"] = m.motion_mode;
-  // Only when it is not the paper's follower, so the records of the paper's runs keep their bytes.
-  if (m.controller != "path_follower") j["controller"] = m.controller;
+  // Only when it is not the default controller (the paper's follower), so the records of the
+  // paper's runs keep their bytes.
+  if (m.controller != NavigationSettings{}.controller) j["controller"] = m.controller;
   j["success"] = m.success;
   j["outcome"] = m.outcome;
   if (!m.reason.empty()) j["reason"] = m.reason;

@@ -285,7 +285,8 @@ std::optional<std::string> read_prj_beside(const std::string& asc_path) {
   for (const char* ext : {".prj", ".PRJ"}) {
     fs::path p(asc_path);
     p.replace_extension(ext);
-    if (fs::is_regular_file(p, ec)) return read_input_file(p.string());
+    // A projection is a line of WKT: a larger file is not one.
+    if (fs::is_regular_file(p, ec)) return read_input_file(p.string(), std::uint64_t{1} << 20);
   }
   return std::nullopt;
 }
@@ -616,7 +617,24 @@ ElevationMap read_asc(const std::string& path) { return read_asc(path, nullptr);
 
 ElevationMap read_asc(const std::string& path, ElevationGeoref* georef) {
   const InputFileScope reading_path(path);
-  const std::string text = read_input_file(path);
+  // The first header line decides before the rest is read: a file that does not start with an
+  // ESRI ASCII grid key costs its first kilobytes only.
+  const auto check_head = [&](std::string_view head, std::uint64_t) {
+    LineReader lines(head);
+    std::string_view line;
+    std::vector<std::string_view> tok;
+    while (lines.next(line)) {
+      split_blanks(line, tok);
+      if (tok.empty()) continue;
+      const std::string k = lower(tok[0]);
+      for (const char* key : {"ncols", "nrows", "xllcorner", "xllcenter", "yllcorner", "yllcenter", "cellsize", "dx", "dy",
+                              "nodata_value", "nodata"})
+        if (k == key) return;
+      throw Error("expected an ESRI ASCII grid header line (ncols N), found '" + printable(line, 40) + "'", path,
+                  lines.number());
+    }
+  };
+  const std::string text = read_input_file(path, kMaxInputFileBytes, 4096, check_head);
   AscParsed parsed = parse_asc_full(text, path);
   ElevationGeoref g;
   g.x_min = parsed.x;

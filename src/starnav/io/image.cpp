@@ -338,6 +338,15 @@ RasterImage parse_png_raster(std::string_view bytes, const std::string& source) 
                     " pixels cannot be stored in " + std::to_string(bytes.size()) + " bytes",
                 source);
 
+  // The decoded rows and the samples kept from them are what the compressed data inflates to.
+  const std::uint64_t decoded = static_cast<std::uint64_t>(state.out_rowbytes) * state.height +
+                                std::uint64_t{2} * state.width * state.height * state.out_channels;
+  if (decoded > kMaxDecompressedBytes)
+    throw Error(std::to_string(state.width) + " x " + std::to_string(state.height) + " pixels of " +
+                    std::to_string(state.out_channels) + " channel(s) decode to " + std::to_string(decoded) +
+                    " bytes, more than the " + std::to_string(kMaxDecompressedBytes) + " decompressed data may take",
+                source, 0, "IHDR");
+
   std::vector<unsigned char> buffer(state.out_rowbytes * state.height);
   std::vector<png_bytep> rows(state.height);
   for (png_uint_32 r = 0; r < state.height; ++r)
@@ -375,7 +384,30 @@ RasterImage parse_raster_image(std::string_view bytes, const std::string& source
 
 RasterImage read_raster_image(const std::string& path) {
   const InputFileScope reading_path(path);
-  return parse_raster_image(read_file_bytes(path), path);
+  // The magic, and for a PNG its IHDR chunk (the size, depth and colour type), decide before the
+  // rest is read: a file that is no image, or a PNG whose pixels decode to more than
+  // kMaxDecompressedBytes, costs its first bytes only.
+  const auto check_head = [&](std::string_view head, std::uint64_t /*size*/) {
+    if (head.empty()) throw Error("empty file, not an image", path);
+    const bool png = head.size() >= 8 && png_sig_cmp(reinterpret_cast<png_const_bytep>(head.data()), 0, 8) == 0;
+    if (!png) {
+      if (head[0] != 'P') throw Error("unrecognised image format (expected PGM P2/P5 or PNG)", path, 0, "magic");
+      return;
+    }
+    if (head.size() < 26 || head.substr(12, 4) != "IHDR") return;  // libpng says what is wrong
+    const auto be32 = [&](std::size_t at) {
+      const auto* p = reinterpret_cast<const unsigned char*>(head.data()) + at;
+      return (std::uint64_t{p[0]} << 24) | (std::uint64_t{p[1]} << 16) | (std::uint64_t{p[2]} << 8) | std::uint64_t{p[3]};
+    };
+    const std::uint64_t width = be32(16), height = be32(20);
+    check_pixel_count(width, height, path);
+    // At least one byte per pixel decoded and two per sample kept (see parse_png_raster).
+    if (width * height * 3 > kMaxDecompressedBytes)
+      throw Error(std::to_string(width) + " x " + std::to_string(height) + " pixels decode to more than the " +
+                      std::to_string(kMaxDecompressedBytes) + " bytes decompressed data may take",
+                  path, 0, "IHDR");
+  };
+  return parse_raster_image(read_input_file(path, kMaxInputFileBytes, 64, check_head), path);
 }
 
 GrayImage to_gray_image(const RasterImage& raster) {

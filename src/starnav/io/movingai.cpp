@@ -164,11 +164,11 @@ MovingAiMap MovingAiMap::from_occupancy(const OccupancyGrid& grid, const Occupan
   return map;
 }
 
-MovingAiMap parse_movingai_map(std::string_view text, const std::string& source) {
-  MovingAiLines lines(text);
-  std::string_view line;
-  MovingAiMap map;
+namespace {
 
+// The four header lines (type, height, width, map) into `map`.
+void parse_movingai_header(MovingAiLines& lines, MovingAiMap& map, const std::string& source) {
+  std::string_view line;
   if (!lines.next(line)) throw Error("empty file: expected 'type octile'", source, 1, "type");
   std::string_view type;
   // One visible-ASCII word ("octile" in every known file), so that it is written back unchanged.
@@ -188,6 +188,16 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
   if (!lines.next(line)) throw Error("file ends before the 'map' line", source, lines.line_number() + 1, "map");
   if (trim_blanks(line) != "map")
     throw Error("expected 'map', found '" + printable(line, 40) + "'", source, lines.line_number(), "map");
+
+}
+
+}  // namespace
+
+MovingAiMap parse_movingai_map(std::string_view text, const std::string& source) {
+  MovingAiLines lines(text);
+  std::string_view line;
+  MovingAiMap map;
+  parse_movingai_header(lines, map, source);
 
   // Grows with the rows actually present, so a tiny file claiming a huge map allocates little.
   const std::size_t cell_count = static_cast<std::size_t>(map.width) * static_cast<std::size_t>(map.height);
@@ -218,7 +228,21 @@ MovingAiMap parse_movingai_map(std::string_view text, const std::string& source)
 
 MovingAiMap read_movingai_map(const std::string& path) {
   const InputFileScope reading_path(path);
-  return parse_movingai_map(read_file_bytes(path), path);
+  // The header decides before the body is read: a file that is not a map, or holds more bytes
+  // than its rows (width + 2 with CRLF each) and a header and trailing blank lines could take.
+  const std::size_t head_bytes = 64 * 1024;
+  const auto check_head = [&](std::string_view head, std::uint64_t size) {
+    MovingAiLines lines(head);
+    MovingAiMap map;
+    parse_movingai_header(lines, map, path);
+    const std::uint64_t most = head_bytes + std::uint64_t{1} * 1024 * 1024 +
+                               static_cast<std::uint64_t>(map.height) * (static_cast<std::uint64_t>(map.width) + 2);
+    if (size > most)
+      throw Error("is " + std::to_string(size) + " bytes, more than a " + std::to_string(map.width) + " x " +
+                      std::to_string(map.height) + " map takes (" + std::to_string(most) + ")",
+                  path, 0, "map");
+  };
+  return parse_movingai_map(read_input_file(path, kMaxInputFileBytes, head_bytes, check_head), path);
 }
 
 std::string format_movingai_map(const MovingAiMap& map) {
@@ -334,7 +358,14 @@ void check_scenario_map_size(const MovingAiScenario& scen, const std::string& sc
 
 MovingAiScenario read_movingai_scenario(const std::string& path) {
   const InputFileScope reading_path(path);
-  return parse_movingai_scenario(read_file_bytes(path), path);
+  // Its first line decides before the rest is read.
+  const auto check_head = [&](std::string_view head, std::uint64_t) {
+    MovingAiLines lines(head);
+    std::string_view line, version;
+    if (!lines.next(line) || !split_header(line, "version", version) || (version != "1" && version != "1.0"))
+      parse_movingai_scenario(head.substr(0, std::min(head.find('\n'), head.size())), path);  // its error line
+  };
+  return parse_movingai_scenario(read_input_file(path, kMaxInputFileBytes, 4096, check_head), path);
 }
 
 std::string format_movingai_scenario(const MovingAiScenario& scen) {

@@ -169,6 +169,57 @@ LogScan raw_laser(const Fields& f, bool robot_laser) {
   return s;
 }
 
+// The memory a text log's records take, bounded by the text's size plus kLogRecordSlackBytes:
+// the records are counted from the lines' first words before any is stored (and a log that must
+// hold scans but has none is refused there, before its odometry is stored); the readings are
+// charged as each scan is read.
+class RecordBudget {
+ public:
+  RecordBudget(std::string_view text, const std::string& path, bool odomscan, bool scans_required)
+      : path_(path), limit_(text.size() + kLogRecordSlackBytes) {
+    for_each_line(text, [&](std::string_view line, int) {
+      const std::size_t b = line.find_first_not_of(" \t");
+      if (b == std::string_view::npos) return;
+      line.remove_prefix(b);
+      const std::string_view type = line.substr(0, line.find_first_of(" \t"));
+      if (odomscan ? type == "LASERSCAN" : (type == "FLASER" || type == "ROBOTLASER1" ||
+                                           (type.size() == 9 && type.substr(0, 8) == "RAWLASER" && type[8] >= '1' && type[8] <= '4')))
+        ++scans;
+      else if (type == (odomscan ? "ODOMETRY" : "ODOM"))
+        ++odometry;
+      else if (!odomscan && type == "TRUEPOS")
+        ++truth;
+    });
+    // A text with no record line at all is not a log: read_robot_log says so.
+    if (scans_required && scans == 0 && odometry + truth > 0)
+      throw Error(odomscan ? "holds no LASERSCAN line: nothing to map or localize with"
+                           : "holds no laser scan line (FLASER, ROBOTLASER1, RAWLASER1..4): nothing to map or localize with",
+                  path);
+    charge(scans * sizeof(LogScan) + odometry * sizeof(LogOdometry) + truth * sizeof(LogTruePose), 0);
+  }
+  // Adds `bytes`; refuses the log when the records pass the bound.
+  void charge(std::size_t bytes, int line) {
+    used_ += bytes;
+    if (used_ > limit_)
+      throw Error("its " + std::to_string(scans) + " scan, " + std::to_string(odometry) + " odometry and " +
+                      std::to_string(truth) + " ground-truth lines would take more than " + std::to_string(limit_) +
+                      " bytes parsed, the log's size plus " + std::to_string(kLogRecordSlackBytes >> 20) +
+                      " MiB (the most a log's records may take)",
+                  path_, line);
+  }
+  void reserve(RobotLog& log) const {
+    log.scans.reserve(scans);
+    log.odometry.reserve(odometry);
+    log.truth.reserve(truth);
+  }
+  std::size_t scans = 0, odometry = 0, truth = 0;
+
+ private:
+  const std::string& path_;
+  std::size_t limit_;
+  std::size_t used_ = 0;
+};
+
 }  // namespace
 
 void set_flaser_beam_angles(LogScan& s, std::size_t n) {
@@ -182,6 +233,8 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
   RobotLog log;
   log.path = path;
   log.format = "carmen";
+  RecordBudget budget(text, path, false, !o.allow_no_scans);
+  budget.reserve(log);
   std::vector<std::size_t> flaser;
   for_each_line(text, [&](std::string_view line, int line_no) {
     if (blank_or_comment(line)) return;
@@ -190,6 +243,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
     if (type == "FLASER") {
       f.need(2, "n ranges... x y theta odom_x odom_y odom_theta ipc_timestamp");
       const std::size_t n = f.count(1, "num_readings", kMaxBeams);
+      budget.charge(n * sizeof(float), line_no);
       f.need(2 + n + 7, "n ranges... x y theta odom_x odom_y odom_theta ipc_timestamp");
       LogScan s;
       set_flaser_beam_angles(s, n);
@@ -206,6 +260,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
         ++log.skipped[type];
         return;
       }
+      if (f.size() > 8) budget.charge(f.count(8, "num_readings", kMaxBeams) * sizeof(float), line_no);
       LogScan s = raw_laser(f, type == "ROBOTLASER1");
       if (o.range_max_m) s.range_max_m = *o.range_max_m;
       s.source_index = static_cast<std::size_t>(line_no);
@@ -245,6 +300,8 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
   RobotLog log;
   log.path = path;
   log.format = "odomscan_text";
+  RecordBudget budget(text, path, true, !o.allow_no_scans);
+  budget.reserve(log);
   std::vector<std::size_t> scans;
   for_each_line(text, [&](std::string_view line, int line_no) {
     if (blank_or_comment(line)) return;
@@ -252,6 +309,7 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
     if (f.type() == "LASERSCAN") {
       f.need(3, "ipc_timestamp n ranges...");
       const std::size_t n = f.count(2, "n", kMaxBeams);
+      budget.charge(n * sizeof(float), line_no);
       if (f.size() != 3 + n) f.fail("ranges", "expected " + std::to_string(n) + " ranges, got " + std::to_string(f.size() - 3));
       LogScan s;
       set_flaser_beam_angles(s, n);

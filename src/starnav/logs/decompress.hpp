@@ -7,10 +7,9 @@
 #include <string>
 #include <string_view>
 
-namespace starnav {
+#include "starnav/core/input_file.hpp"  // kMaxDecompressedBytes
 
-// The most bytes one decompressed log file or bag chunk may hold (1 GiB).
-inline constexpr std::size_t kMaxDecompressedBytes = std::size_t{1} << 30;
+namespace starnav {
 
 // True when `bytes` starts with the gzip magic.
 bool is_gzip(std::string_view bytes);

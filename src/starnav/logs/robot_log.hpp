@@ -23,6 +23,13 @@ namespace starnav {
 // 1141). Every reader refuses more before storing them.
 inline constexpr std::size_t kMaxScanBeams = 100000;
 
+// What a log's parsed records (scans with their readings, odometry, ground truth, IMU) may take
+// beyond the bytes of the (decompressed) text they come from. A real log's records are smaller than
+// its text (a reading of 6 or 7 characters is stored as a 4-byte float); only a degenerate log of
+// bare lines (30 million short ODOM lines) costs several times its text. The text readers count
+// their lines before storing any record and refuse such a log there.
+inline constexpr std::size_t kLogRecordSlackBytes = std::size_t{64} << 20;
+
 struct LogScan {
   std::int64_t stamp_us = 0;        // CARMEN ipc_timestamp, bag header.stamp (rounded to 1 us)
   double angle_min_rad = 0.0;       // beam i at angle_min + i * angle_increment (sensor frame)

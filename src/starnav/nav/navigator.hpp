@@ -39,7 +39,7 @@
 #include "starnav/control/recovery.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
-#include "starnav/costmap/node_height_map.hpp"
+#include "starnav/costmap/layered_costmap.hpp"
 #include "starnav/plan/global_planner.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/robot/robot_model.hpp"

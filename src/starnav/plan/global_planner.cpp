@@ -69,6 +69,7 @@ GlobalPlannerDef grid_global_planner(const std::string& name, std::string summar
     const auto p = make_grid_planner(name, probe, {});
     if (p->admissible()) d.info.capabilities.add(Capability::Admissible);
     if (p->incremental()) d.info.capabilities.add(Capability::Incremental);
+    if (p->takes_weight()) d.info.capabilities.add(Capability::HeuristicWeight);
   }
   d.info.capabilities.add(Capability::Occupancy);
   const bool band = honours_cost_band(name);

@@ -36,6 +36,8 @@ class GridPlanner {
   virtual std::string_view name() const = 0;
   // False when the returned cost may exceed the optimum (weighted A*, inadmissible heuristics).
   virtual bool admissible() const = 0;
+  // True for planners whose heuristic takes options.weight (weighted A*).
+  virtual bool takes_weight() const { return false; }
   virtual PlanResult plan(Cell start, Cell goal, const SearchLimits& limits = {}) = 0;
   // Per-map preprocessing time (e.g. JPS+ jump tables), not counted in any query's time.
   virtual double preprocess_ms() const { return 0.0; }

@@ -28,6 +28,7 @@ class BestFirstGridPlanner final : public GridPlanner {
 
   std::string_view name() const override;
   bool admissible() const override;
+  bool takes_weight() const override { return kind_ == Kind::WeightedAStar; }
   PlanResult plan(Cell start, Cell goal, const SearchLimits& limits = {}) override;
   const std::vector<Cell>& trace() const override { return trace_; }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "starnav/core/error.hpp"
+#include "starnav/slam/graph_slam_3d.hpp"
 #include "starnav/terrain/rough_terrain_planners.hpp"
 
 namespace starnav {
@@ -38,7 +39,8 @@ namespace starnav {
   X(graph_slam_3d) /* slam/graph_slam_3d.cpp */
 
 #define STARNAV_GOAL_CHECKERS(X) \
-  X(latching_goal_checker) /* control/latching_goal_checker.cpp */
+  X(latching_goal_checker) /* control/latching_goal_checker.cpp */ \
+  X(stopped_goal_checker)  /* control/stopped_goal_checker.cpp */
 
 #define STARNAV_PROGRESS_CHECKERS(X) \
   X(simple_progress_checker) /* control/simple_progress_checker.cpp */
@@ -256,5 +258,7 @@ std::vector<std::string> component_names(Role role) {
     if (c.role == role) names.push_back(c.name);
   return names;
 }
+
+std::vector<ParamSpec> graph_slam_3d_param_specs() { return graph_slam_3d_params().specs(); }
 
 }  // namespace starnav

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -87,8 +88,10 @@ class Value {
   }
   long long integer(long long lo, long long hi) const {
     if (!node_.IsScalar()) fail("expected an integer, found " + node_kind(node_));
-    const std::optional<std::int64_t> v = parse_integer_text(node_.Scalar());
-    if (!v) fail("expected an integer, found " + node_kind(node_));
+    // A count (lo >= 0) takes no sign, as on the command line.
+    const std::optional<std::int64_t> v = lo >= 0 ? parse_integer_in(node_.Scalar(), 0, std::numeric_limits<std::int64_t>::max())
+                                                  : parse_integer_text(node_.Scalar());
+    if (!v) fail(lo >= 0 ? "expected a whole number without a sign, found '" + node_.Scalar() + "'" : "expected an integer, found " + node_kind(node_));
     if (*v < lo || *v > hi) fail("must be in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + node_.Scalar());
     return *v;
   }

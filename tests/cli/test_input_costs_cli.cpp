@@ -1,0 +1,135 @@
+// What an input costs is decided from its head, its size or its parameters before the work: each
+// row runs the command under a small address-space limit (`ulimit -v`), so that a refusal that
+// came only after reading or allocating would fail as "out of memory" instead of its one line.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "support/test_support.hpp"
+
+namespace starnav {
+namespace {
+
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__has_feature)
+#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
+#elif defined(__has_feature)
+#if !__has_feature(address_sanitizer)
+#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
+#endif
+#endif
+
+struct CostCase {
+  std::vector<std::string> args;
+  std::string expected;  // a part of the one error line
+};
+
+// Exit status and stderr of the CLI run with at most `kib` KiB of address space.
+std::pair<int, std::string> run_limited(const std::vector<std::string>& args, long kib, const test::ScratchDir& dir) {
+  std::string cmd = "ulimit -v " + std::to_string(kib) + "; " + test::shell_quote(STARNAV_CLI_PATH);
+  for (const std::string& a : args) cmd += " " + test::shell_quote(a);
+  cmd += " >/dev/null 2>" + test::shell_quote(dir.file("err"));
+  const int status = std::system(("sh -c " + test::shell_quote(cmd)).c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test::read_text(dir.file("err"))};
+}
+
+void expect_refused_within(const std::vector<CostCase>& cases, long kib, const test::ScratchDir& dir) {
+  for (const CostCase& c : cases) {
+    std::string line;
+    for (const std::string& a : c.args) line += a + " ";
+    SCOPED_TRACE(line);
+    const auto [code, err] = run_limited(c.args, kib, dir);
+    EXPECT_EQ(code, 2) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_EQ(err.rfind("starnav: error: ", 0), 0u) << err;
+    EXPECT_NE(err.find(c.expected), std::string::npos) << err;
+  }
+}
+
+// A sparse file of `size` bytes that starts with `head`: gigabytes that cost no disk.
+void write_sparse(const std::string& path, const std::string& head, std::uint64_t size) {
+  test::write_text(path, head);
+  std::filesystem::resize_file(path, size);
+}
+
+// The PNG signature and an IHDR chunk (CRC not checked before the size is) for a
+// width x height 8-bit grey image, then zeros.
+std::string png_head(std::uint32_t width, std::uint32_t height) {
+  std::string s = "\x89PNG\r\n\x1a\n";
+  s += std::string("\0\0\0\x0d", 4) + "IHDR";
+  for (std::uint32_t v : {width, height})
+    for (int shift = 24; shift >= 0; shift -= 8) s += static_cast<char>((v >> shift) & 0xff);
+  s += std::string("\x08\x00\x00\x00\x00", 5);
+  s += std::string("\0\0\0\0", 4);
+  return s;
+}
+
+TEST(InputCostsCli, AFileIsJudgedByItsHeadAndSizeBeforeItIsRead) {
+#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#else
+  test::ScratchDir dir;
+  const std::uint64_t gib3 = std::uint64_t{3} << 30;
+  write_sparse(dir.file("junk.map"), "", gib3);
+  write_sparse(dir.file("junk.asc"), "", gib3);
+  write_sparse(dir.file("tall.map"), "type octile\nheight 2\nwidth 2\nmap\n..\n..\n", gib3);
+  write_sparse(dir.file("big.png"), png_head(20000, 20000), 400 * 1024);
+  test::write_text(dir.file("big.yaml"),
+                   "image: big.png\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n");
+  write_sparse(dir.file("junk_image.png"), "", gib3);
+  test::write_text(dir.file("junk_image.yaml"),
+                   "image: junk_image.png\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n");
+  const std::vector<CostCase> cases = {
+      {{"map", "info", dir.file("junk.map")}, dir.file("junk.map") + ":1: type: expected 'type octile'"},
+      {{"map", "info", dir.file("tall.map")}, "more than a 2 x 2 map takes"},
+      {{"map", "info", dir.file("junk.asc")}, "expected an ESRI ASCII grid header line"},
+      {{"map", "info", dir.file("big.yaml")}, "20000 x 20000 pixels decode to more than the 1073741824 bytes"},
+      {{"map", "info", dir.file("junk_image.yaml")}, "unrecognised image format"},
+  };
+  expect_refused_within(cases, 200 * 1024, dir);
+#endif
+}
+
+TEST(InputCostsCli, LargeYamlIsRefusedBeforeItIsBuiltByEveryReader) {
+#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#else
+  test::ScratchDir dir;
+  // 300,000 goals (900,000 nodes) in 2.7 MB: under the size limit, over the node limit.
+  std::string goals = "navigation:\n  goals:\n";
+  for (int i = 0; i < 300000; ++i) goals += "    - [0, 0]\n";
+  test::write_text(dir.file("goals.yaml"), goals);
+  // A map_server file whose 5 MiB is comments: over the size limit.
+  test::write_text(dir.file("long.yaml"), std::string(5 << 20, '#') + "\nimage: x.png\n");
+  const std::vector<CostCase> cases = {
+      {{"sim", dir.file("goals.yaml"), "--out", dir.file("s1")}, "holds more than 200000 YAML nodes"},
+      {{"map", "info", dir.file("long.yaml")}, dir.file("long.yaml") + ": is 5242894 bytes, more than the 4194304 read at most"},
+  };
+  expect_refused_within(cases, 300 * 1024, dir);
+#endif
+}
+
+// Parameters inside their own ranges whose product is the cost: refused naming them, before the
+// window is built.
+TEST(InputCostsCli, ParameterProductsAreBoundedByWhatTheyCost) {
+#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#else
+  test::ScratchDir dir;
+  const std::vector<CostCase> cases = {
+      {{"sim", test::scenario_path("dwa_doorway.yaml"), "--out", dir.file("d1"), "--quiet", "--duration", "3", "--set",
+        "navigation.dwa.window_m=50", "--set", "navigation.map.resolution_m=0.005"},
+       "navigation.dwa.window_m (--set): window_m / the map's resolution_m gives a window of 10000 x 10000 cells, more than 4000000"},
+  };
+  expect_refused_within(cases, 1024 * 1024, dir);
+#endif
+}
+
+}  // namespace
+}  // namespace starnav
