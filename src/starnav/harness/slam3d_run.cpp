@@ -10,7 +10,6 @@
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/cloud/lidar_recording_source.hpp"
 #include "starnav/harness/slam_run.hpp"
-#include "starnav/slam/graph_slam_3d.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav {

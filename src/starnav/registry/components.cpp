@@ -259,6 +259,4 @@ std::vector<std::string> component_names(Role role) {
   return names;
 }
 
-std::vector<ParamSpec> graph_slam_3d_param_specs() { return graph_slam_3d_params().specs(); }
-
 }  // namespace starnav

@@ -320,12 +320,6 @@ std::vector<SlamPose> GraphSlam3d::trajectory() const {
   return out;
 }
 
-OctreeMap keyframes_octree(const std::vector<Slam3dKeyframe>& keyframes, const OctreeMapConfig& config) {
-  OctreeMap map(config);
-  for (const Slam3dKeyframe& kf : keyframes) map.insert_scan(kf.pose, kf.cloud);
-  return map;
-}
-
 OctreeMap GraphSlam3d::map_3d(const OctreeMapConfig& config) const { return keyframes_octree(keyframes_, config); }
 
 OccupancyGrid GraphSlam3d::map(const OccupancyMappingParams& params) const {

@@ -164,9 +164,6 @@ class GraphSlam3d final : public Slam {
   Slam3dTotals totals_;  // over frames_
 };
 
-// The key frames' clouds at their poses into an octree (rays clear free space).
-OctreeMap keyframes_octree(const std::vector<Slam3dKeyframe>& keyframes, const OctreeMapConfig& config);
-
 SlamDef graph_slam_3d();
 
 }  // namespace starnav

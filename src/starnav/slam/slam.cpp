@@ -41,6 +41,12 @@ std::string slam_edge_kind_name(SlamEdgeKind kind) {
   return "local";
 }
 
+OctreeMap keyframes_octree(const std::vector<Slam3dKeyframe>& keyframes, const OctreeMapConfig& config) {
+  OctreeMap map(config);
+  for (const Slam3dKeyframe& kf : keyframes) map.insert_scan(kf.pose, kf.cloud);
+  return map;
+}
+
 bool Slam::on_scan(const ScanMessage& scan) {
   throw Error("SLAM method '" + std::string(name()) + "' maps 3D clouds, not planar scans", {}, 0, scan.header.stream);
 }

@@ -88,6 +88,9 @@ struct Slam3dKeyframe {
   std::optional<Plane3> floor;       // as fitted in its frame
 };
 
+// Key frames' clouds at their poses into an octree (rays clear free space): a 3D method's map_3d().
+OctreeMap keyframes_octree(const std::vector<Slam3dKeyframe>& keyframes, const OctreeMapConfig& config);
+
 class Slam {
  public:
   virtual ~Slam() = default;
