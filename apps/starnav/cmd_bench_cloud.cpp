@@ -60,7 +60,7 @@ struct Mapping3dOptions {
 void run_bench_mapping3d(Mapping3dOptions& o, Context& ctx) {
   if (o.config.no_floor_matcher == "none") o.config.no_floor_matcher.clear();
   for (const std::string& s : o.sets) o.config.overrides.push_back(parse_scenario_override(s));
-  o.config.slam = configured(graph_slam_3d_params(), parse_set_options(o.slam_sets), "");
+  o.config.slam_settings = parse_set_options(o.slam_sets);
   o.config.validate();
   std::optional<OutputFolder> out_folder;
   std::optional<OutputListing> listing;

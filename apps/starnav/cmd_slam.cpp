@@ -20,7 +20,7 @@
 #include "starnav/core/error.hpp"
 #include "starnav/io/ros_map.hpp"
 #include "starnav/logs/log_file.hpp"
-#include "starnav/experiment/slam_report.hpp"
+#include "starnav/harness/slam_report.hpp"
 #include "starnav/slam/log_mapping.hpp"
 #include "starnav/slam/relative_pose_error.hpp"
 #include "starnav/slam/trajectory_error.hpp"

@@ -14,8 +14,8 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/experiment/slam3d_record.hpp"
-#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/slam3d_record.hpp"
+#include "starnav/harness/slam3d_run.hpp"
 #include "starnav/io/ros_map.hpp"
 
 namespace starnav::cli {
@@ -39,7 +39,7 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
   Slam3dRunConfig c;
   c.matcher = o.matcher;
   c.max_frames = o.frames;
-  c.slam = configured(graph_slam_3d_params(), parse_set_options(o.sets), "");
+  c.settings = parse_set_options(o.sets);
   c.matcher_settings = parse_set_options(o.matcher_sets);
   if (o.frames < 0) throw Error("must be >= 0", "", 0, "--frames");
   if (!(o.inflation_m >= 0 && o.inflation_m <= 10)) throw Error("must be in [0, 10] m", "", 0, "--inflation-m");
@@ -110,7 +110,7 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
   if (o.json) {
     std::cout << slam3d_summary_json(r);
   } else {
-    std::cout << "slam3d: " << r.frames.size() << " frames, " << r.keyframes.size() << " key frames, " << r.loops.size()
+    std::cout << "slam3d: " << r.frames << " frames, " << r.keyframes.size() << " key frames, " << r.graph.closures()
               << " loop closures, " << r.plane_edges << " floor edges; mapping " << format_fixed(r.mapping_s, 2) << " s for "
               << format_fixed(r.duration_s, 1) << " s of recording";
     if (r.has_truth)

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "room_fixture.hpp"
+#include "slam_playback.hpp"
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/rng.hpp"
@@ -84,14 +85,15 @@ TEST(GraphSlam, LoopClosuresPullADriftingRingDriveBackOntoTheTruth) {
   const RobotLog log = test::ring_drive(truth);
   // Local matching off: the front end is the odometry, so what corrects it is the closures.
   GraphSlamConfig c;
-  c.local.matcher.window_linear_m = 0.0;
-  c.local.matcher.window_angular_rad = 0.0;
-  c.local.matcher.refine = false;
+  CorrelativeMatcherConfig m = local_slam_matcher_config();
+  m.window_linear_m = 0.0;
+  m.window_angular_rad = 0.0;
+  m.refine = false;
   c.loop_window_linear_m = 3.0;
   c.loop_max_distance_m = 10.0;
-  GraphSlam slam(c);
-  run_slam_on_log(slam, log);
-  const std::vector<TrajectoryPose> t = slam.trajectory();
+  GraphSlam slam(c, std::make_unique<CorrelativeScanMatcher>(m));
+  test::play_log(slam, log);
+  const std::vector<TrajectoryPose> t = planar_trajectory(slam.trajectory());
   ASSERT_EQ(t.size(), truth.size());
   double odom_end = (log.scans.back().odometry->translation() - truth.back().translation()).norm();
   double slam_end = (t.back().pose.translation() - truth.back().translation()).norm();
@@ -125,10 +127,12 @@ TEST(GraphSlam, LoopClosuresPullADriftingRingDriveBackOntoTheTruth) {
 TEST(GraphSlam, TheRegistryMakesItAndNamesBadSettings) {
   const SlamDef& def = find_slam("graph");
   EXPECT_EQ(def.info.role, Role::Slam);
-  std::unique_ptr<Slam> slam = def.make(SlamContext{"x.yaml", 0}, std::vector<ParamSetting>{{"loop_min_score", "0.6", "x.yaml", 3, "slam.loop_min_score"}});
+  SlamContext ctx;
+  ctx.file = "x.yaml";
+  std::unique_ptr<Slam> slam = def.make(ctx, std::vector<ParamSetting>{{"loop_min_score", "0.6", "x.yaml", 3, "slam.loop_min_score"}});
   EXPECT_EQ(slam->name(), "graph");
   try {
-    def.make(SlamContext{"x.yaml", 0}, std::vector<ParamSetting>{{"local.window_nodes", "0", "x.yaml", 4, "slam.local.window_nodes"}});
+    def.make(ctx, std::vector<ParamSetting>{{"local.window_nodes", "0", "x.yaml", 4, "slam.local.window_nodes"}});
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("slam.local.window_nodes"), std::string::npos) << e.what();
@@ -141,10 +145,10 @@ TEST(GraphSlam, BeatsTheOdometryOnTheFirstScansOfMitCsail) {
   STARNAV_SKIP_WITHOUT_SHARED("datasets/carmen_raw/mit-csail.clf.gz");
   RobotLog log = read_robot_log(test::shared_path("datasets/carmen_raw/mit-csail.clf.gz"));
   log.scans.resize(450);
-  GraphSlam slam;
-  run_slam_on_log(slam, log);
+  GraphSlam slam(GraphSlamConfig{}, std::make_unique<CorrelativeScanMatcher>(local_slam_matcher_config()));
+  test::play_log(slam, log);
   const std::vector<PoseRelation> relations = read_relations(test::shared_path("datasets/slam_benchmark_relations/mit-csail.relations"));
-  const RelativePoseError e = relative_pose_error(slam.trajectory(), relations);
+  const RelativePoseError e = relative_pose_error(planar_trajectory(slam.trajectory()), relations);
   const RelativePoseError o = relative_pose_error(odometry_trajectory(log), relations);
   ASSERT_GT(e.translation_m.n, 100u);
   EXPECT_EQ(e.translation_m.n, o.translation_m.n);

@@ -51,7 +51,7 @@ Slam3dRun run_synthetic(const std::string& matcher, bool odometry, std::uint64_t
     r.truth_sensor.push_back(sensor);
   }
   slam.finish();
-  r.estimate = slam.trajectory();
+  r.estimate = slam.sensor_poses();
   r.keyframes = slam.keyframes().size();
   for (const Slam3dKeyframe& kf : slam.keyframes()) r.floors += kf.floor.has_value();
   return r;

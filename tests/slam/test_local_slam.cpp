@@ -45,7 +45,7 @@ TEST(LocalSlam, StaysWithTheTruthWhereTheOdometryDrifts) {
     scan.odometry = odom;
     log.scans.push_back(scan);
   }
-  const LocalSlamResult r = run_local_slam(log, LocalSlamConfig{});
+  const LocalSlamResult r = run_local_slam(log, LocalSlamConfig{}, CorrelativeScanMatcher(local_slam_matcher_config()));
   ASSERT_EQ(r.poses.size(), truth.size());
   EXPECT_GT(r.matched, 230u);
   // Both start at the first odometry pose, which is the truth there.
@@ -73,7 +73,7 @@ TEST(LocalSlam, BeatsTheOdometryOnTheFirstScansOfAces) {
   for (const PoseRelation& rel : all)
     if (rel.t_i_us <= last && rel.t_j_us <= last) inside.push_back(rel);
   ASSERT_GT(inside.size(), 30u);
-  const LocalSlamResult r = run_local_slam(log, LocalSlamConfig{});
+  const LocalSlamResult r = run_local_slam(log, LocalSlamConfig{}, CorrelativeScanMatcher(local_slam_matcher_config()));
   const RelativePoseError slam = relative_pose_error(r.poses, inside);
   const RelativePoseError odom = relative_pose_error(odometry_trajectory(log), inside);
   EXPECT_EQ(slam.unmatched, 0u);

@@ -8,7 +8,8 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/statistics.hpp"
 #include "starnav/harness/encoder_odometry.hpp"
-#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/slam3d_run.hpp"
+#include "starnav/harness/slam_run.hpp"
 #include "starnav/harness/route_drive.hpp"
 #include "starnav/sim/world.hpp"
 #include "starnav/registry/components.hpp"
@@ -24,7 +25,12 @@ void Mapping3dExperimentConfig::validate() const {
   require(!matchers.empty(), "--matchers", "needs at least one matcher");
   for (const std::string& m : matchers) (void)find_scan_matcher_3d(m, "--matchers");
   if (!no_floor_matcher.empty()) (void)find_scan_matcher_3d(no_floor_matcher, "--no-floor-matcher");
-  slam.validate();
+  // The SLAM settings, checked by building the method once before anything is simulated.
+  SlamChoice choice;
+  choice.method = "graph3d";
+  choice.settings = slam_settings;
+  choice.matcher = {matchers.front(), {}, "--matchers"};
+  (void)make_slam(choice);
 }
 
 std::vector<Mapping3dVariant> Mapping3dExperimentConfig::variants() const {
@@ -38,10 +44,10 @@ namespace {
 
 // The 2D grid of a run's map against the world's true occupancy in the same height band, and
 // the improved A* on it (docs/mapping3d.md, "The 2D grid against the truth").
-void judge_map(const GraphSlam3d& slam, const Rigid3& to_truth, const World& world, const Mapping3dExperimentConfig& c,
+void judge_map(const Slam& slam, const Rigid3& to_truth, const World& world, const Mapping3dExperimentConfig& c,
                Mapping3dRun& run) {
   const Slam3dMapConfig mc;
-  const OctreeMap octree = slam3d_octree(slam.keyframes(), mc);
+  const OctreeMap octree = slam.map_3d(mc.octree);
   const OccupancyGrid grid = octree.project_to_grid(mc.grid);
   const double bottom = mc.grid.floor_z_m + mc.grid.min_height_m;
   // The truth at a map-frame point: something stands there reaching into the band (the world's
@@ -87,7 +93,7 @@ void judge_map(const GraphSlam3d& slam, const Rigid3& to_truth, const World& wor
   run.mapped = true;
   run.occupied_matched = matched;
   run.true_missed = missed;
-  const Vec2 start = slam.keyframes().front().pose.translation().head<2>();
+  const Vec2 start = slam.keyframes_3d().front().pose.translation().head<2>();
   const Vec2 goal = (to_truth.inverse() * Vec3(c.plan_goal.x(), c.plan_goal.y(), 0.0)).head<2>();
   // A run shorter than the route never sees its end: there is nothing to plan to.
   const auto goal_cell = g.world_to_cell(goal);
@@ -115,11 +121,32 @@ void judge_map(const GraphSlam3d& slam, const Rigid3& to_truth, const World& wor
   }
 }
 
+// The prefilter's counts and the registration time of each frame, from the differences of the
+// method's running totals across the frame's on_cloud.
+const char* const kFrameFigures[] = {"raw_points", "windowed_points", "voxelised_points", "filtered_points", "match_s"};
+using FrameFigures = std::array<double, 5>;
+
+FrameFigures frame_totals(const Slam& slam) {
+  FrameFigures out{};
+  for (const auto& [name, value] : slam.statistics())
+    for (std::size_t i = 0; i < out.size(); ++i)
+      if (name == kFrameFigures[i]) out[i] = value;
+  return out;
+}
+
 struct Mapping3dSlot {
   Mapping3dVariant variant;
-  std::unique_ptr<GraphSlam3d> slam;
+  std::unique_ptr<Slam> slam;
   double mapping_s = 0.0;
+  FrameFigures totals{};
+  std::vector<FrameFigures> frames;  // per frame
 };
+
+double statistic(const Slam& slam, const std::string& name) {
+  for (const auto& [key, value] : slam.statistics())
+    if (key == name) return value;
+  return 0.0;
+}
 
 }  // namespace
 
@@ -145,10 +172,15 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
     if (spec.route) route = make_route_drive(sim);
     std::vector<Mapping3dSlot> slots;
     for (const Mapping3dVariant& v : result.variants) {
-      GraphSlam3dConfig c = config.slam;
-      c.floor = v.floor;
-      const ScanMatcher3dDef& def = find_scan_matcher_3d(v.matcher);
-      slots.push_back({v, std::make_unique<GraphSlam3d>(c, mount, [&def] { return def.make({}, {}); }), 0.0});
+      SlamChoice choice;
+      choice.method = "graph3d";
+      choice.settings = config.slam_settings;
+      choice.settings.push_back({"floor", v.floor ? "true" : "false", "", 0, "floor"});
+      choice.matcher = {v.matcher, {}, "--matchers"};
+      Mapping3dSlot slot;
+      slot.variant = v;
+      slot.slam = make_slam(choice);
+      slots.push_back(std::move(slot));
     }
     const std::shared_ptr<const WheelOdometry> odometry = attach_encoder_odometry(sim);
     std::vector<Rigid3> truth;
@@ -156,12 +188,23 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
     const Simulation* s = &sim;
     sim.on_scan = [before = sim.on_scan, &slots, &odometry, &truth, &times, s, mount](const LidarScan& scan) {
       if (before) before(scan);
-      std::optional<Pose2> odom;
-      if (odometry) odom = odometry->pose();
+      // What the robot's drivers would publish: the wheel odometry at the scan, then the cloud.
+      OdometryMessage odom;
+      if (odometry) odom = {{scan.time, "odom"}, odometry->pose(), {}};
+      CloudMessage cloud;
+      cloud.header = {scan.time, "lidar"};
+      cloud.mount = mount;
+      cloud.points = scan.points_sensor;
       for (Mapping3dSlot& slot : slots) {
         const auto t0 = std::chrono::steady_clock::now();
-        slot.slam->add(scan.time, scan.points_sensor, odom);
+        if (odometry) slot.slam->on_odometry(odom);
+        slot.slam->on_cloud(cloud);
         slot.mapping_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const FrameFigures totals = frame_totals(*slot.slam);
+        FrameFigures frame{};
+        for (std::size_t i = 0; i < frame.size(); ++i) frame[i] = totals[i] - slot.totals[i];
+        slot.frames.push_back(frame);
+        slot.totals = totals;
       }
       truth.push_back(to_rigid(s->vehicle().state().pose) * to_rigid(mount));
       times.push_back(scan.time);
@@ -172,7 +215,8 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
       const auto t0 = std::chrono::steady_clock::now();
       slot.slam->finish();
       slot.mapping_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const std::vector<Rigid3> est = slot.slam->trajectory();
+      std::vector<Rigid3> est;
+      for (const SlamPose& p : slot.slam->trajectory()) est.push_back(p.sensor);
       const Slam3dErrors e = slam3d_errors(est, truth);
       Mapping3dRun run;
       run.seed = seed;
@@ -180,9 +224,9 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
       run.matcher = slot.variant.matcher;
       run.floor = slot.variant.floor;
       run.frames = est.size();
-      run.keyframes = slot.slam->keyframes().size();
-      run.loops = slot.slam->loops().size();
-      run.floor_edges = slot.slam->plane_edges().size();
+      run.keyframes = slot.slam->keyframes_3d().size();
+      run.loops = slot.slam->graph().closures();
+      run.floor_edges = static_cast<std::size_t>(statistic(*slot.slam, "floor_edges"));
       run.ate_rmse_m = e.ate_rmse_m;
       run.elevation_drift_m = e.elevation_drift_m;
       run.final_error_m = e.final_error_m;
@@ -190,12 +234,13 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
       run.recording_s = times.back() - times.front();
       run.mapping_s = slot.mapping_s;
       std::vector<double> match;
-      for (const Slam3dFrameResult& f : slot.slam->frames()) {
-        if (f.frame > 0) match.push_back(f.match_s);
-        run.raw_points += static_cast<double>(f.raw_points);
-        run.windowed_points += static_cast<double>(f.windowed);
-        run.voxelised_points += static_cast<double>(f.voxelised);
-        run.kept_points += static_cast<double>(f.filtered_points);
+      for (std::size_t f = 0; f < slot.frames.size(); ++f) {
+        const FrameFigures& fig = slot.frames[f];
+        if (f > 0) match.push_back(fig[4]);  // the first frame is not registered
+        run.raw_points += fig[0];
+        run.windowed_points += fig[1];
+        run.voxelised_points += fig[2];
+        run.kept_points += fig[3];
       }
       const double n = static_cast<double>(std::max<std::size_t>(1, run.frames));
       run.raw_points /= n;
@@ -212,9 +257,7 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
         if (vi == 0) {
           tr.t = times;
           for (const Rigid3& t : truth) tr.truth.push_back(t.translation());
-          for (const Slam3dFrameResult& f : slot.slam->frames())
-            tr.filter_counts.push_back({static_cast<double>(f.raw_points), static_cast<double>(f.windowed),
-                                        static_cast<double>(f.voxelised), static_cast<double>(f.filtered_points)});
+          for (const FrameFigures& fig : slot.frames) tr.filter_counts.push_back({fig[0], fig[1], fig[2], fig[3]});
         }
         // Aligned as the errors are (slam3d_errors: x, y and heading of the first pose).
         const Rigid3& align = e.alignment;

@@ -13,7 +13,8 @@
 #include <vector>
 
 #include "starnav/sim/scenario.hpp"
-#include "starnav/slam/graph_slam_3d.hpp"
+#include "starnav/core/params.hpp"
+#include "starnav/core/geometry.hpp"
 
 namespace starnav {
 
@@ -34,7 +35,7 @@ struct Mapping3dExperimentConfig {
   std::string map_variant = "gicp";
   Vec2 plan_goal = Vec2(11.0, 8.5);  // in the simulator's frame (the route's last waypoint)
   double plan_inflation_m = 0.35;
-  GraphSlam3dConfig slam;
+  std::vector<ParamSetting> slam_settings;  // graph3d's (docs/parameters.md); each variant sets `floor` itself
   void validate() const;  // Error naming the flag
   std::vector<Mapping3dVariant> variants() const;
 };

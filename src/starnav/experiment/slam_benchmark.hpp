@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "starnav/experiment/slam_report.hpp"
+#include "starnav/harness/slam_report.hpp"
 
 namespace starnav {
 

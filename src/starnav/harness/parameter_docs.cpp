@@ -58,6 +58,24 @@ const char* role_key(Role role) {
   return "";
 }
 
+// Navigation and localization components are set in a scenario's section; the others by their
+// command's --set (slam run, slam3d, slam3d --matcher-set) with the bare key.
+bool set_in_scenario(Role role) { return scenario_prefix(role) == "navigation" || role == Role::Localizer; }
+
+std::string chosen_by(Role role) {
+  switch (role) {
+    case Role::Slam:
+      return "Planar methods are chosen by `starnav slam run --method` (and `starnav bench slam --method`), the 3D method is "
+             "`starnav slam3d`'s; keys are set by those commands' `--set KEY=VALUE`.";
+    case Role::ScanMatcher:
+      return "Composed into a SLAM method by its factory (`graph`: `correlative`, its keys under `local.matcher.`).";
+    case Role::ScanMatcher3d:
+      return "Chosen by `starnav slam3d --matcher` (keys: `--matcher-set KEY=VALUE`) and `starnav bench kitti --matchers`.";
+    default:
+      return "Chosen by `" + std::string(role_key(role)) + "`.";
+  }
+}
+
 std::string join(const std::vector<std::string>& v, const std::string& sep = ", ") {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
@@ -92,9 +110,6 @@ std::string parameters_markdown() {
       "relative to the scenario |\n"
       "| `localization.localizer` | choice | `ground_truth` | " +
       join(component_names(Role::Localizer), " \\| ") + " |  | the localizer the run reads its pose from (a scripted run records it in estimate.csv) |\n\n";
-  s += "## 3D graph SLAM\n\n`starnav slam3d --set KEY=VALUE` (docs/mapping3d.md); the matcher is chosen by `--matcher` and its "
-       "parameters (below, under 3D scan matchers) set by `--matcher-set`.\n\n" +
-       params_markdown_table(graph_slam_3d_param_specs(), "") + "\n";
   for (Role role : kAllRoles) {
     s += std::string("## ") + role_title(role) + "\n\n";
     const auto names = component_names(role);
@@ -102,7 +117,7 @@ std::string parameters_markdown() {
       s += "None registered yet (the interface is " + std::string(role == Role::Slam ? "src/starnav/slam/slam.hpp" : "src/starnav/slam/scan_matcher.hpp") + ").\n\n";
       continue;
     }
-    s += "Chosen by `" + std::string(role_key(role)) + "`.\n\n";
+    s += chosen_by(role) + "\n\n";
     for (const ComponentInfo& c : all_components()) {
       if (c.role != role) continue;
       s += "### `" + c.name + "`\n\n" + c.summary + ".";
@@ -117,7 +132,8 @@ std::string parameters_markdown() {
       if (c.params.empty()) {
         s += "No parameters.\n\n";
       } else {
-        s += params_markdown_table(c.params, elevation ? std::string() : scenario_prefix(role) + "." + c.section) + "\n";
+        s += params_markdown_table(c.params, elevation || !set_in_scenario(role) ? std::string() : scenario_prefix(role) + "." + c.section) +
+             "\n";
       }
     }
   }
@@ -152,10 +168,7 @@ std::string role_components_text(Role role) {
     s += c.name + ": " + c.summary + "\n";
     if (!c.deprecated_aliases.empty()) s += "  also accepted (deprecated): " + join(c.deprecated_aliases) + "\n";
     if (!c.capabilities.empty()) s += "  capabilities: " + join(c.capabilities.names()) + "\n";
-    // Navigation and localization components are set in a scenario's section; the others by their
-    // command's --set (slam run, slam3d --matcher-set) with the bare key.
-    const bool in_scenario = scenario_prefix(role) == "navigation" || role == Role::Localizer;
-    const std::string prefix = in_scenario ? scenario_prefix(role) + "." + c.section + "." : "";
+    const std::string prefix = set_in_scenario(role) ? scenario_prefix(role) + "." + c.section + "." : "";
     for (const ParamSpec& p : c.params) {
       s += "  " + prefix + p.key + " (" + param_type_name(p.type) + ", default " +
            (p.default_value.empty() ? "(none)" : p.default_value);

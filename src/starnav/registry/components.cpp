@@ -36,7 +36,8 @@ namespace starnav {
   X(pcl_ndt_scan_matcher)  /* cloud/pcl_matchers.cpp (PCL plugin) */
 
 #define STARNAV_SLAM(X) \
-  X(graph_slam) /* slam/graph_slam.cpp */
+  X(graph_slam)    /* slam/graph_slam.cpp */ \
+  X(graph_slam_3d) /* slam/graph_slam_3d.cpp */
 
 #define STARNAV_GOAL_CHECKERS(X) \
   X(latching_goal_checker) /* control/latching_goal_checker.cpp */ \
@@ -122,8 +123,32 @@ const std::vector<LocalizerDef>& localizers() {
   return all;
 }
 
+namespace {
+
+// A SLAM method is composed with a scan matcher: its factory gets the registry's matchers (by
+// name, with their settings) unless the caller gave factories of its own.
+SlamDef composed_with_registry_matchers(SlamDef d) {
+  d.make = [make = std::move(d.make)](const SlamContext& ctx, std::span<const ParamSetting> settings) {
+    SlamContext c = ctx;
+    if (!c.make_scan_matcher)
+      c.make_scan_matcher = [file = ctx.file](const SlamMatcherChoice& m) {
+        return find_scan_matcher(m.name, m.field).make(ScanMatcherContext{file}, m.settings);
+      };
+    if (!c.make_scan_matcher_3d)
+      c.make_scan_matcher_3d = [](const SlamMatcherChoice& m) { return find_scan_matcher_3d(m.name, m.field).make({}, m.settings); };
+    return make(c, settings);
+  };
+  return d;
+}
+
+}  // namespace
+
 const std::vector<SlamDef>& slam_components() {
-  static const std::vector<SlamDef> all = {STARNAV_SLAM(STARNAV_LIST)};
+  static const std::vector<SlamDef> all = [] {
+    std::vector<SlamDef> defs = {STARNAV_SLAM(STARNAV_LIST)};
+    for (SlamDef& d : defs) d = composed_with_registry_matchers(std::move(d));
+    return defs;
+  }();
   return all;
 }
 
@@ -234,7 +259,5 @@ std::vector<std::string> component_names(Role role) {
     if (c.role == role) names.push_back(c.name);
   return names;
 }
-
-std::vector<ParamSpec> graph_slam_3d_param_specs() { return graph_slam_3d_params().specs(); }
 
 }  // namespace starnav

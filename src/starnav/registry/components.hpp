@@ -62,7 +62,4 @@ std::vector<std::string> component_names(Role role);
 // Every component's description, in registry order (roles in enum order).
 std::vector<ComponentInfo> all_components();
 
-// The parameters of slam3d's graph SLAM (docs/mapping3d.md).
-std::vector<ParamSpec> graph_slam_3d_param_specs();
-
 }  // namespace starnav

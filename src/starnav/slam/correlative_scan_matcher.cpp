@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
@@ -283,12 +284,44 @@ CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_map(const Occupan
   return make_field(std::move(mask), map.width(), map.height(), map.resolution(), map.origin().translation(), c_.sigma_m, depth);
 }
 
+namespace {
+
+// A prepared reference: the field and the matcher's configuration (a copy: the reference may
+// outlive the matcher that prepared it).
+class CorrelativeReference final : public ScanReference {
+ public:
+  CorrelativeReference(const CorrelativeScanMatcher& matcher, CorrelativeScanMatcher::Field field)
+      : matcher_(matcher), field_(std::move(field)) {}
+  ScanMatch match(std::span<const Vec2> scan, const Pose2& guess) const override { return matcher_.match_to_field(field_, scan, guess); }
+  ScanMatch match(std::span<const Vec2> scan, const Pose2& guess, const MatchWindow& window) const override {
+    return matcher_.match_to_field(field_, scan, guess, window);
+  }
+  std::size_t bytes() const override { return field_.bytes(); }
+
+ private:
+  CorrelativeScanMatcher matcher_;
+  CorrelativeScanMatcher::Field field_;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanReference> CorrelativeScanMatcher::prepare(std::span<const Vec2> points, double search_margin_m,
+                                                               int search_depth) const {
+  if (points.empty()) throw Error("needs points in the reference", {}, 0, "reference");
+  if (!(std::isfinite(search_margin_m) && search_margin_m >= 0)) throw Error("must be finite and >= 0", {}, 0, "search_margin_m");
+  Vec2 lo = points.front(), hi = points.front();
+  for (const Vec2& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec2 margin = Vec2::Constant(3 * c_.sigma_m + search_margin_m + c_.resolution_m);
+  return std::make_unique<CorrelativeReference>(*this, field_of_points(points, lo - margin, hi + margin, search_depth));
+}
+
+MatchWindow CorrelativeScanMatcher::window() const {
+  return {c_.window_linear_m, c_.window_angular_rad, c_.min_score, c_.prior_linear_weight, c_.prior_angular_weight};
+}
+
 ScanMatch CorrelativeScanMatcher::match(std::span<const Vec2> reference, std::span<const Vec2> scan, const Pose2& guess) {
   if (reference.empty() || scan.empty()) throw Error("needs points in the reference and in the scan", {}, 0, "scan");
-  Vec2 lo = reference.front(), hi = reference.front();
-  for (const Vec2& p : reference) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Vec2 margin = Vec2::Constant(3 * c_.sigma_m + c_.resolution_m);
-  return match_to_field(field_of_points(reference, lo - margin, hi + margin), scan, guess);
+  return prepare(reference, 0.0, 2)->match(scan, guess);
 }
 
 ScanMatch CorrelativeScanMatcher::match_to_map(const OccupancyGrid& map, std::span<const Vec2> scan, const Pose2& guess) {

@@ -40,14 +40,6 @@ struct CorrelativeMatcherConfig {
   void validate() const;
 };
 
-// A search window around a guess: +- linear_m in x and y, +- angular_rad in yaw; poses scoring
-// below min_score are not searched for (they prune the tree from the start).
-struct MatchWindow {
-  double linear_m = 0.3;
-  double angular_rad = 0.349;
-  double min_score = 0.0;
-  double prior_linear_weight = 0.0, prior_angular_weight = 0.0;  // as CorrelativeMatcherConfig's
-};
 const ParamTable<CorrelativeMatcherConfig>& correlative_matcher_params();
 
 class CorrelativeScanMatcher final : public ScanMatcher {
@@ -57,6 +49,11 @@ class CorrelativeScanMatcher final : public ScanMatcher {
   ScanMatch match(std::span<const Vec2> reference, std::span<const Vec2> scan, const Pose2& guess) override;
   bool supports_map() const override { return true; }
   ScanMatch match_to_map(const OccupancyGrid& map, std::span<const Vec2> scan, const Pose2& guess) override;
+  // A reference is the likelihood field of its points over their bounds widened by 3 sigma, a
+  // cell and the search margin; match(scan, guess) on it is match_to_field in the configured window.
+  bool supports_reference() const override { return true; }
+  std::unique_ptr<ScanReference> prepare(std::span<const Vec2> points, double search_margin_m, int search_depth) const override;
+  MatchWindow window() const override;
 
   // The likelihood field of occupied cells (or points), for reuse across matches against one map.
   struct Field {

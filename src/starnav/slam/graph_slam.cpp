@@ -34,24 +34,6 @@ double scan_constraint(std::span<const Vec2> points) {
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter / static_cast<double>(n)).eigenvalues()(0);
 }
 
-std::size_t SlamGraph::closures() const {
-  std::size_t n = 0;
-  for (const SlamGraphEdge& e : edges) n += e.kind != SlamEdgeKind::Local;
-  return n;
-}
-
-std::string slam_edge_kind_name(SlamEdgeKind kind) {
-  switch (kind) {
-    case SlamEdgeKind::Local:
-      return "local";
-    case SlamEdgeKind::Loop:
-      return "loop";
-    case SlamEdgeKind::Global:
-      return "global";
-  }
-  return "local";
-}
-
 const ParamTable<GraphSlamConfig>& graph_slam_params() {
   static const ParamTable<GraphSlamConfig> table = [] {
     using C = GraphSlamConfig;
@@ -115,29 +97,48 @@ void GraphSlamConfig::validate() const {
   require(field_cache >= 1, "field_cache", "must be >= 1");
 }
 
-GraphSlam::GraphSlam(const GraphSlamConfig& config) : c_(config), local_(config.local), matcher_(config.local.matcher) {
+namespace {
+
+// The matcher, checked before the local SLAM holds on to it.
+std::unique_ptr<ScanMatcher> checked(std::unique_ptr<ScanMatcher> matcher) {
+  if (!matcher) throw Error("graph SLAM needs a scan matcher", {}, 0, "matcher");
+  if (!matcher->supports_reference())
+    throw Error("scan matcher '" + std::string(matcher->name()) + "' prepares no reference, which graph SLAM's local map and submaps are", {},
+                0, "matcher");
+  return matcher;
+}
+
+}  // namespace
+
+GraphSlam::GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher> matcher)
+    : c_(config), matcher_(checked(std::move(matcher))), local_(config.local, *matcher_) {
   c_.validate();
 }
 
-bool GraphSlam::add(const LogScan& scan, const Pose2& odometry, const Pose2& mount) {
+bool GraphSlam::on_scan(const ScanMessage& scan) {
+  if (!odometry_) return false;  // nowhere to start from
+  const Pose2& odometry = *odometry_;
+  Pose2 mount = scan.mount.to_pose2();
+  mount.yaw += 0.0;  // a level mount's yaw reads back from the quaternion as -0
+  const std::int64_t stamp_us = microseconds_of(scan.header.t_s);
   const LocalSlamConfig& lc = c_.local;
   std::vector<Vec2> points;
   LocalSlam::Step step;
   {
     ScopedCpuTimer timer(stats_.local_cpu_s);
     points = scan_points(scan, lc.min_range_m, lc.max_range_m, lc.voxel_m);
-    step = local_.add(points, odometry, mount, scan.stamp_us);
+    step = local_.add(points, odometry, mount, stamp_us);
   }
   stats_.matched += step.matched;
   stats_.unmatched += step.attempted && !step.matched;
-  ScanPose sp{scan.stamp_us, nodes_.empty() ? std::nullopt : std::optional<std::size_t>(nodes_.size() - 1), step.pose};
+  ScanPose sp{scan.header.t_s, stamp_us, nodes_.empty() ? std::nullopt : std::optional<std::size_t>(nodes_.size() - 1), step.pose};
   if (!step.node) {
     scans_.push_back(sp);
     return false;
   }
   const std::size_t n = nodes_.size();
   Node node;
-  node.stamp_us = scan.stamp_us;
+  node.stamp_us = stamp_us;
   node.local = step.pose;
   node.global = n == 0 ? step.pose : nodes_[n - 1].global.compose(nodes_[n - 1].local.inverse().compose(step.pose));
   node.mount = mount;
@@ -204,12 +205,13 @@ void GraphSlam::search_closures(std::size_t n) {
 bool GraphSlam::search_submap(std::size_t n, std::size_t s, bool global) {
   const Node& node = nodes_[n];
   const std::size_t anchor = submaps_[s].first;
-  const CorrelativeScanMatcher::Field& field = submap_field(s);
+  if (submaps_[s].points.empty()) return false;  // its nodes saw nothing within loop_max_range_m
+  const ScanReference& field = submap_field(s);
   const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
   const MatchWindow window = global ? MatchWindow{c_.global_window_linear_m, kPi, c_.global_min_score}
                                     : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score};
   ++(global ? stats_.global_searches : stats_.loop_searches);
-  const ScanMatch m = matcher_.match_to_field(field, node.points, guess, window);
+  const ScanMatch m = field.match(node.points, guess, window);
   if (!m.converged) return false;
   const Pose2 z = m.transform.compose(node.mount.inverse());
   edges_.push_back({anchor, n, z, information(c_.loop_sigma_m, c_.loop_sigma_rad), c_.loop_loss, c_.loop_loss_scale});
@@ -219,22 +221,18 @@ bool GraphSlam::search_submap(std::size_t n, std::size_t s, bool global) {
   return true;
 }
 
-const CorrelativeScanMatcher::Field& GraphSlam::submap_field(std::size_t s) {
+const ScanReference& GraphSlam::submap_field(std::size_t s) {
   for (auto it = cache_.begin(); it != cache_.end(); ++it)
     if (it->submap == s) {
       cache_.splice(cache_.begin(), cache_, it);
-      return cache_.front().field;
+      return *cache_.front().field;
     }
-  const std::vector<Vec2>& points = submaps_[s].points;
-  Vec2 lo = points.front(), hi = points.front();
-  for (const Vec2& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Vec2 margin = Vec2::Constant(3 * c_.local.matcher.sigma_m + c_.local.matcher.resolution_m);
-  cache_.push_front({s, matcher_.field_of_points(points, lo - margin, hi + margin, c_.search_depth)});
+  cache_.push_front({s, matcher_->prepare(submaps_[s].points, 0.0, c_.search_depth)});
   while (cache_.size() > static_cast<std::size_t>(c_.field_cache)) cache_.pop_back();
   std::size_t bytes = 0;
-  for (const CachedField& f : cache_) bytes += f.field.bytes();
+  for (const CachedField& f : cache_) bytes += f.field->bytes();
   stats_.peak_field_bytes = std::max(stats_.peak_field_bytes, bytes);
-  return cache_.front().field;
+  return *cache_.front().field;
 }
 
 void GraphSlam::optimise() {
@@ -252,13 +250,18 @@ void GraphSlam::finish() {
   if (closures_since_optimise_ > 0) optimise();
 }
 
-std::vector<TrajectoryPose> GraphSlam::trajectory() const {
-  std::vector<TrajectoryPose> out;
+std::vector<SlamPose> GraphSlam::trajectory() const {
+  std::vector<SlamPose> out;
   if (nodes_.empty()) return out;
   out.reserve(scans_.size());
   for (const ScanPose& s : scans_) {
     const Node& node = nodes_[s.node.value_or(0)];
-    out.push_back({s.stamp_us, node.global.compose(node.local.inverse().compose(s.local))});
+    const Pose2 base = node.global.compose(node.local.inverse().compose(s.local));
+    const Pose2 sensor = base.compose(node.mount);
+    Rigid3 t = Rigid3::Identity();
+    t.linear() = Eigen::AngleAxisd(sensor.yaw, Vec3::UnitZ()).toRotationMatrix();
+    t.translation() = Vec3(sensor.x, sensor.y, 0.0);
+    out.push_back({s.t_s, s.stamp_us, base, t});
   }
   return out;
 }
@@ -296,22 +299,15 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
           {"peak_field_mb", d(s.peak_field_bytes) / 1e6}};
 }
 
-double run_slam_on_log(Slam& slam, const RobotLog& log, const std::function<void(std::size_t, std::size_t)>& progress) {
-  const double t0 = thread_cpu_s();
-  const Pose2 mount = log.laser_in_base.value_or(Pose2());
-  for_each_scan_with_odometry(log, [&](const LogScan& scan, const Pose2& odometry) {
-    try {
-      slam.add(scan, odometry, mount);
-    } catch (const Error& e) {
-      throw error_at_scan(log, scan, e);
-    }
-  }, progress);
-  try {
-    slam.finish();
-  } catch (const Error& e) {
-    throw e.file().empty() ? e.with_file(log.path) : e;
-  }
-  return thread_cpu_s() - t0;
+std::vector<ParamSpec> graph_slam_specs() {
+  std::vector<ParamSpec> specs = graph_slam_params().specs();
+  std::vector<ParamSpec> matcher = correlative_matcher_params().specs(local_slam_matcher_config());
+  for (ParamSpec& p : matcher) p.key = "local.matcher." + p.key;
+  // After the local SLAM's own keys, where the matcher's settings belong.
+  auto at = specs.begin();
+  while (at != specs.end() && at->key.rfind("local.", 0) == 0) ++at;
+  specs.insert(at, matcher.begin(), matcher.end());
+  return specs;
 }
 
 SlamDef graph_slam() {
@@ -321,15 +317,32 @@ SlamDef graph_slam() {
   d.info.section = "slam";
   d.info.summary = "Graph SLAM of Cartographer's design: local scan-to-map matching, submaps, branch-and-bound loop closure, "
                    "sparse pose-graph optimisation with robust losses";
-  d.info.params = graph_slam_params().specs();
+  d.info.capabilities = {Capability::Planar};
+  d.info.params = graph_slam_specs();
   d.make = [](const SlamContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Slam> {
-    const GraphSlamConfig config = configured(graph_slam_params(), settings, ctx.file);
+    // `local.matcher.*` are the scan matcher's settings, after the local SLAM's defaults for it.
+    std::vector<ParamSetting> own, matcher = local_slam_matcher_settings();
+    for (const ParamSetting& s : settings) {
+      if (s.key.rfind("local.matcher.", 0) == 0) {
+        ParamSetting m = s;
+        m.key = s.key.substr(std::string("local.matcher.").size());
+        matcher.push_back(std::move(m));
+      } else {
+        own.push_back(s);
+      }
+    }
+    matcher.insert(matcher.end(), ctx.matcher.settings.begin(), ctx.matcher.settings.end());
+    const GraphSlamConfig config = configured(graph_slam_params(), own, ctx.file);
     try {
       config.validate();
     } catch (const Error& e) {
-      rethrow_at_setting(e, settings, ctx.file);
+      rethrow_at_setting(e, own, ctx.file);
     }
-    return std::make_unique<GraphSlam>(config);
+    if (!ctx.make_scan_matcher) throw Error("no scan matcher factory to compose graph SLAM with", ctx.file, 0, ctx.matcher.field);
+    SlamMatcherChoice choice = ctx.matcher;
+    if (choice.name.empty()) choice.name = "correlative";
+    choice.settings = std::move(matcher);
+    return std::make_unique<GraphSlam>(config, ctx.make_scan_matcher(choice));
   };
   return d;
 }

@@ -8,6 +8,13 @@
 // SLAM's relative poses, loop closures under a robust loss) is optimised every
 // `optimise_every_nodes` nodes that brought closures, and at the end. Scans between nodes keep
 // their pose relative to the node before them.
+//
+// The front end (LocalSlam) and the back end (submaps, closures, pose graph) share one scan
+// matcher, the ScanMatcher role injected by whoever builds the SLAM (the registry's factory picks
+// `correlative` with the `local.matcher.*` settings); it must prepare references (the local map
+// and each submap are one, the closures search them in windows of their own). Input through the
+// Slam role: scans (ScanMessage, any stream the caller routes here) placed from the latest
+// odometry; scans before the first odometry are not placed.
 #include <cstddef>
 #include <list>
 #include <memory>
@@ -57,11 +64,13 @@ struct GraphSlamStats {
 
 class GraphSlam final : public Slam {
  public:
-  explicit GraphSlam(const GraphSlamConfig& config = {});
+  GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher> matcher);
   std::string_view name() const override { return "graph"; }
-  bool add(const LogScan& scan, const Pose2& odometry, const Pose2& laser_in_base) override;
+  SlamSpace space() const override { return SlamSpace::Planar; }
+  void on_odometry(const OdometryMessage& odometry) override { odometry_ = odometry.pose; }
+  bool on_scan(const ScanMessage& scan) override;
   void finish() override;
-  std::vector<TrajectoryPose> trajectory() const override;
+  std::vector<SlamPose> trajectory() const override;
   OccupancyGrid map(const OccupancyMappingParams& params) const override;
   SlamGraph graph() const override;
   std::vector<std::pair<std::string, double>> statistics() const override;
@@ -74,7 +83,7 @@ class GraphSlam final : public Slam {
     Pose2 mount;
     std::vector<Vec2> points;  // sensor frame, for closures (range-limited)
     double constraint = 0.0;   // scan_constraint(points)
-    LogScan scan;              // for the map
+    ScanMessage scan;          // for the map
   };
   struct Submap {
     std::size_t first = 0, count = 0;  // node indices [first, first + count)
@@ -82,23 +91,25 @@ class GraphSlam final : public Slam {
     bool finished = false;
   };
   struct ScanPose {
+    double t_s = 0.0;
     std::int64_t stamp_us = 0;
     std::optional<std::size_t> node;  // the node before it (none: before the first node)
     Pose2 local;
   };
   struct CachedField {
     std::size_t submap = 0;
-    CorrelativeScanMatcher::Field field;
+    std::unique_ptr<ScanReference> field;
   };
   void add_to_submaps(std::size_t node);
   void search_closures(std::size_t node);
   bool search_submap(std::size_t node, std::size_t submap, bool global);
-  const CorrelativeScanMatcher::Field& submap_field(std::size_t submap);
+  const ScanReference& submap_field(std::size_t submap);
   void optimise();
 
   GraphSlamConfig c_;
+  std::unique_ptr<ScanMatcher> matcher_;
   LocalSlam local_;
-  CorrelativeScanMatcher matcher_;
+  std::optional<Pose2> odometry_;  // the latest
   std::vector<Node> nodes_;
   std::vector<Submap> submaps_;
   std::vector<ScanPose> scans_;
@@ -115,9 +126,9 @@ class GraphSlam final : public Slam {
 // along the corridor free (the closures such scans would make slide along it).
 double scan_constraint(std::span<const Vec2> points);
 
-// Runs `slam` over every scan of `log` in file order (scans without an odometry pose are left
-// out), then finish(). `progress(done, total)` every 100 scans. Returns the thread CPU time.
-double run_slam_on_log(Slam& slam, const RobotLog& log, const std::function<void(std::size_t, std::size_t)>& progress = {});
+// The declared parameters of the `graph` component: graph_slam_params() with the matcher's under
+// `local.matcher.` (their defaults the local SLAM's: local_slam_matcher_settings()).
+std::vector<ParamSpec> graph_slam_specs();
 
 SlamDef graph_slam();
 

@@ -80,12 +80,18 @@ double seconds_between(std::chrono::steady_clock::time_point a) {
 
 }  // namespace
 
-GraphSlam3d::GraphSlam3d(const GraphSlam3dConfig& config, const Pose3& mount, const MatcherFactory& make_matcher)
-    : c_(config), mount_(mount), rng_(config.seed) {
+GraphSlam3d::GraphSlam3d(const GraphSlam3dConfig& config, const MatcherFactory& make_matcher) : c_(config), rng_(config.seed) {
   c_.validate();
-  matcher_ = make_matcher();
-  loop_matcher_ = make_matcher();
+  if (make_matcher) {
+    matcher_ = make_matcher();
+    loop_matcher_ = make_matcher();
+  }
   if (!matcher_ || !loop_matcher_) throw Error("no 3D scan matcher", "", 0, "matcher");
+}
+
+GraphSlam3d::GraphSlam3d(const GraphSlam3dConfig& config, const Pose3& mount, const MatcherFactory& make_matcher)
+    : GraphSlam3d(config, make_matcher) {
+  mount_ = mount;
 }
 
 Eigen::Matrix<double, 6, 6> GraphSlam3d::registration_information() const {
@@ -98,7 +104,7 @@ Eigen::Matrix<double, 6, 6> GraphSlam3d::registration_information() const {
 std::optional<Plane3> GraphSlam3d::detect_floor(const PointCloud& cloud) {
   // The expected floor: z = 0 in the map frame, seen from the current estimate of the sensor's
   // height and tilt (the last key frame's, or the mount's before the first).
-  const Rigid3 pose = keyframes_.empty() ? to_rigid(mount_) : keyframes_.back().pose;
+  const Rigid3 pose = keyframes_.empty() ? to_rigid(*mount_) : keyframes_.back().pose;
   const Eigen::Matrix3d r = pose.linear();
   const double height = pose.translation().z();
   PointCloud near_floor;
@@ -135,7 +141,7 @@ void GraphSlam3d::add_keyframe(std::size_t frame, double t_s, PointCloud cloud, 
     // The map frame: the floor at z = 0 below the mount. The first key frame is tied to that pose
     // by the anchor (optimise()), firmly in x, y and yaw, loosely in height and tilt, so that
     // the floor seen from every key frame, not the first one alone, sets them.
-    kf.pose = to_rigid(mount_);
+    kf.pose = to_rigid(*mount_);
   } else {
     kf.pose = keyframes_.back().pose * relative;
     edges_.push_back({keyframes_.size() - 1, keyframes_.size(), relative, registration_information(), RobustLoss::None, 1.0});
@@ -194,7 +200,7 @@ void GraphSlam3d::optimise() {
   // Node 0 is the fixed anchor at the mount's pose; key frame k is node k + 1.
   std::vector<Rigid3> poses;
   poses.reserve(keyframes_.size() + 1);
-  poses.push_back(to_rigid(mount_));
+  poses.push_back(to_rigid(*mount_));
   for (const Slam3dKeyframe& k : keyframes_) poses.push_back(k.pose);
   std::vector<PoseGraph3Edge> edges;
   edges.reserve(edges_.size() + 1);
@@ -217,7 +223,8 @@ void GraphSlam3d::optimise() {
   ++optimisations_;
 }
 
-void GraphSlam3d::add(double t_s, std::span<const Vec3> points, const std::optional<Pose2>& odometry) {
+bool GraphSlam3d::add(double t_s, std::span<const Vec3> points, const std::optional<Pose2>& odometry) {
+  if (!mount_) throw Error("the sensor's mount is not known (give it, or the clouds' messages carry it)", "", 0, "mount");
   Slam3dFrameResult fr;
   fr.frame = frames_.size();
   fr.t_s = t_s;
@@ -235,11 +242,12 @@ void GraphSlam3d::add(double t_s, std::span<const Vec3> points, const std::optio
     fr.converged = true;
     keyframe_odometry_ = odometry;
     frames_.push_back(fr);
-    return;
+    count(fr);
+    return true;
   }
   Rigid3 guess = last_relative_ * last_step_;
   if (odometry && keyframe_odometry_) {
-    const Rigid3 mount = to_rigid(mount_);
+    const Rigid3 mount = to_rigid(*mount_);
     guess = mount.inverse() * level_base(*keyframe_odometry_).inverse() * level_base(*odometry) * mount;
   }
   const CloudMatch m = matcher_->match(cloud, guess);
@@ -264,15 +272,123 @@ void GraphSlam3d::add(double t_s, std::span<const Vec3> points, const std::optio
     fr.keyframe_created = true;
   }
   frames_.push_back(fr);
+  count(fr);
+  return fr.keyframe_created;
+}
+
+void GraphSlam3d::count(const Slam3dFrameResult& f) {
+  totals_.raw += f.raw_points;
+  totals_.windowed += f.windowed;
+  totals_.voxelised += f.voxelised;
+  totals_.kept += f.filtered_points;
+  totals_.match_s += f.match_s;
 }
 
 void GraphSlam3d::finish() { optimise(); }
 
-std::vector<Rigid3> GraphSlam3d::trajectory() const {
+std::vector<Rigid3> GraphSlam3d::sensor_poses() const {
   std::vector<Rigid3> out;
   out.reserve(frames_.size());
   for (const Slam3dFrameResult& f : frames_) out.push_back(keyframes_[f.keyframe].pose * f.relative);
   return out;
+}
+
+bool GraphSlam3d::on_cloud(const CloudMessage& cloud) {
+  if (!mount_) mount_ = cloud.mount;
+  return add(cloud.header.t_s, cloud.points, odometry_);
+}
+
+namespace {
+
+// The base's planar pose under a sensor pose: (sensor * mount^-1) projected onto the floor.
+Pose2 base_of(const Rigid3& sensor, const Rigid3& mount_inverse) {
+  const Rigid3 base = sensor * mount_inverse;
+  return Pose2(base.translation().x(), base.translation().y(), std::atan2(base.linear()(1, 0), base.linear()(0, 0)));
+}
+
+}  // namespace
+
+std::vector<SlamPose> GraphSlam3d::trajectory() const {
+  std::vector<SlamPose> out;
+  if (!mount_) return out;
+  const Rigid3 mount_inverse = to_rigid(*mount_).inverse();
+  out.reserve(frames_.size());
+  for (const Slam3dFrameResult& f : frames_) {
+    const Rigid3 sensor = keyframes_[f.keyframe].pose * f.relative;
+    out.push_back({f.t_s, microseconds_of(f.t_s), base_of(sensor, mount_inverse), sensor});
+  }
+  return out;
+}
+
+OctreeMap GraphSlam3d::map_3d(const OctreeMapConfig& config) const { return keyframes_octree(keyframes_, config); }
+
+OccupancyGrid GraphSlam3d::map(const OccupancyMappingParams& params) const {
+  OctreeMapConfig c;
+  c.resolution_m = params.resolution_m;
+  return map_3d(c).project_to_grid(GridProjectionConfig{});
+}
+
+SlamGraph GraphSlam3d::graph() const {
+  SlamGraph g;
+  if (!mount_) return g;
+  const Rigid3 mount_inverse = to_rigid(*mount_).inverse();
+  for (const Slam3dKeyframe& k : keyframes_) g.nodes.push_back({microseconds_of(k.t_s), base_of(k.pose, mount_inverse)});
+  const Rigid3 mount = to_rigid(*mount_);
+  const auto planar = [&](const Rigid3& sensor_relative) { return base_of(mount * sensor_relative, mount_inverse); };
+  // Closures are the robust edges, in the order of loops_.
+  std::size_t loop = 0;
+  for (const PoseGraph3Edge& e : edges_) {
+    const bool closure = e.loss != RobustLoss::None;
+    g.edges.push_back({e.from, e.to, closure ? SlamEdgeKind::Loop : SlamEdgeKind::Local, planar(e.measurement),
+                       closure ? loops_[loop++].fitness : 0.0});
+  }
+  return g;
+}
+
+std::vector<std::pair<std::string, double>> GraphSlam3d::statistics() const {
+  const Slam3dTotals& t = totals_;
+  const double nf = static_cast<double>(std::max<std::size_t>(1, frames_.size()));
+  const auto d = [](std::size_t v) { return static_cast<double>(v); };
+  return {{"frames", d(frames_.size())},
+          {"keyframes", d(keyframes_.size())},
+          {"loop_closures", d(loops_.size())},
+          {"floor_edges", d(plane_edges_.size())},
+          {"optimisations", static_cast<double>(optimisations_)},
+          {"optimise_s", optimise_s_},
+          {"raw_points", d(t.raw)},
+          {"windowed_points", d(t.windowed)},
+          {"voxelised_points", d(t.voxelised)},
+          {"filtered_points", d(t.kept)},
+          {"match_s", t.match_s},
+          {"mean_raw_points", d(t.raw) / nf},
+          {"mean_filtered_points", d(t.kept) / nf},
+          {"mean_match_s", t.match_s / nf}};
+}
+
+SlamDef graph_slam_3d() {
+  SlamDef d;
+  d.info.role = Role::Slam;
+  d.info.name = "graph3d";
+  d.info.section = "graph3d";
+  d.info.summary = "3D graph SLAM as hdl_graph_slam does it: prefiltered clouds registered onto key frames by a 3D scan matcher "
+                   "(ndt_mt unless chosen), floor plane edges, loop closures, SE(3) pose-graph optimisation";
+  d.info.capabilities = {Capability::ThreeD};
+  d.info.params = graph_slam_3d_params().specs();
+  d.make = [](const SlamContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Slam> {
+    const GraphSlam3dConfig config = configured(graph_slam_3d_params(), settings, ctx.file);
+    try {
+      config.validate();
+    } catch (const Error& e) {
+      rethrow_at_setting(e, settings, ctx.file);
+    }
+    if (!ctx.make_scan_matcher_3d) throw Error("no 3D scan matcher factory to compose 3D graph SLAM with", ctx.file, 0, ctx.matcher.field);
+    SlamMatcherChoice choice = ctx.matcher;
+    if (choice.name.empty()) choice.name = "ndt_mt";
+    // Built once here so that a bad name or setting is reported before the SLAM holds any.
+    (void)ctx.make_scan_matcher_3d(choice);
+    return std::make_unique<GraphSlam3d>(config, [make = ctx.make_scan_matcher_3d, choice] { return make(choice); });
+  };
+  return d;
 }
 
 }  // namespace starnav

@@ -16,6 +16,10 @@
 //  5. the pose graph (slam/pose_graph_3d) is optimised after every closure and at the end.
 // The map frame is the floor's: z = 0 on the floor, z up; the first key frame's sensor pose is the
 // LiDAR's mount above the origin (its height and tilt from the first floor fit when there is one).
+//
+// Through the Slam role (`graph3d` in the registry, whose factory builds the two 3D scan matchers
+// by name): clouds (CloudMessage: sensor-frame points, the mount) registered with the latest
+// odometry as the guess; the mount of the first cloud unless the constructor was given one.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -28,6 +32,7 @@
 #include "starnav/cloud/scan_matcher_3d.hpp"
 #include "starnav/core/params.hpp"
 #include "starnav/slam/pose_graph_3d.hpp"
+#include "starnav/slam/slam.hpp"
 
 namespace starnav {
 
@@ -61,15 +66,6 @@ struct GraphSlam3dConfig {
 };
 const ParamTable<GraphSlam3dConfig>& graph_slam_3d_params();
 
-struct Slam3dKeyframe {
-  std::size_t frame = 0;  // index of the frame it came from
-  double t_s = 0.0;
-  Rigid3 pose = Rigid3::Identity();  // the sensor in the map frame (optimised)
-  PointCloud cloud;                  // prefiltered, sensor frame
-  double accum_distance_m = 0.0;     // travelled before it
-  std::optional<Plane3> floor;       // as fitted in its frame
-};
-
 struct Slam3dFrameResult {
   std::size_t frame = 0;
   double t_s = 0.0;
@@ -87,23 +83,47 @@ struct Slam3dLoop {
   double fitness = 0.0;
 };
 
-class GraphSlam3d {
+class GraphSlam3d final : public Slam {
  public:
-  // `mount`: the sensor in base_link (used with wheel odometry and for the first pose).
-  // `make_matcher` builds the 3D scan matcher (twice: odometry and loop closures keep their own
-  // references); the caller picks it, by name from the registry in starnav's front ends.
+  // `mount`: the sensor in base_link (used with wheel odometry and for the first pose); without
+  // one, the first cloud message's. `make_matcher` builds the 3D scan matcher (twice: odometry and
+  // loop closures keep their own references); whoever builds the SLAM picks it (the registry's
+  // factory by name).
   using MatcherFactory = std::function<std::unique_ptr<ScanMatcher3d>()>;
+  GraphSlam3d(const GraphSlam3dConfig& config, const MatcherFactory& make_matcher);
   GraphSlam3d(const GraphSlam3dConfig& config, const Pose3& mount, const MatcherFactory& make_matcher);
-  // One frame (sensor-frame points) at t_s, with the base's wheel odometry pose when known.
-  void add(double t_s, std::span<const Vec3> points, const std::optional<Pose2>& odometry = std::nullopt);
+  // One frame (sensor-frame points) at t_s, with the base's wheel odometry pose when known; returns
+  // true when it became a key frame. Needs the mount.
+  bool add(double t_s, std::span<const Vec3> points, const std::optional<Pose2>& odometry = std::nullopt);
   // Optimises the graph a last time.
-  void finish();
+  void finish() override;
+
+  // The Slam role.
+  std::string_view name() const override { return "graph3d"; }
+  SlamSpace space() const override { return SlamSpace::ThreeD; }
+  void on_odometry(const OdometryMessage& odometry) override { odometry_ = odometry.pose; }
+  bool on_cloud(const CloudMessage& cloud) override;
+  std::vector<SlamPose> trajectory() const override;
+  // The octree of the key frames projected to a grid of params.resolution_m (GridProjectionConfig's
+  // default band).
+  OccupancyGrid map(const OccupancyMappingParams& params) const override;
+  OctreeMap map_3d(const OctreeMapConfig& config) const override;
+  const std::vector<Slam3dKeyframe>& keyframes_3d() const override { return keyframes_; }
+  // Key frames as nodes (their base poses, planar), registration edges Local, closures Loop (score:
+  // the registration's fitness, m^2).
+  SlamGraph graph() const override;
+  // frames, keyframes, loop_closures, floor_edges, optimisations, optimise_s; the prefilter's
+  // points over all frames (raw_points, windowed_points, voxelised_points, filtered_points) and
+  // the registrations' time (match_s), and their means per frame (mean_raw_points,
+  // mean_filtered_points, mean_match_s). Totals so far: a caller who wants a frame's figures takes
+  // the difference across its on_cloud.
+  std::vector<std::pair<std::string, double>> statistics() const override;
 
   const std::vector<Slam3dKeyframe>& keyframes() const { return keyframes_; }
   const std::vector<Slam3dFrameResult>& frames() const { return frames_; }
   const std::vector<Slam3dLoop>& loops() const { return loops_; }
   // Every frame's sensor pose in the map frame, from its key frame's current pose.
-  std::vector<Rigid3> trajectory() const;
+  std::vector<Rigid3> sensor_poses() const;
   const std::vector<PoseGraph3Edge>& edges() const { return edges_; }
   const std::vector<PlaneEdge3>& plane_edges() const { return plane_edges_; }
   double optimise_s() const { return optimise_s_; }
@@ -116,9 +136,16 @@ class GraphSlam3d {
   Eigen::Matrix<double, 6, 6> registration_information() const;
   void detect_loops();
   void optimise();
+  void count(const Slam3dFrameResult& frame);
+
+  struct Slam3dTotals {
+    std::size_t raw = 0, windowed = 0, voxelised = 0, kept = 0;
+    double match_s = 0.0;
+  };
 
   GraphSlam3dConfig c_;
-  Pose3 mount_;
+  std::optional<Pose3> mount_;
+  std::optional<Pose2> odometry_;  // the latest (the role's input)
   std::unique_ptr<ScanMatcher3d> matcher_;
   std::unique_ptr<ScanMatcher3d> loop_matcher_;
   std::vector<Slam3dKeyframe> keyframes_;
@@ -134,6 +161,9 @@ class GraphSlam3d {
   double last_loop_accum_m_ = -1e300;
   double optimise_s_ = 0.0;
   int optimisations_ = 0;
+  Slam3dTotals totals_;  // over frames_
 };
+
+SlamDef graph_slam_3d();
 
 }  // namespace starnav

@@ -7,6 +7,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/cpu_time.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/logs/robot_log_source.hpp"
 
 namespace starnav {
 
@@ -21,7 +22,6 @@ const ParamTable<LocalSlamConfig>& local_slam_params() {
     t.real("node_angle_deg", &C::node_angle_rad, closed(0.0, 180.0), "deg", "turning that makes a scan a node", kPi / 180.0);
     t.integer("window_nodes", &C::window_nodes, closed(1, 1000), "", "nodes whose points make the local map");
     t.integer("rebuild_every", &C::rebuild_every, closed(1, 1000), "", "nodes between rebuilds of the local map");
-    t.nest("matcher", correlative_matcher_params(), &C::matcher);
     return t;
   }();
   return table;
@@ -35,10 +35,18 @@ void LocalSlamConfig::validate() const {
   require(std::isfinite(node_angle_rad) && node_angle_rad >= 0, "node_angle_deg", "must be >= 0");
   require(window_nodes >= 1 && window_nodes <= 1000, "window_nodes", "must be in [1, 1000]");
   require(rebuild_every >= 1 && rebuild_every <= 1000, "rebuild_every", "must be in [1, 1000]");
-  matcher.validate();
 }
 
-std::vector<Vec2> scan_points(const LogScan& scan, double min_range_m, double max_range_m, double voxel_m) {
+const std::vector<ParamSetting>& local_slam_matcher_settings() {
+  static const std::vector<ParamSetting> settings = {{"prior_linear_weight", "10", {}, 0, "local.matcher.prior_linear_weight"}};
+  return settings;
+}
+
+CorrelativeMatcherConfig local_slam_matcher_config() {
+  return configured(correlative_matcher_params(), local_slam_matcher_settings(), {});
+}
+
+std::vector<Vec2> scan_points(const ScanMessage& scan, double min_range_m, double max_range_m, double voxel_m) {
   std::vector<Vec2> out;
   std::unordered_set<std::uint64_t> seen;
   for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
@@ -57,7 +65,13 @@ std::vector<Vec2> scan_points(const LogScan& scan, double min_range_m, double ma
   return out;
 }
 
-LocalSlam::LocalSlam(const LocalSlamConfig& config) : c_(config), matcher_(config.matcher) { c_.validate(); }
+LocalSlam::LocalSlam(const LocalSlamConfig& config, const ScanMatcher& matcher)
+    : c_(config), matcher_(matcher), window_(matcher.window()) {
+  c_.validate();
+  if (!matcher_.supports_reference())
+    throw Error("scan matcher '" + std::string(matcher_.name()) + "' prepares no reference to match scans against a local map", {}, 0,
+                "matcher");
+}
 
 LocalSlam::Step LocalSlam::add(const std::vector<Vec2>& points, const Pose2& odom, const Pose2& mount, std::int64_t stamp_us) {
   Step step;
@@ -68,14 +82,14 @@ LocalSlam::Step LocalSlam::add(const std::vector<Vec2>& points, const Pose2& odo
   if (velocity_ && dt > 0 && dt < 2.0) {
     const Pose2 v(velocity_->x * dt, velocity_->y * dt, velocity_->yaw * dt);
     const Pose2 gap = v.inverse().compose(odom_increment);
-    if (gap.translation().norm() > 0.5 * c_.matcher.window_linear_m || std::abs(gap.yaw) > 0.5 * c_.matcher.window_angular_rad)
+    if (gap.translation().norm() > 0.5 * window_.linear_m || std::abs(gap.yaw) > 0.5 * window_.angular_rad)
       steady = last_pose_->compose(v);
   }
-  if (have_field_ && points.size() >= 10) {
+  if (local_map_ && points.size() >= 10) {
     step.attempted = true;
-    ScanMatch m = matcher_.match_to_field(field_, points, step.pose.compose(mount));
+    ScanMatch m = local_map_->match(points, step.pose.compose(mount));
     if (steady) {
-      const ScanMatch alt = matcher_.match_to_field(field_, points, steady->compose(mount));
+      const ScanMatch alt = local_map_->match(points, steady->compose(mount));
       if (alt.score > m.score) m = alt, step.pose = *steady;
     }
     if (m.converged) {
@@ -100,31 +114,30 @@ LocalSlam::Step LocalSlam::add(const std::vector<Vec2>& points, const Pose2& odo
   world.reserve(points.size());
   const Pose2 sensor = step.pose.compose(mount);
   for (const Vec2& p : points) world.push_back(sensor.transform(p));
-  window_.push_back(std::move(world));
-  if (static_cast<int>(window_.size()) > c_.window_nodes) window_.pop_front();
-  if (!have_field_ || ++since_rebuild_ >= c_.rebuild_every) {
+  nodes_.push_back(std::move(world));
+  if (static_cast<int>(nodes_.size()) > c_.window_nodes) nodes_.pop_front();
+  if (!local_map_ || ++since_rebuild_ >= c_.rebuild_every) {
     since_rebuild_ = 0;
-    const double margin = 3 * c_.matcher.sigma_m + c_.matcher.window_linear_m + c_.matcher.resolution_m;
     std::vector<Vec2> all;
-    for (const auto& w : window_) all.insert(all.end(), w.begin(), w.end());
-    Vec2 lo = all.front(), hi = all.front();
-    for (const Vec2& p : all) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    field_ = matcher_.field_of_points(all, lo - Vec2::Constant(margin), hi + Vec2::Constant(margin));
-    have_field_ = true;
+    for (const auto& w : nodes_) all.insert(all.end(), w.begin(), w.end());
+    // Scans land up to the window beyond the points that are there.
+    local_map_ = matcher_.prepare(all, window_.linear_m, 2);
   }
   return step;
 }
 
-LocalSlamResult run_local_slam(const RobotLog& log, const LocalSlamConfig& c,
+LocalSlamResult run_local_slam(const RobotLog& log, const LocalSlamConfig& c, const ScanMatcher& matcher,
                                const std::function<void(std::size_t, std::size_t)>& progress) {
-  LocalSlam local(c);
+  LocalSlam local(c, matcher);
   const double t0 = thread_cpu_s();
   const Pose2 mount = log.laser_in_base.value_or(Pose2());
+  const Pose3 mount3 = log_laser_mount(log);
   LocalSlamResult out;
   for_each_scan_with_odometry(
       log,
       [&](const LogScan& scan, const Pose2& odom) {
-        const LocalSlam::Step step = local.add(scan_points(scan, c.min_range_m, c.max_range_m, c.voxel_m), odom, mount, scan.stamp_us);
+        const ScanMessage message = scan_message(scan, mount3, "lidar");
+        const LocalSlam::Step step = local.add(scan_points(message, c.min_range_m, c.max_range_m, c.voxel_m), odom, mount, scan.stamp_us);
         out.matched += step.matched;
         out.unmatched += step.attempted && !step.matched;
         out.poses.push_back({scan.stamp_us, step.pose});

@@ -124,14 +124,15 @@ void OccupancyMapper::trace(const Vec2& from, const Vec2& to, bool hit) {
   update(ex, ey, hit);
 }
 
-void OccupancyMapper::add_rays(const Pose2& sensor_pose, double angle_min, double angle_increment,
-                               const std::vector<float>& ranges, double range_min, double range_max) {
+template <class Range, class Angle>
+void OccupancyMapper::add_beams(const Pose2& sensor_pose, std::size_t beams, Range range, Angle angle, double range_min,
+                                double range_max) {
   if (!std::isfinite(sensor_pose.x) || !std::isfinite(sensor_pose.y) || !std::isfinite(sensor_pose.yaw))
     throw Error("sensor pose is not finite", {}, 0, "pose");
   ++scans_;
   const Vec2 origin = sensor_pose.translation();
-  for (std::size_t i = 0; i < ranges.size(); ++i) {
-    double d = ranges[i];
+  for (std::size_t i = 0; i < beams; ++i) {
+    double d = range(i);
     if (std::isnan(d) || d < range_min || d <= 0.0) continue;
     bool hit = true;
     if (d >= range_max) {
@@ -143,10 +144,29 @@ void OccupancyMapper::add_rays(const Pose2& sensor_pose, double angle_min, doubl
       d = params_.max_range_m;
       hit = false;
     }
-    const double a = sensor_pose.yaw + angle_min + static_cast<double>(i) * angle_increment;
+    const double a = angle(i);
     trace(origin, origin + d * Vec2(std::cos(a), std::sin(a)), hit);
   }
   if (track_) collect_changes();
+}
+
+void OccupancyMapper::add_rays(const Pose2& sensor_pose, double angle_min, double angle_increment,
+                               const std::vector<float>& ranges, double range_min, double range_max) {
+  add_beams(
+      sensor_pose, ranges.size(), [&](std::size_t i) { return static_cast<double>(ranges[i]); },
+      [&](std::size_t i) { return sensor_pose.yaw + angle_min + static_cast<double>(i) * angle_increment; }, range_min, range_max);
+}
+
+void OccupancyMapper::add_scan(const Pose2& sensor_pose, const ScanMessage& scan) {
+  const auto range = [&](std::size_t i) { return scan.ranges_m[i]; };
+  if (scan.angles_rad.empty())
+    add_beams(
+        sensor_pose, scan.ranges_m.size(), range,
+        [&](std::size_t i) { return sensor_pose.yaw + scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad; },
+        scan.range_min_m, scan.range_max_m);
+  else
+    add_beams(sensor_pose, scan.ranges_m.size(), range, [&](std::size_t i) { return sensor_pose.yaw + scan.angles_rad[i]; },
+              scan.range_min_m, scan.range_max_m);
 }
 
 namespace {

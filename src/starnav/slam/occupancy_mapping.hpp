@@ -21,6 +21,7 @@
 #include "starnav/core/params.hpp"
 #include "starnav/logs/robot_log.hpp"
 #include "starnav/map/occupancy_grid.hpp"
+#include "starnav/sense/sensor_messages.hpp"
 
 namespace starnav {
 
@@ -96,6 +97,7 @@ class OccupancyMapper {
 
   // One scan taken from `sensor_pose` (the laser's pose in the map frame).
   void add_scan(const Pose2& sensor_pose, const LogScan& scan);
+  void add_scan(const Pose2& sensor_pose, const ScanMessage& scan);
   // Beams in the sensor frame: angle, range; `range_max` as LogScan's.
   void add_rays(const Pose2& sensor_pose, double angle_min, double angle_increment, const std::vector<float>& ranges,
                 double range_min, double range_max);
@@ -121,6 +123,9 @@ class OccupancyMapper {
   void check_reach(const Vec2& from, const Vec2& to) const;
   void update(std::int64_t ix, std::int64_t iy, bool hit);
   void trace(const Vec2& from, const Vec2& to, bool hit);
+  // Beam i: range(i), at angle(i) from +x in the map frame.
+  template <class Range, class Angle>
+  void add_beams(const Pose2& sensor_pose, std::size_t beams, Range range, Angle angle, double range_min, double range_max);
 
   OccupancyMappingParams params_;
   float hit_ = 0, miss_ = 0, lo_ = 0, hi_ = 0;

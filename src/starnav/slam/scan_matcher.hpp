@@ -1,11 +1,20 @@
 #pragma once
 // The scan-matcher role: the rigid transform that best lays one 2D scan onto another scan (or
-// onto a map), with a score. ICP, correlative and branch-and-bound matchers implement it (the
-// SLAM issue); the 3D registrations (ICP, GICP, NDT) get their own 3D twin with the 3D mapping
-// issue. Points are in each scan's sensor frame; the transform maps `scan` into `reference`'s
-// frame: reference_point ~= transform * scan_point.
+// onto a map), with a score; the 3D registrations (ICP, GICP, NDT) have their own 3D twin
+// (cloud/scan_matcher_3d.hpp). Points are in each scan's sensor frame; the transform maps `scan`
+// into `reference`'s frame: reference_point ~= transform * scan_point.
+//
+// A SLAM front end matches many scans against one local map, and its back end many nodes against
+// one submap, each time in a search window of its own: a matcher that supports it prepares a
+// reference once (prepare: the correlative matcher's likelihood field with its branch-and-bound
+// levels) and matches against it as often as asked (ScanReference::match, in the matcher's
+// configured window or in one the caller gives). supports_reference() says whether a matcher can;
+// graph SLAM needs one that can.
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include <Eigen/Core>
@@ -25,6 +34,28 @@ struct ScanMatch {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // of (x, y, yaw), when the matcher gives one
 };
 
+// A search window around a guess: +- linear_m in x and y, +- angular_rad in yaw; poses scoring
+// below min_score are not searched for (they prune the search from the start) and a match below it
+// has not converged; an optional prior pulls toward the guess (the correlative matcher's weights).
+struct MatchWindow {
+  double linear_m = 0.3;
+  double angular_rad = 0.349;
+  double min_score = 0.0;
+  double prior_linear_weight = 0.0, prior_angular_weight = 0.0;  // 1/m^2, 1/rad^2
+};
+
+// A reference prepared once for many matches (a local map, a submap), in the matcher's own form.
+class ScanReference {
+ public:
+  virtual ~ScanReference() = default;
+  // `scan` (sensor frame) onto the reference from `guess`, in the matcher's configured window.
+  virtual ScanMatch match(std::span<const Vec2> scan, const Pose2& guess) const = 0;
+  // ... in `window` instead.
+  virtual ScanMatch match(std::span<const Vec2> scan, const Pose2& guess, const MatchWindow& window) const = 0;
+  // Memory held (bytes).
+  virtual std::size_t bytes() const = 0;
+};
+
 class ScanMatcher {
  public:
   virtual ~ScanMatcher() = default;
@@ -36,6 +67,16 @@ class ScanMatcher {
   // cannot match against a map say so: supports_map() false, and match_to_map throws Error.
   virtual bool supports_map() const { return false; }
   virtual ScanMatch match_to_map(const OccupancyGrid& map, std::span<const Vec2> scan, const Pose2& guess);
+
+  // Prepared references (above). `points` (one frame) are prepared for scans laid up to
+  // `search_margin_m` beyond them (the widest window the caller will search, besides the
+  // matcher's own reach); `search_depth` the levels of precomputed bounds for wide searches
+  // (matchers without levels ignore it). Matchers without prepared references: supports_reference()
+  // false, and prepare throws Error.
+  virtual bool supports_reference() const { return false; }
+  virtual std::unique_ptr<ScanReference> prepare(std::span<const Vec2> points, double search_margin_m, int search_depth) const;
+  // The configured search window (a matcher without one: all zero, it refines from the guess).
+  virtual MatchWindow window() const { return {0.0, 0.0, 0.0, 0.0, 0.0}; }
 };
 
 struct ScanMatcherContext {

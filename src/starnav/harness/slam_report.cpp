@@ -1,9 +1,8 @@
-#include "starnav/experiment/slam_report.hpp"
+#include "starnav/harness/slam_report.hpp"
 
 #include <malloc.h>
 #include <sys/resource.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -17,9 +16,9 @@
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/io/ros_map.hpp"
 #include "starnav/logs/log_file.hpp"
-#include "starnav/registry/components.hpp"
-#include "starnav/slam/graph_slam.hpp"
 #include "starnav/harness/run_record.hpp"
+#include "starnav/harness/slam_run.hpp"
+#include "starnav/logs/robot_log_source.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav {
@@ -62,19 +61,25 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   if (!q.relations.empty()) relations = read_relations(q.relations);
   q.mapping.validate();
   const RobotLog log = read_robot_log(q.log, q.read);
-  const SlamDef& def = find_slam(q.method, "--method");
-  std::unique_ptr<Slam> slam = def.make(SlamContext{q.log, 0}, q.settings);
+  SlamChoice choice;
+  choice.method = q.method;
+  choice.settings = q.settings;
+  choice.file = q.log;
+  std::unique_ptr<Slam> slam = make_slam(choice);
+  if (slam->space() != SlamSpace::Planar)
+    throw Error("'" + q.method + "' maps 3D clouds, not a log's planar scans (starnav slam3d runs it)", {}, 0, "--method");
   SlamRunResult r;
   r.log = q.log;
-  r.method = def.info.name;
+  r.method = std::string(slam->name());
   r.scans = log.scans.size();
   const RobotLogSummary s = summarise_log(log);
   r.log_duration_s = static_cast<double>(s.last_us - s.first_us) * 1e-6;
   r.laser_in_base = log.laser_in_base.value_or(Pose2());
-  const auto wall0 = std::chrono::steady_clock::now();
-  r.cpu_s = run_slam_on_log(*slam, log, progress);
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  r.trajectory = slam->trajectory();
+  RobotLogSource source(log);
+  const SlamDriveTimes times = drive_slam(*slam, source, {}, progress);
+  r.cpu_s = times.cpu_s;
+  r.wall_s = times.wall_s;
+  r.trajectory = planar_trajectory(slam->trajectory());
   if (r.trajectory.empty()) throw Error("no scan has an odometry pose to start from", q.log, 0, "LOG");
   r.graph = slam->graph();
   r.statistics = slam->statistics();

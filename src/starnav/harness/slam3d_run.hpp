@@ -1,8 +1,9 @@
 #pragma once
 // 3D graph SLAM on a LiDAR recording (cloud/lidar_recording.hpp: a frames folder as `starnav sim`
 // writes it, a folder of cloud files with a poses file, or a ROS 1 bag of PointCloud2): the
-// matcher by name from the registry, GraphSlam3d frame by frame, and, when the frames carry the
-// truth, the trajectory error. `starnav slam3d` is this call plus its files.
+// `graph3d` SLAM method with its matcher by name from the registry, driven frame by frame through
+// the Slam role (harness/slam_run.hpp), and, when the frames carry the truth, the trajectory
+// error. `starnav slam3d` is this call plus its files.
 //
 // The error: the estimated sensor poses against the true ones (base_link truth composed with the
 // mount), after aligning the first pose in position and heading (both map frames have the floor
@@ -16,12 +17,12 @@
 #include "starnav/cloud/octree_map.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/plan/plan_pipeline.hpp"
-#include "starnav/slam/graph_slam_3d.hpp"
+#include "starnav/slam/slam.hpp"
 
 namespace starnav {
 
 struct Slam3dRunConfig {
-  GraphSlam3dConfig slam;
+  std::vector<ParamSetting> settings;  // graph3d's (docs/parameters.md)
   std::string matcher = "ndt_mt";
   std::vector<ParamSetting> matcher_settings;
   int max_frames = 0;  // 0: all
@@ -34,9 +35,9 @@ struct Slam3dRunResult {
   std::string matcher;
   std::vector<Rigid3> trajectory;  // per frame, the sensor in the map frame
   std::vector<Slam3dKeyframe> keyframes;
-  std::vector<Slam3dFrameResult> frames;
-  std::vector<Slam3dLoop> loops;
-  std::size_t plane_edges = 0;
+  SlamGraph graph;  // key frames as nodes; the loop closures are its Loop edges, between key frames
+  std::size_t frames = 0, plane_edges = 0;
+  double mean_raw_points = 0.0, mean_filtered_points = 0.0, mean_match_s = 0.0;  // per frame
   double wall_s = 0.0;        // the whole run, reading the clouds included
   double mapping_s = 0.0;     // GraphSlam3d alone (prefilter, registration, graph), the pipeline's cost
   double duration_s = 0.0;    // the recording's length (last frame time - first)

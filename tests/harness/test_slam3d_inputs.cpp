@@ -14,7 +14,7 @@
 #include "starnav/cloud/cloud_io.hpp"
 #include "starnav/cloud/lidar_recording.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/slam3d_run.hpp"
 #include "starnav/harness/lidar_frame_recorder.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "starnav/sim/simulation.hpp"
@@ -199,8 +199,7 @@ TEST(Slam3dInputs, AKittiSequenceFolderAsItIs) {
   if (seq.empty()) GTEST_SKIP() << "../shared/datasets/lidar3d is not here";
   Slam3dRunConfig c;
   c.max_frames = 4;
-  c.slam.floor = false;  // the road is not level (docs/mapping3d.md)
-  c.slam.keyframe_delta_trans_m = 0.01;
+  c.settings = {{"floor", "false", "", 0, "--set floor"}, {"keyframe_delta_trans_m", "0.01", "", 0, "--set keyframe_delta_trans_m"}};  // the road is not level (docs/mapping3d.md)
   c.recording.mount = Pose3::from_rpy(Vec3(0, 0, 1.73), 0, 0, 0);
   const Slam3dRunResult r = run_slam3d(seq, c);
   EXPECT_EQ(r.input_kind, "cloud files");

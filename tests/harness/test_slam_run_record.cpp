@@ -9,7 +9,7 @@
 #include <string>
 
 #include "slam/room_fixture.hpp"
-#include "starnav/experiment/slam_report.hpp"
+#include "starnav/harness/slam_report.hpp"
 #include "starnav/logs/carmen_log.hpp"
 #include "starnav/view/run_folder.hpp"
 #include "support/test_support.hpp"

@@ -1,4 +1,4 @@
-#include "starnav/experiment/slam3d_record.hpp"
+#include "starnav/harness/slam3d_record.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -37,9 +37,9 @@ std::string slam3d_steps_jsonl(const Slam3dRunResult& r, const std::vector<Vec2>
   std::map<std::size_t, const Slam3dKeyframe*> keyframe_at;  // by frame
   for (const Slam3dKeyframe& k : r.keyframes) keyframe_at[k.frame] = &k;
   // A loop closure shows at the frame of its later key frame.
-  std::map<std::size_t, std::vector<const Slam3dLoop*>> loops_at;
-  for (const Slam3dLoop& l : r.loops)
-    if (l.from < r.keyframes.size() && l.to < r.keyframes.size())
+  std::map<std::size_t, std::vector<const SlamGraphEdge*>> loops_at;
+  for (const SlamGraphEdge& l : r.graph.edges)
+    if (l.kind != SlamEdgeKind::Local && l.from < r.keyframes.size() && l.to < r.keyframes.size())
       loops_at[std::max(r.keyframes[l.from].frame, r.keyframes[l.to].frame)].push_back(&l);
   std::string out;
   const std::size_t n = std::min(r.trajectory.size(), r.input.frames.size());
@@ -60,7 +60,7 @@ std::string slam3d_steps_jsonl(const Slam3dRunResult& r, const std::vector<Vec2>
     }
     if (const auto l = loops_at.find(i); l != loops_at.end()) {
       Json loops = Json::array();
-      for (const Slam3dLoop* loop : l->second) {
+      for (const SlamGraphEdge* loop : l->second) {
         const Vec3 a = base_of(r.keyframes[loop->from].pose, r).translation(), b = base_of(r.keyframes[loop->to].pose, r).translation();
         loops.push_back({round_mm(a.x()), round_mm(a.y()), round_mm(b.x()), round_mm(b.y())});
       }

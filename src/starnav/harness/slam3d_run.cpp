@@ -1,4 +1,4 @@
-#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/slam3d_run.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -8,7 +8,8 @@
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/io/file_bytes.hpp"
-#include "starnav/registry/components.hpp"
+#include "starnav/cloud/lidar_recording_source.hpp"
+#include "starnav/harness/slam_run.hpp"
 #include "starnav/viz/map_picture.hpp"
 
 namespace starnav {
@@ -48,6 +49,12 @@ Slam3dErrors slam3d_errors(const std::vector<Rigid3>& estimate, const std::vecto
 
 Slam3dRunResult run_slam3d(const std::string& input, const Slam3dRunConfig& config, const Slam3dProgress& progress) {
   Slam3dRunResult r;
+  // Built first: a bad setting or matcher is reported before the recording is read.
+  SlamChoice choice;
+  choice.method = "graph3d";
+  choice.settings = config.settings;
+  choice.matcher = {config.matcher, config.matcher_settings, "--matcher"};
+  std::unique_ptr<Slam> slam = make_slam(choice);
   const LidarRecording recording = open_lidar_recording(input, config.recording);
   r.input = recording.frames;
   r.input_kind = recording.kind;
@@ -55,32 +62,21 @@ Slam3dRunResult run_slam3d(const std::string& input, const Slam3dRunConfig& conf
   if (r.input.frames.empty()) throw Error("holds no frames", input);
   if (config.max_frames > 0 && r.input.frames.size() > static_cast<std::size_t>(config.max_frames))
     r.input.frames.resize(static_cast<std::size_t>(config.max_frames));
-  const ScanMatcher3dDef& def = find_scan_matcher_3d(config.matcher, "--matcher");
-  // Built once here so that a bad setting is reported before any frame is read.
-  (void)def.make({}, config.matcher_settings);
-  GraphSlam3d slam(config.slam, r.input.mount, [&] { return def.make({}, config.matcher_settings); });
-  const auto start = std::chrono::steady_clock::now();
-  double mapping = 0.0;
-  const std::size_t n = r.input.frames.size();
-  recording.for_each_cloud(n, [&](std::size_t i, PointCloud&& cloud) {
-    if (progress) progress(i, n);
-    const LidarFrameRecord& f = r.input.frames[i];
-    const auto t0 = std::chrono::steady_clock::now();
-    slam.add(f.t_s, cloud, f.odometry);
-    mapping += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  });
-  const auto t0 = std::chrono::steady_clock::now();
-  slam.finish();
-  mapping += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (progress) progress(n, n);
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.mapping_s = mapping;
+  LidarRecordingSource source(recording, r.input.frames.size());
+  const SlamDriveTimes times = drive_slam(*slam, source, {}, progress);
+  r.wall_s = times.wall_s;
+  r.mapping_s = times.slam_wall_s;
   r.duration_s = r.input.frames.back().t_s - r.input.frames.front().t_s;
-  r.trajectory = slam.trajectory();
-  r.keyframes = slam.keyframes();
-  r.frames = slam.frames();
-  r.loops = slam.loops();
-  r.plane_edges = slam.plane_edges().size();
+  for (const SlamPose& p : slam->trajectory()) r.trajectory.push_back(p.sensor);
+  r.keyframes = slam->keyframes_3d();
+  r.graph = slam->graph();
+  for (const auto& [name, value] : slam->statistics()) {
+    if (name == "frames") r.frames = static_cast<std::size_t>(value);
+    if (name == "floor_edges") r.plane_edges = static_cast<std::size_t>(value);
+    if (name == "mean_raw_points") r.mean_raw_points = value;
+    if (name == "mean_filtered_points") r.mean_filtered_points = value;
+    if (name == "mean_match_s") r.mean_match_s = value;
+  }
   r.has_truth = true;
   for (const LidarFrameRecord& f : r.input.frames) r.has_truth = r.has_truth && f.truth.has_value();
   if (r.has_truth) {
@@ -138,20 +134,13 @@ std::string slam3d_summary_json(const Slam3dRunResult& r) {
   j["input"] = r.input.dir;
   j["input_kind"] = r.input_kind;
   j["matcher"] = r.matcher;
-  j["frames"] = r.frames.size();
+  j["frames"] = r.frames;
   j["keyframes"] = r.keyframes.size();
-  j["loop_closures"] = r.loops.size();
+  j["loop_closures"] = r.graph.closures();
   j["floor_edges"] = r.plane_edges;
-  double raw = 0, kept = 0, match = 0;
-  for (const Slam3dFrameResult& f : r.frames) {
-    raw += static_cast<double>(f.raw_points);
-    kept += static_cast<double>(f.filtered_points);
-    match += f.match_s;
-  }
-  const double nf = static_cast<double>(std::max<std::size_t>(1, r.frames.size()));
-  j["mean_raw_points"] = raw / nf;
-  j["mean_filtered_points"] = kept / nf;
-  j["mean_match_s"] = match / nf;
+  j["mean_raw_points"] = r.mean_raw_points;
+  j["mean_filtered_points"] = r.mean_filtered_points;
+  j["mean_match_s"] = r.mean_match_s;
   j["recording_s"] = r.duration_s;
   j["mapping_s"] = r.mapping_s;
   j["wall_s"] = r.wall_s;
@@ -166,9 +155,7 @@ std::string slam3d_summary_json(const Slam3dRunResult& r) {
 }
 
 OctreeMap slam3d_octree(const std::vector<Slam3dKeyframe>& keyframes, const Slam3dMapConfig& config) {
-  OctreeMap map(config.octree);
-  for (const Slam3dKeyframe& kf : keyframes) map.insert_scan(kf.pose, kf.cloud);
-  return map;
+  return keyframes_octree(keyframes, config.octree);
 }
 
 PlanOutcome slam3d_plan(const OccupancyGrid& grid, const Vec2& start, const Vec2& goal, double inflation_m) {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
-#include "starnav/experiment/slam3d_run.hpp"
+#include "starnav/harness/slam3d_run.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 
 namespace starnav {
