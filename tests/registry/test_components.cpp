@@ -95,8 +95,11 @@ TEST(Components, ParametersMarkdownIsCurrent) {
   for (const ComponentInfo& c : all_components()) {
     EXPECT_NE(md.find("### `" + c.name + "`"), std::string::npos) << c.name;
     for (const ParamSpec& p : c.params) {
-      // Elevation planners are not navigation components: their keys stand alone.
-      const std::string key = c.has(Capability::NeedsElevation) ? "`" + p.key + "`" : "." + c.section + "." + p.key + "`";
+      // Elevation planners are not navigation components, and SLAM methods and scan matchers are
+      // set by their commands' --set: their keys stand alone.
+      const bool bare = c.has(Capability::NeedsElevation) || c.role == Role::Slam || c.role == Role::ScanMatcher ||
+                        c.role == Role::ScanMatcher3d;
+      const std::string key = bare ? "`" + p.key + "`" : "." + c.section + "." + p.key + "`";
       EXPECT_NE(md.find(key), std::string::npos) << p.key;
     }
   }
