@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
@@ -125,6 +126,66 @@ TEST(Params, RethrowAtSettingFindsTheSettingOfAValidationError) {
     EXPECT_EQ(e.field(), "other");
     EXPECT_EQ(e.file(), "s.yaml");
   }
+}
+
+TEST(ParamPolygons, ReadsNestedListsAndWritesThemBackTheSame) {
+  const ParamSetting v{"zones", "[[[0, 0], [2.5, 0], [2.5,1e-1]] ,[[-1, -1],[ -2,-1 ],[-2,-3],[-1.5,-3]]]", "s.yaml", 4, "nav.zones"};
+  const std::vector<ParamPolygon> p = parse_param_polygons(v);
+  ASSERT_EQ(p.size(), 2u);
+  ASSERT_EQ(p[0].size(), 3u);
+  ASSERT_EQ(p[1].size(), 4u);
+  EXPECT_EQ(p[0][1][0], 2.5);
+  EXPECT_EQ(p[0][2][1], 0.1);
+  EXPECT_EQ(p[1][3][0], -1.5);
+  const std::string text = format_param_polygons(p);
+  EXPECT_EQ(text, "[[[0, 0], [2.5, 0], [2.5, 0.1]], [[-1, -1], [-2, -1], [-2, -3], [-1.5, -3]]]");
+  EXPECT_EQ(parse_param_polygons({"zones", text, "", 0, "zones"}), p);
+  EXPECT_TRUE(parse_param_polygons({"zones", "[]", "", 0, "zones"}).empty());
+  EXPECT_TRUE(parse_param_polygons({"zones", " [ ] ", "", 0, "zones"}).empty());
+}
+
+TEST(ParamPolygons, RefusesEveryOtherShapeNamingTheSetting) {
+  for (const char* bad : {"", "[", "[[[0, 0], [1, 0]]]", "[[0, 0], [1, 0], [1, 1]]", "[[[0, 0], [1, 0], [1, 1]]", "[[[0, 0], [1, 0], [1, 1]]]]",
+                          "[[[0, 0, 0], [1, 0], [1, 1]]]", "[[[0], [1, 0], [1, 1]]]", "[[[0, nan], [1, 0], [1, 1]]]",
+                          "[[[0, 1e400], [1, 0], [1, 1]]]", "[[[0, x], [1, 0], [1, 1]]]", "[[[0, 0], [1, 0], [1, 1]],]",
+                          "[[[0, 0] [1, 0], [1, 1]]]", "[[], [[0, 0], [1, 0], [1, 1]]]", "[a, b]", "0x10"}) {
+    try {
+      parse_param_polygons({"zones", bad, "s.yaml", 9, "navigation.keepout.zones"});
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.file(), "s.yaml") << bad;
+      EXPECT_EQ(e.line(), 9) << bad;
+      EXPECT_EQ(e.field(), "navigation.keepout.zones") << bad;
+    }
+  }
+}
+
+TEST(ParamPolygons, BoundsThePointsBeforeStoringThem) {
+  std::string text = "[[";
+  for (std::size_t i = 0; i <= kMaxParamPolygonVertices; ++i) text += i ? ", [1, 2]" : "[1, 2]";
+  text += "]]";
+  try {
+    parse_param_polygons({"zones", text, "", 0, "zones"});
+    FAIL() << "accepted " << kMaxParamPolygonVertices + 1 << " points";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("more than 100000 points"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ParamPolygons, ATableDeclaresAndAppliesThem) {
+  struct Zones {
+    std::vector<ParamPolygon> zones;
+  };
+  ParamTable<Zones> t;
+  t.polygons("zones", &Zones::zones, "m", "keep-out zones");
+  Zones z;
+  t.apply(z, ParamSetting{"zones", "[[[0, 0], [1, 0], [0, 1]]]", "", 0, "zones"});
+  ASSERT_EQ(z.zones.size(), 1u);
+  const std::vector<ParamSpec> specs = t.specs(z);
+  ASSERT_EQ(specs.size(), 1u);
+  EXPECT_EQ(specs[0].type, ParamType::Polygons);
+  EXPECT_EQ(specs[0].default_value, "[[[0, 0], [1, 0], [0, 1]]]");
+  EXPECT_STREQ(param_type_name(specs[0].type), "polygons");
 }
 
 }  // namespace

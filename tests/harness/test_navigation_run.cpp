@@ -181,8 +181,10 @@ sim: {dt_s: 0.01, duration_s: 30.0}
 )";
   expect_scenario_error(head + "navigation:\n  goal_tolerance_m: 0.2\n", "navigation.goal");
   expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0}\n", "navigation.goal.y_m");
-  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: [1, 2]\n", "navigation.map");
-  // The components' declared parameters judge the rest when the run is set up.
+  // The components' declared parameters judge the rest when the run is set up (a list is a
+  // value: polygons are lists of lists of numbers).
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: [1, 2]\n", "navigation.map", true);
+  expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: [{a: 1}]\n", "navigation.map");
   expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  planner: nonesuch\n", "navigation.planner", true);
   expect_scenario_error(head + "navigation:\n  goal: {x_m: 6.0, y_m: 2.4}\n  map: {resolution_m: -1}\n",
                         "navigation.map.resolution_m", true);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <system_error>
 
 #include "starnav/core/error.hpp"
@@ -20,6 +21,7 @@ const char* param_type_name(ParamType t) {
     case ParamType::Boolean: return "boolean";
     case ParamType::Choice: return "choice";
     case ParamType::NameList: return "names";
+    case ParamType::Polygons: return "polygons";
   }
   return "unknown";
 }
@@ -64,6 +66,110 @@ std::string format_param_name_list(const std::vector<std::string>& names) {
   return s;
 }
 
+namespace {
+
+// A strict reader of nested lists of numbers ("[[[0, 0], [1, 0], [1, 1]]]"): brackets, commas,
+// blanks and numbers only, so a typo is an error rather than a different shape.
+class NumberListText {
+ public:
+  explicit NumberListText(const ParamSetting& setting) : setting_(setting), text_(setting.value) {}
+
+  void expect(char ch, const char* what) {
+    skip_blanks();
+    if (at_ >= text_.size() || text_[at_] != ch) fail(std::string("expected ") + what);
+    ++at_;
+  }
+  // After an item: true for another (a comma was read), false at the closing bracket (read too).
+  bool more(const char* what) {
+    skip_blanks();
+    if (at_ < text_.size() && text_[at_] == ',') {
+      ++at_;
+      return true;
+    }
+    expect(']', what);
+    return false;
+  }
+  bool closes_now() {
+    skip_blanks();
+    if (at_ < text_.size() && text_[at_] == ']') {
+      ++at_;
+      return true;
+    }
+    return false;
+  }
+  double number() {
+    skip_blanks();
+    std::size_t end = at_;
+    while (end < text_.size() && text_[end] != ',' && text_[end] != ']' && text_[end] != '[' && text_[end] != ' ' &&
+           text_[end] != '\t')
+      ++end;
+    const std::optional<double> x = parse_real_text(std::string(text_.substr(at_, end - at_)));
+    if (!x) fail("expected a finite number");
+    at_ = end;
+    return *x;
+  }
+  void finish() {
+    skip_blanks();
+    if (at_ != text_.size()) fail("unexpected text after the list");
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    std::string message = what;
+    message.append(" at character ").append(std::to_string(at_ + 1)).append(" of '").append(one_line(setting_.value, 60)).append("'");
+    throw Error(message, setting_.file, setting_.line, setting_.field.empty() ? setting_.key : setting_.field);
+  }
+
+ private:
+  void skip_blanks() {
+    while (at_ < text_.size() && (text_[at_] == ' ' || text_[at_] == '\t')) ++at_;
+  }
+  const ParamSetting& setting_;
+  std::string_view text_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+std::vector<ParamPolygon> parse_param_polygons(const ParamSetting& setting) {
+  NumberListText t(setting);
+  std::vector<ParamPolygon> out;
+  std::size_t vertices = 0;
+  t.expect('[', "'[' opening the list of polygons");
+  if (!t.closes_now()) {
+    do {
+      ParamPolygon polygon;
+      t.expect('[', "'[' opening a polygon (a list of points [x, y])");
+      do {
+        if (++vertices > kMaxParamPolygonVertices)
+          t.fail("more than " + std::to_string(kMaxParamPolygonVertices) + " points in all");
+        t.expect('[', "'[' opening a point [x, y]");
+        const double x = t.number();
+        t.expect(',', "',' between x and y");
+        const double y = t.number();
+        t.expect(']', "']' closing a point [x, y]");
+        polygon.push_back({x, y});
+      } while (t.more("',' or ']' after a point"));
+      if (polygon.size() < 3) t.fail("a polygon needs at least 3 points, found " + std::to_string(polygon.size()));
+      out.push_back(std::move(polygon));
+    } while (t.more("',' or ']' after a polygon"));
+  }
+  t.finish();
+  return out;
+}
+
+std::string format_param_polygons(const std::vector<ParamPolygon>& polygons) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < polygons.size(); ++i) {
+    s += i ? ", [" : "[";
+    for (std::size_t k = 0; k < polygons[i].size(); ++k) {
+      s += k ? ", [" : "[";
+      s.append(format_param_real(polygons[i][k][0])).append(", ").append(format_param_real(polygons[i][k][1])).append("]");
+    }
+    s += ']';
+  }
+  s += ']';
+  return s;
+}
+
 bool ParamRange::contains(double v) const {
   if (lo_open ? !(v > lo) : !(v >= lo)) return false;
   if (hi_open ? !(v < hi) : !(v <= hi)) return false;
@@ -97,6 +203,7 @@ std::string ParamSpec::range_text() const {
       for (const auto& c : choices) s += (s.empty() ? "" : ", ") + c;
       return "a list of: " + s;
     }
+    case ParamType::Polygons: return "lists of >= 3 points [x, y]";
     default: return range.text();
   }
 }

@@ -12,6 +12,8 @@
 // Values always arrive as text (a YAML scalar or the right side of --set), so the YAML file and
 // the command line share one parser and one set of messages. A value outside its range, of the
 // wrong type, or for an unknown key is an Error naming the file, the line and the full dotted key.
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -24,8 +26,9 @@
 
 namespace starnav {
 
-enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice, NameList };
-const char* param_type_name(ParamType t);  // "real", "integer", "boolean", "choice", "names"
+enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice, NameList, Polygons };
+// "real", "integer", "boolean", "choice", "names", "polygons"
+const char* param_type_name(ParamType t);
 
 // An interval for numbers; open or closed at each end, either end may be unbounded.
 struct ParamRange {
@@ -66,6 +69,15 @@ struct ParamSetting {
 // Each name lower_snake_case; Error naming `setting` otherwise.
 std::vector<std::string> parse_param_name_list(const ParamSetting& setting);
 std::string format_param_name_list(const std::vector<std::string>& names);  // "[a, b]"
+
+// Polygons as a setting holds them: a list of polygons, each a list of at least 3 points [x, y]
+// ("[[[0, 0], [2, 0], [2, 1]]]"; a YAML list of lists in a scenario; "[]" for none). The
+// polygon closes itself (the last point joins the first). At most kMaxParamPolygonVertices
+// points in all. Error naming `setting` otherwise.
+using ParamPolygon = std::vector<std::array<double, 2>>;
+inline constexpr std::size_t kMaxParamPolygonVertices = 100000;
+std::vector<ParamPolygon> parse_param_polygons(const ParamSetting& setting);
+std::string format_param_polygons(const std::vector<ParamPolygon>& polygons);
 
 // Strict text -> value conversions shared by every table (Errors name `setting`).
 double parse_param_real(const ParamSetting& setting);
@@ -152,6 +164,15 @@ class ParamTable {
           set(c, names);
         },
         [get](const Config& c) { return format_param_name_list(get(c)); });
+    return *this;
+  }
+
+  // Polygons in the map frame (see parse_param_polygons), in `unit`.
+  template <class Access>
+  ParamTable& polygons(std::string key, Access access, std::string unit, std::string doc) {
+    ParamSpec s{std::move(key), ParamType::Polygons, {}, {}, {}, std::move(unit), std::move(doc)};
+    add(std::move(s), [access](Config& c, const ParamSetting& v) { ref(c, access) = parse_param_polygons(v); },
+        [access](const Config& c) { return format_param_polygons(cref(c, access)); });
     return *this;
   }
 

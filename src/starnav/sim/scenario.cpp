@@ -734,6 +734,24 @@ bool is_name_list(const YAML::Node& node) {
   return true;
 }
 
+// A sequence whose items are scalars or such sequences, at most `depth` levels deep (no
+// parameter nests deeper than polygons' three).
+bool is_value_list(const YAML::Node& node, int depth = 4) {
+  if (depth == 0) return false;
+  for (const YAML::Node& item : node)
+    if (!item.IsScalar() && !(item.IsSequence() && is_value_list(item, depth - 1))) return false;
+  return true;
+}
+
+// `node` (scalars and sequences) as one line of flow text: [[0, 0], [1, 0]].
+std::string flow_text(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  std::string s = "[";
+  for (std::size_t i = 0; i < node.size(); ++i) s.append(i ? ", " : "").append(flow_text(node[i]));
+  s += ']';
+  return s;
+}
+
 // Every value of `f` not taken yet, as a setting with its dotted key (relative to `prefix`) and
 // line, sections recursively; the navigation stack checks them against its components' declared
 // parameters.
@@ -753,8 +771,14 @@ void collect_settings(Fields& f, const Doc& doc, const std::string& prefix, std:
       s.value.clear();
       for (std::size_t i = 0; i < e.node().size(); ++i) s.value += (i ? ", " : "") + e.node()[i].Scalar();
       out.push_back(std::move(s));
+    } else if (e.node().IsSequence() && is_value_list(e.node())) {
+      // Nested lists of values (polygons: [[[0, 0], [1, 0], [1, 1]]]) in flow form; the
+      // parameter's own parser reads the shape.
+      ParamSetting s = setting_of(e, key, doc);
+      s.value = flow_text(e.node());
+      out.push_back(std::move(s));
     } else {
-      e.fail("expected a value, a section of values or a list of names, found " + node_kind(e.node()));
+      e.fail("expected a value, a section of values or a list (of names or of lists of numbers), found " + node_kind(e.node()));
     }
   }
 }
