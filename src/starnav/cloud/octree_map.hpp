@@ -1,6 +1,6 @@
 #pragma once
 // The 3D map as an octree of occupancy probabilities (OctoMap, Hornung et al. 2013; Ou et al.
-// 2022 section 2.3; spec ou2022_mapping3d section 4) and the 2D occupancy grid the planner uses.
+// 2022 section 2.3; docs/mapping3d.md) and the 2D occupancy grid the planner uses.
 // OctoMap stays behind the implementation: including this header needs no OctoMap header.
 //
 // Voxels: the map frame is cut into cubes of side resolution_m, voxel (i, j, k) covering

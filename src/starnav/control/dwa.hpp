@@ -1,6 +1,6 @@
 #pragma once
 // The Dynamic Window Approach (Fox, Burgard and Thrun 1997) for differential and holonomic bases,
-// with Nav2 DWB's critics (docs/local_planning.md; spec ren2022 section 6).
+// with Nav2 DWB's critics (docs/local_planning.md; docs/papers/ren2022.md).
 //
 // Per control step:
 //   1. the dynamic window: per axis (vx, vy, wz) the velocities reachable from the current one

@@ -411,7 +411,7 @@ LocalControllerDef path_follower_controller() {
   d.info.role = Role::LocalController;
   d.info.name = "path_follower";
   d.info.section = "follower";
-  d.info.summary = "Li et al. 2019 path following: turn_then_drive, holonomic or pure_pursuit (spec li2019 section 9)";
+  d.info.summary = "Li et al. 2019 path following: turn_then_drive, holonomic or pure_pursuit (docs/papers/li2019.md)";
   d.info.params = path_follower_params().specs();
   // Its pure_pursuit mode takes the keys of Nav2's pure pursuit (docs/ros2.md).
   d.info.nav2_counterpart = "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController";

@@ -1,5 +1,5 @@
 #pragma once
-// Path following (spec li2019 section 9): turns a polyline of world points and the robot's pose
+// Path following (docs/papers/li2019.md): turns a polyline of world points and the robot's pose
 // into a body twist, in one of three motion modes.
 //
 //   turn_then_drive  (Mecanum, differential) at each vertex stop, rotate in place to face the next

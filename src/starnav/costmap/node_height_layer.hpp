@@ -1,5 +1,5 @@
 #pragma once
-// The sensing layer of Li et al. 2019 (spec li2019 sections 5-7; docs/navigation.md has the rules
+// The sensing layer of Li et al. 2019 (docs/papers/li2019.md; docs/navigation.md has the rules
 // in full): LiDAR returns into a world-aligned grid of 3D nodes, each cell keeping the min and max
 // height of its current hits and an integer evidence count. Per scan:
 //   hits    every return falling in a cell updates its min/max (the first return of an

@@ -1,5 +1,5 @@
 #pragma once
-// Adaptive Monte Carlo localization on a known occupancy grid (spec ren2022 section 4), the
+// Adaptive Monte Carlo localization on a known occupancy grid (docs/papers/ren2022.md), the
 // filter of Nav2's nav2_amcl as plain library code: odometry motion model, likelihood-field or
 // beam laser model, KLD-adaptive resampling, recovery by random injection. No time, no frames
 // beyond the map and odom: the caller hands it odometry poses and scans; the Localizer wrapper

@@ -1,5 +1,5 @@
 #pragma once
-// EKF fusion of wheel odometry and a yaw gyro (spec ren2022 section 2, the paper's Eq. 9-14 with
+// EKF fusion of wheel odometry and a yaw gyro (docs/papers/ren2022.md, the paper's Eq. 9-14 with
 // the gain's inverse restored).
 //
 // State: the paper's (x, y, theta) in the odom frame, or with `bias_state` five states

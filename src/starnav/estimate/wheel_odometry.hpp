@@ -1,5 +1,5 @@
 #pragma once
-// Wheel odometry (spec ren2022 section 1, the paper's Eq. 1-8): encoder ticks -> wheel angle
+// Wheel odometry (docs/papers/ren2022.md, the paper's Eq. 1-8): encoder ticks -> wheel angle
 // increments -> body increment through the robot's forward kinematics -> pose.
 //
 // Wheel i turns d_gamma_i = 2 pi d_e_i / xi in a sampling period (d_e_i ticks, xi ticks per

@@ -1,6 +1,6 @@
 #pragma once
-// The path-planning ablation of Ou et al. 2022 (paper 4.2, Table 2 and Fig. 15; spec
-// ou2022_improved_astar.md section 5), behind `starnav bench ablation`, on the experiment runner
+// The path-planning ablation of Ou et al. 2022 (paper 4.2, Table 2 and Fig. 15;
+// docs/papers/ou2022.md, Reproduction), behind `starnav bench ablation`, on the experiment runner
 // (runner.hpp) with the queries as instances and the planner variants as variants.
 //
 // Every variant runs on the same queries, on the same map, with the same heuristic per table: one

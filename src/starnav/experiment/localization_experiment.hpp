@@ -1,7 +1,7 @@
 #pragma once
 // The localization experiments (docs/localization.md).
 //
-// EKF square (Ren et al. 2022 Fig. 5; spec ren2022 section 2): a scenario whose localization
+// EKF square (Ren et al. 2022 Fig. 5; docs/papers/ren2022.md): a scenario whose localization
 // section names the EKF with the bias state (scenarios/ekf_square.yaml) is run once per seed with
 // three localizers fed the same encoders and IMU (so they see the same noise): dead reckoning
 // (`odometry`), the paper's three-state EKF (the scenario's EKF settings with bias_state false and

@@ -1,5 +1,5 @@
 #pragma once
-// The 3D mapping experiment of Ou et al. 2022 section 4.1 (spec ou2022_mapping3d section 1), on
+// The 3D mapping experiment of Ou et al. 2022 section 4.1 (docs/mapping3d.md), on
 // the simulated indoor run of scenarios/ou2022_mapping3d.yaml over seeds: per seed the scenario is
 // simulated once and every SLAM variant (each 3D matcher with the floor constraint, and one matcher
 // without it) maps the same scans in process, as they come (no clouds written). Reported: points

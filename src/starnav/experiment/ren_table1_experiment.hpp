@@ -1,5 +1,5 @@
 #pragma once
-// Ren et al. 2022 Table 1 (spec ren2022 section 5): A* against Dijkstra as the indoor robot's
+// Ren et al. 2022 Table 1 (docs/papers/ren2022.md): A* against Dijkstra as the indoor robot's
 // global planner. The paper times one query from (1, 1) m to (18, 18) m in a 20 m x 20 m room,
 // empty and with obstacles, as ROS wall times of the whole planner call (2.8 / 3.8 s Dijkstra,
 // 1.9 / 2.1 s A*). Here: the same query on the same kind of room at 0.05 m (scenarios/maps/

@@ -1,5 +1,5 @@
 #pragma once
-// Ren et al. 2022 Table 4 (spec ren2022 section 8): the indoor robot cycles between two goal poses
+// Ren et al. 2022 Table 4 (docs/papers/ren2022.md): the indoor robot cycles between two goal poses
 // with AMCL + A* + DWA (scenarios/ren_table4.yaml: ten cycles, twenty arrivals); at each arrival,
 // once the robot is at rest, the error between the true pose and the goal in x, y and heading.
 // Per seed the max, min and mean of the absolute errors over its arrivals; over the seeds the

@@ -1,8 +1,8 @@
 #pragma once
 // `starnav bench slam`: a SLAM method on every raw log of the Freiburg SLAM benchmark (Kümmerle
 // et al. 2009) with one parameter set, each evaluated against its relation file, in one table
-// beside the published figures of RBPF (Gmapping), graph mapping and Cartographer (spec
-// ren2022_localization_local_planning.md section 3; docs/papers/ren2022.md).
+// beside the published figures of RBPF (Gmapping), graph mapping and Cartographer
+// (Kümmerle et al. 2009; docs/slam.md, docs/papers/ren2022.md).
 //
 // Per log: the relative-pose error of the base pose and, where the log states a laser mount, of
 // the laser pose, which is the pose the benchmark's relations describe (fr079's converter stores
@@ -37,7 +37,7 @@ struct SlamPublished {
   PublishedRpe rbpf, graph_mapping, cartographer;
   double cartographer_runtime_s = 0;  // Hess et al. 2016 Table V (6-core Xeon, background threads)
 };
-// The spec's table; nullopt for a log it does not list.
+// The published table; nullopt for a log it does not list.
 std::optional<SlamPublished> slam_published(const std::string& log);
 
 struct SlamBenchmarkConfig {

@@ -1,6 +1,6 @@
 #pragma once
 // The rough-terrain experiment of Liu et al. 2024 (paper section 4, Tables 2 and 3, Figs. 6 and 8;
-// docs/terrain.md, spec liu2024_rough_terrain.md section 7), behind `starnav bench terrain`, on
+// docs/terrain.md, docs/papers/liu2024.md), behind `starnav bench terrain`, on
 // the experiment runner (runner.hpp) with the terrains as instances and OA*, AOEA*, IA* as
 // variants.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Who commands the robot at each step (spec ren2022 section 7): a bumper contact stops it, a
+// Who commands the robot at each step (docs/papers/ren2022.md): a bumper contact stops it, a
 // manual command outranks the navigation, the navigation drives otherwise. After a contact ends
 // the robot waits resume_delay_s, then the lower sources command again.
 #include <cstdint>

@@ -427,7 +427,7 @@ NavigatorParts make_navigator_parts(const NavigationComponents& components, cons
   const GlobalPlannerDef& planner = at_choice(p, [&]() -> const GlobalPlannerDef& { return find_global_planner(p.name, p.field); });
   GridPlannerOptions grid;
   grid.connectivity = 8;
-  grid.unknown_is_free = true;  // plan optimistically through unobserved cells (spec li2019 section 7)
+  grid.unknown_is_free = true;  // plan optimistically through unobserved cells (docs/papers/li2019.md)
   parts.planner = planner.make({grid, p.file}, p.settings);
   parts.planner_capabilities = planner.info.capabilities;
   const ComponentChoice& c = components.controller;

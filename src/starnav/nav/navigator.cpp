@@ -52,7 +52,7 @@ namespace {
 GridPlannerOptions search_options() {
   GridPlannerOptions o;
   o.connectivity = 8;
-  o.unknown_is_free = true;  // plan optimistically through unobserved cells (spec section 7)
+  o.unknown_is_free = true;  // plan optimistically through unobserved cells (Li et al. 2019; docs/navigation.md)
   return o;
 }
 
@@ -239,7 +239,7 @@ double Navigator::distance_to_path(const Vec2& p) const {
 std::vector<Vec2> Navigator::follower_points(const std::vector<Cell>& cells, const Vec2& robot) const {
   std::vector<Cell> vertices;
   if (controller_->wants_smoothed_path()) {
-    // An Ackermann robot cannot take 45 degree grid corners: line-of-sight smoothing (spec section 9).
+    // An Ackermann robot cannot take 45 degree grid corners: line-of-sight smoothing (docs/navigation.md).
     const GridSearchMap search(map_.occupancy(), OccupancyThresholds{}, true);
     vertices = remove_redundant_nodes(search, cells);
   } else {

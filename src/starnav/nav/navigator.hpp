@@ -1,5 +1,5 @@
 #pragma once
-// The navigation loop of Li et al. 2019 (spec li2019 section 7; docs/navigation.md, "The
+// The navigation loop of Li et al. 2019 (docs/papers/li2019.md; docs/navigation.md, "The
 // navigation loop"), independent of where scans and poses come from.
 //
 // Per sensor cycle (on_scan):

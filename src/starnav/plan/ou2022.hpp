@@ -1,5 +1,5 @@
 #pragma once
-// The improved A* of Ou et al. 2022 (docs/papers/ou2022.md; spec ou2022_improved_astar.md): A* on the search
+// The improved A* of Ou et al. 2022 (docs/papers/ou2022.md): A* on the search
 // core (search_core.hpp) with the policies of ou2022_policies.hpp, on a map inflated through the
 // distance transform (inflation.hpp), followed by line-of-sight removal of redundant nodes
 // (path_smoothing.hpp). Every feature is switchable on its own (ou2022_options.hpp).

@@ -1,5 +1,5 @@
 #pragma once
-// Options of the improved A* of Ou et al. 2022 (docs/papers/ou2022.md, spec ou2022_improved_astar.md): obstacle
+// Options of the improved A* of Ou et al. 2022 (docs/papers/ou2022.md, docs/papers/ou2022.md): obstacle
 // inflation (hard radius + graded cost band), line-of-sight removal of redundant nodes, steering
 // cost turn_w (paper variant and exact variant) and the adaptive heuristic weight. Each feature is
 // switchable on its own. They live in GridPlannerOptions::ou2022 (grid_planner.hpp); every field's

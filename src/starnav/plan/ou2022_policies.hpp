@@ -1,6 +1,6 @@
 #pragma once
-// Search-core policies for the improved A* of Ou et al. 2022 (docs/papers/ou2022.md; spec
-// ou2022_improved_astar.md). They plug into BestFirstSearch (search_core.hpp) like GridGraph and
+// Search-core policies for the improved A* of Ou et al. 2022 (docs/papers/ou2022.md).
+// They plug into BestFirstSearch (search_core.hpp) like GridGraph and
 // the grid heuristics of grid_graph.hpp:
 //
 //   FixedPointCellCost       cost model: moves cost length x a per-cell multiplier (the graded

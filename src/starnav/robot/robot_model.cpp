@@ -28,7 +28,7 @@ namespace {
 // RobotConfig's fields are named "robot.<field>" in errors.
 std::string robot_field(const char* field) { return std::string("robot.") + field; }
 
-// Mecanum wheels FL, FR, RL, RR at (+-L2, +-L1) with rollers at alpha (spec li2019 section 8):
+// Mecanum wheels FL, FR, RL, RR at (+-L2, +-L1) with rollers at alpha (docs/papers/li2019.md):
 //   w_FL = (vx - vy/t - k wz) / r,  w_FR = (vx + vy/t + k wz) / r,
 //   w_RL = (vx + vy/t - k wz) / r,  w_RR = (vx - vy/t + k wz) / r,   t = tan(alpha), k = L1 + L2/t.
 // Each row is the roller constraint of one wheel: (vx - wz y_i) -/+ (vy + wz x_i)/t.

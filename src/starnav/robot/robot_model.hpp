@@ -1,5 +1,5 @@
 #pragma once
-// Robot kinematic models behind one interface (spec li2019 section 8, ren2022 section 1) and the
+// Robot kinematic models behind one interface (docs/papers/li2019.md, ren2022 section 1) and the
 // actuator chain that turns a commanded body twist into an achieved one (limits and lag).
 //
 // Models (base_link: x forward, y left, z up; wheels FL, FR, RL, RR):
@@ -28,7 +28,7 @@ DriveKind parse_drive_kind(const std::string& s, const std::string& field);
 
 struct RobotConfig {
   DriveKind drive = DriveKind::Mecanum;
-  // Defaults: the paper's Mecanum robot (spec li2019 section 8). The body box spans z in
+  // Defaults: the paper's Mecanum robot (docs/papers/li2019.md). The body box spans z in
   // [ground_clearance, ground_clearance + body_height] in base_link (base_link on the wheel plane).
   double half_track_m = 0.225;       // L1: wheel contact y = +-L1
   double half_wheelbase_m = 0.200;   // L2: wheel contact x = +-L2

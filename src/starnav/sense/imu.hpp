@@ -1,5 +1,5 @@
 #pragma once
-// A yaw-rate gyro (spec ren2022 section 1): each sample measures the true yaw rate plus a
+// A yaw-rate gyro (docs/papers/ren2022.md): each sample measures the true yaw rate plus a
 // constant bias and Gaussian white noise,
 //   rate_meas = rate_true + bias + N(0, yaw_rate_noise_sigma^2),
 // and the reported yaw is integrated from the measured rate (so it drifts by bias * t plus a

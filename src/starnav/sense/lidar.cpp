@@ -103,7 +103,7 @@ LidarConfig lidar_preset(std::string_view name, double res) {
   if (name == "hokuyo_utm30lx") return planar("hokuyo_utm30lx", 270.0, 1081, 0.1, 30.0, 40.0);
   if (name == "sick_lms151") return planar("sick_lms151", 270.0, 541, 0.5, 50.0, 50.0);
   if (name == "generic_360") return planar("generic_360", 360.0, 360, 0.15, 12.0, 10.0);
-  // 3D: the spec gives no minimum ranges; these follow the data sheets where they state one
+  // 3D: the paper gives no minimum ranges; these follow the data sheets where they state one
   // (IBEO LUX 0.3 m) and are conservative guesses otherwise (docs/simulator.md).
   if (name == "ibeo_lux4") return spatial("ibeo_lux4", 110.0, res, 4, 1.2, -1.2, 0.3, 200.0);
   if (name == "ibeo_lux8") return spatial("ibeo_lux8", 110.0, res, 8, 2.8, -2.8, 0.3, 200.0);

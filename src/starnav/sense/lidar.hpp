@@ -1,5 +1,5 @@
 #pragma once
-// Virtual 2D and 3D LiDAR (spec li2019 sections 1, 2 and 6).
+// Virtual 2D and 3D LiDAR (docs/papers/li2019.md).
 //
 // Beams. Beam i (i = 0 ... beams-1) points at azimuth +scan_angle/2 - i*delta in the sensor
 // frame (x forward, y left, z up): the sweep starts at the left-most beam and proceeds right.
@@ -15,7 +15,7 @@
 // normal (when noise_sigma > 0) from the LiDAR's own Rng: a return is dropped with probability
 // `dropout`, and range noise N(0, noise_sigma^2) is added to the others (clamped at 0). Returns
 // whose sensor-frame point falls inside the self-filter box are dropped too (the robot's own
-// body, spec section 6).
+// body; docs/simulator.md).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -61,7 +61,7 @@ struct LidarConfig {
   int lines() const { return static_cast<int>(elevations.size()); }
   std::size_t ray_count() const { return static_cast<std::size_t>(beams) * elevations.size(); }
   bool full_circle() const;                  // scan_angle is 360 deg (to 1e-9 rad)
-  double delta() const;                      // beam spacing (spec section 1)
+  double delta() const;                      // beam spacing (Li et al. 2019; docs/simulator.md)
   double azimuth(int beam) const { return 0.5 * scan_angle - beam * delta(); }
   double period() const { return 1.0 / rate_hz; }
   // Sets `lines` evenly spaced elevations from max_line down by delta_line.
@@ -73,7 +73,7 @@ struct LidarConfig {
   void validate() const;
 };
 
-// Presets from the manufacturers' data sheets (spec sections 1 and 2):
+// Presets from the manufacturers' data sheets (docs/simulator.md, the LiDAR):
 //   2D: hokuyo_utm30lx, sick_lms151, generic_360
 //   3D: ibeo_lux4, ibeo_lux8, vlp16, hdl32e, hdl64e (horizontal_resolution sets their beams;
 //       default 0.2 deg, as the spec)

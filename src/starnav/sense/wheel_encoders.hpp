@@ -1,5 +1,5 @@
 #pragma once
-// Incremental wheel encoders (spec ren2022 section 1). Each wheel's sensed angle is its true
+// Incremental wheel encoders (docs/papers/ren2022.md). Each wheel's sensed angle is its true
 // travel since the first sample plus a slip error that accumulates N(0, slip_sigma^2) times each
 // increment of the true angle between samples (multiplicative slip noise on the increments; one
 // normal per wheel per sample, wheels in order, from the encoders' own Rng, only when

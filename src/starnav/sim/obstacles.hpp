@@ -1,6 +1,6 @@
 #pragma once
 // Obstacles of the simulated world: rigid groups of primitives with a lifetime and a motion, and
-// the composite obstacles of the paper's test platform (spec li2019 section 4) built from them.
+// the composite obstacles of the paper's test platform (docs/papers/li2019.md) built from them.
 #include <cstdint>
 #include <limits>
 #include <string>

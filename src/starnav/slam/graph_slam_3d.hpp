@@ -1,6 +1,6 @@
 #pragma once
-// 3D graph SLAM as hdl_graph_slam does it (Koide et al.; Ou et al. 2022 section 2; spec
-// ou2022_mapping3d sections 2-4), one frame at a time:
+// 3D graph SLAM as hdl_graph_slam does it (Koide et al.; Ou et al. 2022 section 2;
+// docs/mapping3d.md), one frame at a time:
 //  1. each frame is prefiltered (range window, voxel grid, radius outliers) and registered onto
 //     the last key frame by the chosen 3D scan matcher (scan-to-key-frame odometry), starting from
 //     the wheel odometry's motion when the frame carries odometry, else from the last motion;

@@ -1,6 +1,6 @@
 #pragma once
-// Occupancy grid mapping with known poses (Thrun, Burgard, Fox, Probabilistic Robotics ch. 9; spec
-// ren2022 section 3): each beam lowers the log-odds of the cells it crosses and raises the one it
+// Occupancy grid mapping with known poses (Thrun, Burgard, Fox, Probabilistic Robotics ch. 9;
+// docs/papers/ren2022.md, Mapping): each beam lowers the log-odds of the cells it crosses and raises the one it
 // ends in. The grid grows as the robot explores (no size given in advance).
 //
 // Per scan every cell is updated at most once (a hit wins over a pass-through), so a cell near the

@@ -17,10 +17,10 @@
 // Plane edge (hdl_graph_slam's EdgeSE3Plane against a fixed plane): the global plane
 // (n_w, d_w), n_w . p + d_w = 0, expressed in the node's frame is
 //   n_l = R^T n_w,  d_l = d_w + n_w . t
-// (the spec's n' = R n, with its R the map-to-node rotation, our R^T).
+// (Ou 2022's n' = R n, with its R the map-to-node rotation, our R^T).
 // The measured plane (n_m, d_m) (the floor as RANSAC fits it in the node's frame) is first
 // oriented like n_l: when n_m . n_l < 0 both n_m and d_m change sign (they describe the same
-// plane; a fitter may return either orientation). Then, as in the spec's e_rr (Ou 2022 Eqs.
+// plane; a fitter may return either orientation). Then, as in the paper's e_rr (Ou 2022 Eqs.
 // 15-20): R_x is the shortest-arc rotation taking n_l onto the x axis, q = R_x n_m, and
 //   e = (alpha, beta, d_l - d_m),  alpha = atan2(q_y, q_x),  beta = atan2(q_z, sqrt(q_x^2 + q_y^2)).
 // The shortest arc is smooth everywhere except at n_l = -x; g2o's azimuth/elevation choice of R_x

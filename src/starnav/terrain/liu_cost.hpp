@@ -1,5 +1,5 @@
 #pragma once
-// Liu et al. 2024 ground trafficability and ruggedness costs (spec liu2024_rough_terrain.md,
+// Liu et al. 2024 ground trafficability and ruggedness costs (docs/papers/liu2024.md,
 // sections 1-3; docs/terrain.md).
 //
 // For a move from a parent cell to a child cell:

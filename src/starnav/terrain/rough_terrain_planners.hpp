@@ -1,5 +1,5 @@
 #pragma once
-// The three planners of Liu et al. 2024 on elevation maps (spec liu2024 sections 3-5):
+// The three planners of Liu et al. 2024 on elevation maps (docs/papers/liu2024.md):
 //
 //   oa    OA*: A* with distance cost only; only the map's own obstacles are blocked (on an
 //         elevation map: unobserved cells under UnobservedPolicy::Blocked).

@@ -38,7 +38,7 @@ const char* unobserved_policy_name(UnobservedPolicy p);  // "blocked", "free_fla
 // Parses the names above; throws Error naming `field` otherwise.
 UnobservedPolicy parse_unobserved_policy(const std::string& name, const std::string& field = "unobserved");
 
-// Li et al. 2019 node traversability (spec li2019 section 5): k_step = max_step_m / cell size,
+// Li et al. 2019 node traversability (docs/papers/li2019.md): k_step = max_step_m / cell size,
 // k_slope = tan(max_slope_rad).
 struct LiNodeParams {
   double max_step_m = 0.05;                 // largest obstacle the robot can climb

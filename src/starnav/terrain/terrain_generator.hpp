@@ -3,9 +3,9 @@
 //
 //   hills  a smooth random surface: a sum of Gaussian hills (0.5-1.0 m high, a few metres wide)
 //          plus small-scale roughness (Gaussian-blurred white noise), for the Liu 2024 experiment
-//          (spec liu2024 section 7);
+//          (docs/papers/liu2024.md);
 //   road   stochastic ground from a road-roughness PSD class (GB/T 7031 / ISO 8608, A-H) as in
-//          spec li2019 section 3: Gd(n) = Gd(n0) (n / n0)^-W over a band clipped to what the grid
+//          docs/papers/li2019.md: Gd(n) = Gd(n0) (n / n0)^-W over a band clipped to what the grid
 //          can hold, split into m log-spaced intervals; method `directional` (isotropic sum of
 //          plane waves in K directions, the spectrum of the class) or `paper` (the paper's
 //          per-cell random phase, blurred and rescaled);

@@ -1,5 +1,5 @@
 #pragma once
-// Metrics of a path on terrain (spec liu2024 section 6, the paper's Tables 2-4):
+// Metrics of a path on terrain (docs/papers/liu2024.md, the paper's Tables 2-4):
 //
 //   lv  3D length: sum over moves of sqrt(d^2 + (z2 - z1)^2), d the horizontal move length;
 //   av  mean slope a = atan(h / d) over the path's moves (rad);
@@ -18,7 +18,7 @@
 //   roll  = atan2(py, sqrt(1 + px^2)) (positive roll: left side up),
 //   tilt  = atan(sqrt(px^2 + py^2))   (angle between the robot's z axis and the vertical),
 // the roll and pitch of R = Rz(yaw) Ry(pitch) Rx(roll) whose x axis lies along the heading in
-// the plane and whose z axis is the plane's normal. Summaries as the spec: *_mean_deg is
+// the plane and whose z axis is the plane's normal. Summaries as Liu et al. 2024 report them: *_mean_deg is
 // |mean of the signed angle| and *_max_deg the largest absolute angle, in degrees; the mean of
 // the absolute angles is given too (*_mean_abs_deg). A node whose corners touch an unobserved
 // cell (and no observed one to interpolate from) is left out of the attitude summaries.
