@@ -148,8 +148,7 @@ class AmclLocalizer final : public Localizer {
                       (c.robot_model == "auto" && ctx.robot && ctx.robot->drive == DriveKind::Mecanum);
     config_.robot_model = omni ? MotionModelType::Omnidirectional : MotionModelType::Differential;
     config_.validate();
-    range_min_m_ = ctx.laser_range_min_m;
-    range_max_m_ = ctx.laser_range_max_m;
+    if (ctx.laser_lines > 1) throw Error("amcl needs a 2D LiDAR (one line)", {}, 0, "sensors.lidar");
     if (!ctx.map) return;  // checked for its parameters only; a scan without a map is an error
     amcl_.emplace(*ctx.map, ctx.thresholds, config_, ctx.laser_in_base, Rng(ctx.seed).fork(kAmclStream).next());
     if (c.initial == "global")
@@ -164,15 +163,15 @@ class AmclLocalizer final : public Localizer {
     twist_ = o.twist;
     has_odometry_ = true;
   }
-  void on_scan(const LidarScan& scan) override {
+  void on_scan(const ScanMessage& scan) override {
     if (!amcl_) throw Error("amcl needs a map (world.occupancy_map or localization.map)", {}, 0, "localization.map");
-    if (scan.lines != 1) throw Error("amcl needs a 2D LiDAR (one line)", {}, 0, "sensors.lidar");
-    scan_.ranges = scan.ranges;
-    scan_.angles_rad = scan.azimuths;
-    scan_.range_min_m = range_min_m_;
-    scan_.range_max_m = range_max_m_;
-    amcl_->update(odometry_at(scan.time), scan_);
-    t_s_ = scan.time;
+    scan_.ranges.assign(scan.ranges_m.begin(), scan.ranges_m.end());
+    scan_.angles_rad.resize(scan.ranges_m.size());
+    for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) scan_.angles_rad[i] = scan.angle(i);
+    scan_.range_min_m = scan.range_min_m;
+    scan_.range_max_m = scan.range_max_m;
+    amcl_->update(odometry_at(scan.header.t_s), scan_);
+    t_s_ = scan.header.t_s;
   }
   PoseEstimate estimate() const override {
     PoseEstimate e;
@@ -210,7 +209,6 @@ class AmclLocalizer final : public Localizer {
   BodyTwist twist_;
   bool has_odometry_ = false;
   double t_s_ = 0.0;
-  double range_min_m_ = 0.0, range_max_m_ = 0.0;
   PlanarScan scan_;
 };
 

@@ -18,7 +18,7 @@
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/robot/robot_model.hpp"
 #include "starnav/sense/imu.hpp"
-#include "starnav/sense/lidar.hpp"
+#include "starnav/sense/sensor_messages.hpp"
 
 namespace starnav {
 
@@ -45,7 +45,8 @@ class Localizer {
   virtual std::string_view name() const = 0;
   virtual void on_odometry(const OdometrySample& /*odometry*/) {}
   virtual void on_imu(const ImuModel::ImuReading& /*reading*/) {}
-  virtual void on_scan(const LidarScan& /*scan*/) {}
+  // A planar scan in its sensor frame, with its mount (from a simulated LiDAR or a recording alike).
+  virtual void on_scan(const ScanMessage& /*scan*/) {}
   // The simulator's truth; a real robot never calls it (a motion-capture system would).
   virtual void on_ground_truth(double /*t_s*/, const Pose2& /*pose*/) {}
   virtual PoseEstimate estimate() const = 0;
@@ -70,6 +71,7 @@ struct LocalizerContext {
   Pose2 laser_in_base;                  // the 2D LiDAR's mount
   double laser_range_min_m = 0.0;       // its valid ranges (0, 0: no LiDAR)
   double laser_range_max_m = 0.0;
+  int laser_lines = 1;                  // its lines (a localizer that needs a planar scan refuses more)
 };
 using LocalizerDef = ComponentDef<Localizer, LocalizerContext>;
 

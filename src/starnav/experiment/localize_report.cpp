@@ -20,6 +20,7 @@
 #include "starnav/harness/run_record.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/io/map_file.hpp"
+#include "starnav/logs/robot_log_source.hpp"
 #include "starnav/registry/components.hpp"
 #include "starnav/viz/map_picture.hpp"
 
@@ -46,9 +47,6 @@ LocalizeErrorStats localize_error_stats(std::vector<double> values) {
 }
 
 namespace {
-
-// The random stream of the amcl localizer (amcl_localizer.cpp: ground_truth 101, amcl 102, ekf 103).
-constexpr std::uint64_t kLocalizeAmclStream = 102;
 
 // A scan's readings at 1 cm as bytes: the key raw and corrected twins share.
 std::string localize_range_key(const LogScan& s) {
@@ -158,7 +156,6 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
                                const RobotLog* reference, const LocalizeRunRequest& q,
                                const std::function<void(std::size_t, std::size_t)>& progress) {
   std::vector<ParamSetting> settings = localize_settings(q);
-  const AmclConfig config = amcl_config_from_settings(settings, {});
 
   LocalizeRunResult r;
   r.log = q.log;
@@ -200,14 +197,20 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
     }
   }
 
-  Amcl amcl(map, thresholds, config, r.laser_in_base, Rng(q.seed).fork(kLocalizeAmclStream).next());
-  if (q.initial.kind == LocalizeStart::Global) amcl.initialize_global();
-  else amcl.initialize(r.initial_pose);
+  // The Localizer role, as the simulator drives it: odometry, then the scan in its sensor frame.
+  LocalizerContext context(r.initial_pose, q.seed, q.log.empty() ? log.path : q.log);
+  context.map = &map;
+  context.thresholds = thresholds;
+  context.laser_in_base = r.laser_in_base;
+  if (q.initial.kind == LocalizeStart::Global) settings.push_back({"initial", "global", "", 0, "--initial"});
+  const std::unique_ptr<Localizer> localizer = find_localizer("amcl").make(context, settings);
 
   const std::size_t total = log.scans.size() - r.start_scan;
   const auto wall0 = std::chrono::steady_clock::now();
   const double cpu0 = thread_cpu_s();
-  PlanarScan planar;
+  const Pose3 mount = log_laser_mount(log);
+  int updates = 0;
+  PoseEstimate a;
   r.trajectory.reserve(total);
   for (std::size_t i = r.start_scan; i < log.scans.size(); ++i) {
     const std::size_t done = i - r.start_scan;
@@ -217,26 +220,23 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
       continue;
     }
     const LogScan& s = log.scans[i];
-    planar.ranges.assign(s.ranges_m.begin(), s.ranges_m.end());
-    planar.angles_rad.resize(s.ranges_m.size());
-    for (std::size_t k = 0; k < s.ranges_m.size(); ++k) planar.angles_rad[k] = s.angle(k);
-    planar.range_min_m = s.range_min_m;
-    planar.range_max_m = s.range_max_m;
     const double t0 = thread_cpu_s();
-    bool updated = false;
     try {
-      updated = amcl.update(*odometry[i], planar);
+      localizer->on_odometry({s.t_s(), *odometry[i], {}});
+      localizer->on_scan(scan_message(s, mount, "lidar"));
     } catch (const Error& e) {
       // A malformed scan: name the log and the scan's line or message.
       throw Error(e.message(), q.log.empty() ? log.path : q.log, static_cast<int>(s.source_index),
                   e.field().empty() ? "scan" : e.field());
     }
+    a = localizer->estimate();
+    const bool updated = a.updates > updates;
+    updates = a.updates;
     if (updated) r.update_cpu_s += thread_cpu_s() - t0;
-    const AmclEstimate& a = amcl.estimate();
     LocalizePose p;
     p.stamp_us = s.stamp_us;
     p.scan = i;
-    p.pose = amcl.pose_at(*odometry[i]);
+    p.pose = a.pose;
     p.converged = a.converged;
     p.updated = updated;
     p.particles = a.particles;
@@ -265,7 +265,7 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
       step.estimate = p.pose;
       for (const Vec2& h : s.end_points(p.pose.compose(r.laser_in_base), kStepHits)) step.hits.push_back(Vec3(h.x(), h.y(), 0.0));
       step.returns = s.ranges_m.size();
-      step.particles = amcl.particle_sample(kStepParticles);
+      step.particles = localizer->belief_samples(kStepParticles);
       if (twins[i]) step.reference = reference->scans[*twins[i]].laser_pose->compose(r.laser_in_base.inverse());
       r.step_lines.push_back(step_record_json(step));
     }
@@ -274,7 +274,7 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
   if (progress) progress(total, total);
   r.cpu_s = thread_cpu_s() - cpu0;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  r.updates = amcl.counters().updates;
+  r.updates = updates;
   if (r.trajectory.empty()) throw Error("no scan has an odometry pose to localize with", q.log.empty() ? log.path : q.log, 0, "LOG");
 
   std::vector<double> am, adeg, m, deg;

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
@@ -137,8 +138,14 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
     if (filter_) filter_->on_imu(r);
     for (auto& l : localizers_) l->on_imu(r);
   };
-  sim.on_scan = [this, before = sim.on_scan](const LidarScan& scan) {
-    for (auto& l : localizers_) l->on_scan(scan);
+  // The localizers take planar scans as a robot's driver publishes them (a 3D LiDAR's go to none).
+  std::optional<LidarConfig> planar_lidar;
+  if (spec.lidar && spec.lidar->config.lines() == 1) planar_lidar = spec.lidar->config;
+  sim.on_scan = [this, before = sim.on_scan, planar_lidar](const LidarScan& scan) {
+    if (planar_lidar) {
+      const ScanMessage message = planar_scan_message(scan, *planar_lidar, "lidar");
+      for (auto& l : localizers_) l->on_scan(message);
+    }
     record(scan.time, true);
     if (before) before(scan);
   };
@@ -153,6 +160,7 @@ LocalizerContext localizer_context(const ScenarioSpec& spec) {
     ctx.laser_in_base = spec.lidar->config.mount.to_pose2();
     ctx.laser_range_min_m = spec.lidar->config.range_min;
     ctx.laser_range_max_m = spec.lidar->config.range_max;
+    ctx.laser_lines = spec.lidar->config.lines();
   }
   return ctx;
 }

@@ -120,8 +120,9 @@ std::string slam3d_keyframes_csv(const Slam3dRunResult& r) {
     s += std::to_string(k) + "," + std::to_string(kf.frame) + "," + format_fixed6(kf.t_s) + "," + pose_cells(kf.pose) + "," +
          std::to_string(kf.cloud.size()) + "," + (kf.floor ? "1" : "0");
     if (kf.floor)
-      s += "," + format_fixed6(kf.floor->normal.x()) + "," + format_fixed6(kf.floor->normal.y()) + "," +
-           format_fixed6(kf.floor->normal.z()) + "," + format_fixed6(kf.floor->d);
+      // Appended piece by piece: g++ 12 warns falsely (-Wrestrict) on a literal + a temporary string.
+      s.append(",").append(format_fixed6(kf.floor->normal.x())).append(",").append(format_fixed6(kf.floor->normal.y()))
+          .append(",").append(format_fixed6(kf.floor->normal.z())).append(",").append(format_fixed6(kf.floor->d));
     else
       s += ",,,,";
     s += "\n";

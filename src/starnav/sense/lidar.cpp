@@ -184,4 +184,15 @@ void Lidar::scan(const RayCaster& world, const Pose3& robot, double time, LidarS
   }
 }
 
+ScanMessage planar_scan_message(const LidarScan& scan, const LidarConfig& config, const std::string& stream) {
+  ScanMessage m;
+  m.header = {scan.time, stream};
+  m.mount = config.mount;
+  m.angles_rad = scan.azimuths;
+  m.range_min_m = config.range_min;
+  m.range_max_m = config.range_max;
+  m.ranges_m = scan.ranges;
+  return m;
+}
+
 }  // namespace starnav

@@ -25,6 +25,7 @@
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/sense/ray_caster.hpp"
+#include "starnav/sense/sensor_messages.hpp"
 
 namespace starnav {
 
@@ -121,5 +122,9 @@ class Lidar {
   std::vector<Vec3> world_dirs_;
   std::vector<RayHit> hits_;
 };
+
+// A planar scan (one line) as its driver publishes it on `stream`: ranges by azimuth in the sensor
+// frame, the sensor's mount and valid range; no pose (the simulator's truth stays with it).
+ScanMessage planar_scan_message(const LidarScan& scan, const LidarConfig& config, const std::string& stream);
 
 }  // namespace starnav
