@@ -79,6 +79,24 @@ TEST(RegulatedPurePursuit, FollowsTheArcThroughTheCarrot) {
   EXPECT_NEAR(out.twist.wz, 0.5 * kappa, 1e-9);
 }
 
+// A loop whose last leg runs back 1 cm beside its first: the robot's place is searched along the
+// path only as far as max_robot_pose_search_dist_m, so it stays at the loop's start (cruise
+// speed); with a search over the whole path it jumps to the last leg, 2 m from the end, and the
+// approach slows it.
+TEST(RegulatedPurePursuit, SearchesItsPlaceOnlyAsFarAlongThePathAsItsBound) {
+  World w;
+  const std::vector<Vec2> loop = {{0.0, 0.0}, {8.0, 0.0}, {8.0, 4.0}, {0.0, 4.0}, {0.0, 0.08}, {3.0, 0.08}};
+  const auto speed = [&](std::vector<ParamSetting> settings) {
+    settings.push_back(set("use_cost_regulated_linear_velocity_scaling", "false"));
+    settings.push_back(set("approach_velocity_scaling_dist_m", "3"));
+    auto c = rpp(settings);
+    c->set_path(loop);
+    return c->compute(input(Pose2(1.0, 0.07, 0.0), {3.0, 0.08}, w.distances())).twist.vx;
+  };
+  EXPECT_NEAR(speed({}), 0.5, 1e-3);
+  EXPECT_LT(speed({set("max_robot_pose_search_dist_m", "100")}), 0.4);
+}
+
 TEST(RegulatedPurePursuit, SlowsOnTightCurvatureNearObstaclesAndOnTheApproach) {
   World w;
   w.block(2.0, 0.45, 12.0, 0.6);  // a wall 0.45 m to the left of the path

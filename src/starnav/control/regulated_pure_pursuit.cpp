@@ -44,6 +44,7 @@ struct RegulatedPurePursuitConfig {
   double rotate_to_heading_min_angle_rad = 0.785;
   double max_angular_accel_radps2 = 3.2;
   double control_period_s = 0.05;  // Nav2's controller_frequency of 20 Hz
+  double max_robot_pose_search_dist_m = 10.0;
 };
 
 const ParamTable<RegulatedPurePursuitConfig>& regulated_pure_pursuit_params() {
@@ -85,6 +86,9 @@ const ParamTable<RegulatedPurePursuitConfig>& regulated_pure_pursuit_params() {
     t.real("max_angular_accel_degps2", &C::max_angular_accel_radps2, positive(), "deg/s^2", "yaw acceleration limit of the rotations",
            deg);
     t.real("control_period_s", &C::control_period_s, open(0.0, 10.0), "s", "time between two commands (the command is held)");
+    t.real("max_robot_pose_search_dist_m", &C::max_robot_pose_search_dist_m, positive(), "m",
+           "the robot's place on the path is searched this far along it from the last one (a path passing near itself "
+           "is followed in order, and a step costs this much path, not all of it)");
     return t;
   }();
   return table;
@@ -99,10 +103,13 @@ class RegulatedPurePursuit final : public LocalController {
     for (const Vec2& p : points)
       if (!std::isfinite(p.x()) || !std::isfinite(p.y())) throw Error("a path point is not finite", {}, 0, "path");
     path_.assign(points.begin(), points.end());
+    along_.assign(path_.size(), 0.0);
+    for (std::size_t i = 1; i < path_.size(); ++i) along_[i] = along_[i - 1] + (path_[i] - path_[i - 1]).norm();
     segment_ = 0;
   }
   void clear() override {
     path_.clear();
+    along_.clear();
     segment_ = 0;
   }
   bool has_path() const override { return !path_.empty(); }
@@ -235,13 +242,14 @@ class RegulatedPurePursuit final : public LocalController {
     last_.chosen = clear ? 0 : -1;
   }
 
-  // The segment nearest the robot, searched forward from the last one (progress never goes back,
-  // so a path that passes near itself is followed in order).
+  // The segment nearest the robot, searched forward from the last one up to the search distance
+  // along the path (progress never goes back, so a path that passes near itself is followed in order).
   void advance_progress(const Vec2& p) {
     if (path_.size() < 2) return;
     double best = std::numeric_limits<double>::infinity();
     std::size_t best_segment = segment_;
-    for (std::size_t i = segment_; i + 1 < path_.size(); ++i) {
+    const double search_end = along_[segment_] + c_.max_robot_pose_search_dist_m;
+    for (std::size_t i = segment_; i + 1 < path_.size() && along_[i] <= search_end; ++i) {
       const double d = (closest_on_segment(p, i) - p).squaredNorm();
       if (d < best) best = d, best_segment = i;
     }
@@ -274,15 +282,14 @@ class RegulatedPurePursuit final : public LocalController {
   }
   double remaining_length(const Vec2& p) const {
     if (path_.size() < 2) return (path_.back() - p).norm();
-    double length = (path_[segment_ + 1] - closest_on_segment(p, segment_)).norm();
-    for (std::size_t i = segment_ + 1; i + 1 < path_.size(); ++i) length += (path_[i + 1] - path_[i]).norm();
-    return length;
+    return (path_[segment_ + 1] - closest_on_segment(p, segment_)).norm() + along_.back() - along_[segment_ + 1];
   }
 
   RegulatedPurePursuitConfig c_;
   std::optional<FootprintMotionChecker> motion_;
   Footprint footprint_;
   std::vector<Vec2> path_;
+  std::vector<double> along_;  // path length from the start to each point
   std::size_t segment_ = 0;
   bool keep_ = false;
   ControlDiagnostics last_;
