@@ -42,13 +42,14 @@ LocalizationConfig localization_config(const ScenarioSpec& spec) {
     throw Error(e.message(), spec.file, c.localizer.line, c.localizer.field);
   }
   c.localizer.settings = settings_under(rest, def->info.section);
+  const LocalizerDef* filter_def = nullptr;
   for (const ParamSetting& v : rest)
     if (v.key == "odometry") {
       // wheel, none, or a localizer that filters the wheel odometry with the IMU (by its name).
       const LocalizerDef* filter = nullptr;
       if (v.value != "wheel" && v.value != "none") {
-        for (const ComponentInfo& i : all_components())
-          if (i.role == Role::Localizer && i.name == v.value && i.has(Capability::FiltersOdometry)) filter = &find_localizer(i.name);
+        for (const LocalizerDef& l : localizers())
+          if (l.info.name == v.value && l.info.has(Capability::FiltersOdometry)) filter = &l;
         if (!filter) {
           std::string known = "wheel, none";
           for (const ComponentInfo& i : all_components())
@@ -66,9 +67,10 @@ LocalizationConfig localization_config(const ScenarioSpec& spec) {
                     v.file, v.line, v.field);
       c.odometry = filter ? "wheel" : v.value;
       c.odometry_filter = {};
+      filter_def = filter;
       if (filter) c.odometry_filter = ComponentChoice{filter->info.name, {}, v.field, v.line, v.file};
     }
-  if (c.odometry_filter) c.odometry_filter->settings = settings_under(rest, find_localizer(c.odometry_filter->name).info.section);
+  if (filter_def) c.odometry_filter->settings = settings_under(rest, filter_def->info.section);
   for (const ParamSetting& v : rest) {
     if (v.key == "localizer" || v.key == "odometry") continue;
     if (v.key == "map") {
