@@ -430,6 +430,65 @@ TEST(AmclUpdate, FirstScanUpdatesThenOnlyAfterMotion) {
   EXPECT_TRUE(amcl.update(Pose2(1.26, 1.0, -0.21), scan));
 }
 
+// A robot with two scanners (Nav2's lasers_update_): each updates the filter once per motion
+// step, the second at the place the first moved it to; a scanner seen twice without motion waits.
+TEST(AmclUpdate, EachScannerUpdatesOncePerMotionStep) {
+  const Room room = amcl_test::make_room();
+  AmclTestDrive drive(room, 5);
+  AmclConfig c;
+  c.update_min_d_m = 0.25;
+  c.update_min_a_rad = 0.2;
+  Amcl amcl(room.grid, {}, c, kAmclTestMount, 12);
+  amcl.initialize(drive.truth());
+  const PlanarScan front = drive.scan(kAmclTestMount);
+  PlanarScan rear = drive.scan(Pose2(-0.2, 0.0, kPi));
+  rear.sensor = 1;
+  rear.laser_in_base = Pose2(-0.2, 0.0, kPi);
+  const Pose2 o(1.0, 1.0, 0.0);
+  EXPECT_TRUE(amcl.update(o, front));
+  EXPECT_TRUE(amcl.update(o, rear));   // its first scan
+  EXPECT_FALSE(amcl.update(o, rear));  // no motion since
+  EXPECT_FALSE(amcl.update(Pose2(1.1, 1.0, 0.0), front));
+  EXPECT_TRUE(amcl.update(Pose2(1.3, 1.0, 0.0), rear));  // 0.3 m from the last motion step: moves the particles
+  EXPECT_TRUE(amcl.update(Pose2(1.3, 1.0, 0.0), front));  // the same step, weighed by the front scanner too
+  EXPECT_FALSE(amcl.update(Pose2(1.3, 1.0, 0.0), front));
+  EXPECT_EQ(amcl.estimate().updates, 4);
+  rear.sensor = kMaxAmclSensors;
+  EXPECT_THROW(amcl.update(Pose2(2.0, 1.0, 0.0), rear), Error);
+  rear.sensor = 1;
+  rear.laser_in_base = Pose2(std::nan(""), 0.0, 0.0);
+  EXPECT_THROW(amcl.update(Pose2(2.0, 1.0, 0.0), rear), Error);
+}
+
+// A scanner looking backwards, weighed with its own mount, tracks as the front one does; the same
+// scans taken for the filter's own (front) laser put the robot elsewhere.
+TEST(AmclScenario, ARearScannerTracksWithItsMount) {
+  const Room room = amcl_test::make_room();
+  const Pose2 rear_mount(-0.2, 0.0, kPi);
+  double mean_error[2] = {0.0, 0.0};
+  for (int with_mount = 0; with_mount < 2; ++with_mount) {
+    AmclTestDrive drive(room, 6);
+    Amcl amcl(room.grid, {}, amcl_test_config(), kAmclTestMount, 13);
+    amcl.initialize(drive.truth());
+    double sum = 0.0;
+    int counted = 0;
+    for (int k = 0; k < 400; ++k) {
+      PlanarScan scan = drive.scan(rear_mount);
+      scan.sensor = 1;
+      if (with_mount) scan.laser_in_base = rear_mount;
+      if (amcl.update(drive.odom(), scan) && amcl.estimate().updates > 8) {
+        sum += amcl_position_error(amcl.estimate().pose, drive.truth());
+        ++counted;
+      }
+      drive.step(0.1);
+    }
+    ASSERT_GT(counted, 30);
+    mean_error[with_mount] = sum / counted;
+  }
+  EXPECT_LT(mean_error[1], 0.04);
+  EXPECT_GT(mean_error[0], 0.2);
+}
+
 TEST(AmclUpdate, BeamModelTracksToo) {
   const Room room = amcl_test::make_room();
   AmclTestDrive drive(room, 5);

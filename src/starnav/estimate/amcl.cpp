@@ -99,6 +99,7 @@ Amcl::Amcl(const OccupancyGrid& map, const OccupancyThresholds& thresholds, cons
            const Pose2& laser_in_base, std::uint64_t seed)
     : config_((config.validate(), config)),
       laser_in_base_(laser_in_base),
+      laser_(laser_in_base),
       geometry_(map.geometry()),
       filter_(config.filter_config()),
       rng_(seed) {
@@ -195,6 +196,10 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
   const double range_min =
       config_.laser_min_range_m > 0.0 ? std::max(scan.range_min_m, config_.laser_min_range_m) : scan.range_min_m;
 
+  require(scan.sensor < kMaxAmclSensors, "scan", "sensor index " + std::to_string(scan.sensor) + " is not below " +
+                                                    std::to_string(kMaxAmclSensors));
+  if (sensor_pending_.size() <= scan.sensor) sensor_pending_.resize(scan.sensor + 1, 1);
+  bool motion = true;  // this update applies the motion since the reference (else a pending scanner's update at the same place)
   if (!have_odom_reference_) {
     odom_reference_ = odom_pose;
     have_odom_reference_ = true;
@@ -204,10 +209,18 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
     const double dyaw = angle_diff(odom_pose.yaw, odom_reference_.yaw);
     const bool moved = std::abs(dx) > config_.update_min_d_m || std::abs(dy) > config_.update_min_d_m ||
                        std::abs(dyaw) > config_.update_min_a_rad;
-    if (!moved) return false;
-    apply_motion_model(config_.robot_model, searching_ ? config_.search_motion_noise() : config_.motion_noise(),
-                       odom_reference_, odom_pose, filter_.poses(), rng_);
+    if (moved) {
+      apply_motion_model(config_.robot_model, searching_ ? config_.search_motion_noise() : config_.motion_noise(),
+                         odom_reference_, odom_pose, filter_.poses(), rng_);
+      std::fill(sensor_pending_.begin(), sensor_pending_.end(), 1);
+    } else if (!sensor_pending_[scan.sensor]) {
+      return false;
+    } else {
+      motion = false;
+    }
   }
+  sensor_pending_[scan.sensor] = 0;
+  laser_ = scan.laser_in_base.value_or(laser_in_base_);
 
   const std::vector<ModelBeam> beams = model_beams(scan, config_.max_beams, range_min, range_max);
   LikelihoodField* field = nullptr;
@@ -229,9 +242,9 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
   } else {
     likelihoods_.resize(filter_.size());
     if (field)
-      field->weigh(filter_.poses(), laser_in_base_, beams, likelihoods_);
+      field->weigh(filter_.poses(), laser_, beams, likelihoods_);
     else
-      beam_model_->weigh(filter_.poses(), laser_in_base_, beams, range_max, likelihoods_);
+      beam_model_->weigh(filter_.poses(), laser_, beams, range_max, likelihoods_);
     if (searching_ && tempered_search()) {
       // The ramp: (prod pz / pz(0))^(k r / n) with r rising to 1. The first updates of a search
       // compare modes whose particles the proposal's lattice or the random poses put a little
@@ -278,7 +291,9 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
       injected_now = r.injected > 0;
     }
   }
-  odom_reference_ = odom_pose;
+  // A scanner's update without motion leaves the reference where the motion was last applied:
+  // the motion below the thresholds since then is applied with the next.
+  if (motion) odom_reference_ = odom_pose;
   refresh_estimate();
   // Random poses start a search, unless the set still holds one tight cluster after them (a
   // few poses injected beside a converged set when the likelihood dips are weeded out by the
@@ -299,7 +314,7 @@ bool Amcl::update(const Pose2& odom_pose, const PlanarScan& scan) {
 
 std::vector<Pose2> Amcl::proposed_poses(const LikelihoodField& field, std::span<const ModelBeam> beams, std::size_t count,
                                         std::size_t limit) {
-  const std::vector<ScoredPose> best = proposal_->best(field, laser_in_base_, beams, count, limit, rng_);
+  const std::vector<ScoredPose> best = proposal_->best(field, laser_, beams, count, limit, rng_);
   if (best.empty()) {
     // A scan without a return says nothing about where the robot is: uniform poses then.
     std::vector<Pose2> poses(count);
@@ -324,8 +339,8 @@ bool Amcl::scan_explained_better(const Pose2& candidate, std::span<const ModelBe
   LikelihoodField& gate =
       config_.proposal.injection_gate == ScanProposalConfig::Gate::Search && search_field_ ? *search_field_ : *field_;
   gate.set_range_max(range_max);
-  const double particle = gate.weight(filter_.poses()[best], laser_in_base_, beams);
-  return gate.weight(candidate, laser_in_base_, beams) >= config_.proposal.injection_margin * particle;
+  const double particle = gate.weight(filter_.poses()[best], laser_, beams);
+  return gate.weight(candidate, laser_, beams) >= config_.proposal.injection_margin * particle;
 }
 
 Pose2 Amcl::pose_at(const Pose2& odom) const {

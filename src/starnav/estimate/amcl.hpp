@@ -162,6 +162,9 @@ struct AmclCounters {
   double last_w_diff = 0.0;  // injection probability of the last resampling
 };
 
+// Scanners one filter takes scans from (PlanarScan::sensor).
+inline constexpr std::size_t kMaxAmclSensors = 16;
+
 class Amcl {
  public:
   // `map` is copied where needed (free cells, the field); thresholds say which cells are free
@@ -229,6 +232,8 @@ class Amcl {
 
   AmclConfig config_;
   Pose2 laser_in_base_;
+  Pose2 laser_;                              // the mount of the scan being weighed
+  std::vector<std::uint8_t> sensor_pending_;  // per scanner: the motion since its last update is not weighed yet
   GridGeometry geometry_;
   std::vector<std::int32_t> free_cells_;
   std::optional<LikelihoodField> field_;

@@ -170,6 +170,17 @@ class AmclLocalizer final : public Localizer {
     for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) scan_.angles_rad[i] = scan.angle(i);
     scan_.range_min_m = scan.range_min_m;
     scan_.range_max_m = scan.range_max_m;
+    // Each stream is a scanner of its own: the first is the robot's laser (its mount given when
+    // built), the others carry theirs.
+    auto stream = std::find(streams_.begin(), streams_.end(), scan.header.stream);
+    if (stream == streams_.end()) {
+      if (streams_.size() == kMaxAmclSensors)
+        throw Error("more than " + std::to_string(kMaxAmclSensors) + " scan streams", {}, 0, "sensors.lidars");
+      stream = streams_.insert(streams_.end(), scan.header.stream);
+    }
+    scan_.sensor = static_cast<std::size_t>(stream - streams_.begin());
+    scan_.laser_in_base.reset();
+    if (scan_.sensor > 0) scan_.laser_in_base = scan.mount.to_pose2();
     amcl_->update(odometry_at(scan.header.t_s), scan_);
     t_s_ = scan.header.t_s;
   }
@@ -210,6 +221,7 @@ class AmclLocalizer final : public Localizer {
   bool has_odometry_ = false;
   double t_s_ = 0.0;
   PlanarScan scan_;
+  std::vector<std::string> streams_;  // the scan streams seen, in order (index = the filter's sensor)
 };
 
 }  // namespace

@@ -97,6 +97,9 @@ void PlanarScan::validate() const {
   require(std::isfinite(range_max_m) && std::isfinite(range_min_m) && range_min_m >= 0.0 && range_min_m < range_max_m,
           "scan", "needs 0 <= range_min < range_max < inf");
   for (const double a : angles_rad) require(std::isfinite(a), "scan", "beam angles must be finite");
+  if (laser_in_base)
+    require(std::isfinite(laser_in_base->x) && std::isfinite(laser_in_base->y) && std::isfinite(laser_in_base->yaw), "scan",
+            "the laser's mount must be finite");
 }
 
 std::vector<ModelBeam> model_beams(const PlanarScan& scan, int max_beams, double range_min_m, double range_max_m) {

@@ -8,6 +8,7 @@
 // so an origin yaw is honoured at no cost per beam.
 #include <cstdint>
 #include <span>
+#include <optional>
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
@@ -23,6 +24,10 @@ struct PlanarScan {
   std::vector<double> angles_rad;  // bearing of each beam in the laser frame
   double range_min_m = 0.0;
   double range_max_m = 0.0;
+  // A robot with several scanners: which one this is (each updates the filter once per motion
+  // step, as Nav2's lasers_update_) and its mount, when it is not the filter's own laser.
+  std::size_t sensor = 0;
+  std::optional<Pose2> laser_in_base;
 
   // Throws Error (field "scan") unless ranges and angles have the same size, the angles are
   // finite and 0 <= range_min < range_max < inf.
