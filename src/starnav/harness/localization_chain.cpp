@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
@@ -143,6 +146,17 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
   // The localizers take planar scans as a robot's driver publishes them (a 3D LiDAR's go to none).
   std::optional<LidarConfig> planar_lidar;
   if (spec.lidar && spec.lidar->config.lines() == 1) planar_lidar = spec.lidar->config;
+  std::vector<std::pair<std::string, LidarConfig>> other_planar;
+  for (const ScenarioLidar& l : spec.other_lidars)
+    if (l.config.lines() == 1) other_planar.emplace_back(l.stream, l.config);
+  sim.on_other_scan = [this, before = sim.on_other_scan, other_planar](const std::string& stream, const LidarScan& scan) {
+    for (const auto& [name, config] : other_planar)
+      if (name == stream) {
+        const ScanMessage message = planar_scan_message(scan, config, stream);
+        for (auto& l : localizers_) l->on_scan(message);
+      }
+    if (before) before(stream, scan);
+  };
   sim.on_scan = [this, before = sim.on_scan, planar_lidar](const LidarScan& scan) {
     if (planar_lidar) {
       const ScanMessage message = planar_scan_message(scan, *planar_lidar, "lidar");

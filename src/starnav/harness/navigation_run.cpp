@@ -534,6 +534,13 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   // The pose the navigator uses: the localizer's, after it has seen the truth (simulation only).
   const auto localized = [this](double t) { return chain_->pose(t); };
 
+  // More LiDARs (a rear one) feed the map; the first one's scans drive the cycle.
+  sim_->on_other_scan = [this, localized](const std::string&, const LidarScan& truth_scan) {
+    const Pose2 pose = localized(sim_->time());
+    const Pose2 truth = sim_->vehicle().state().pose.to_pose2();
+    if (pose.x != truth.x || pose.y != truth.y || pose.yaw != truth.yaw) nav_->add_scan(scan_placed_at(truth_scan, truth, pose));
+    else nav_->add_scan(truth_scan);
+  };
   sim_->on_scan = [this, localized](const LidarScan& truth_scan) {
     const Pose3 pose3 = sim_->vehicle().state().pose;
     const double t = sim_->time();

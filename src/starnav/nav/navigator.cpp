@@ -166,20 +166,29 @@ NavCycle Navigator::on_points(const Vec3& sensor_origin, std::span<const Vec3> p
   return after_update(map_.integrate(sensor_origin, points), pose, t);
 }
 
+void Navigator::note_changes(const CostmapUpdate& update) {
+  if (!incremental_ || plans_.empty()) return;
+  // Cells that changed since the last plan; the planner gets their values at the next plan, so
+  // a cell that flickered and came back costs nothing (D* Lite ignores unchanged passability).
+  for (const Cell& c : update.occupancy_changed) {
+    const std::size_t i = config_.geometry.index(c.x, c.y);
+    if (!pending_mark_[i]) {
+      pending_mark_[i] = 1;
+      pending_.push_back({c, 0});
+    }
+  }
+}
+
+CostmapUpdate Navigator::add_scan(const LidarScan& scan) {
+  CostmapUpdate update = map_.integrate(scan, config_.no_return_clear_m);
+  note_changes(update);
+  return update;
+}
+
 NavCycle Navigator::after_update(CostmapUpdate update, const Pose2& pose, double t) {
   NavCycle cycle;
   cycle.t_s = t;
-  if (incremental_ && !plans_.empty()) {
-    // Cells that changed since the last plan; the planner gets their values at the next plan, so
-    // a cell that flickered and came back costs nothing (D* Lite ignores unchanged passability).
-    for (const Cell& c : update.occupancy_changed) {
-      const std::size_t i = config_.geometry.index(c.x, c.y);
-      if (!pending_mark_[i]) {
-        pending_mark_[i] = 1;
-        pending_.push_back({c, 0});
-      }
-    }
-  }
+  note_changes(update);
   cycle.update = std::move(update);
   if (status_ == NavStatus::Arrived || status_ == NavStatus::NoPath) return cycle;
 

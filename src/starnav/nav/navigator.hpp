@@ -142,6 +142,8 @@ class Navigator {
 
   // One sensor cycle at time t with the robot's pose (ground truth or estimate).
   NavCycle on_scan(const LidarScan& scan, const Pose2& pose, double t);
+  // A scan of another LiDAR (a rear one): into the map only; the next cycle plans with it.
+  CostmapUpdate add_scan(const LidarScan& scan);
   // The same with a scan given as sensor origin and world points (tests, other sensors).
   NavCycle on_points(const Vec3& sensor_origin, std::span<const Vec3> points, const Pose2& pose, double t);
   // One control step at the localizer's pose, with the robot's current body twist. A controller
@@ -180,6 +182,7 @@ class Navigator {
 
  private:
   NavCycle after_update(CostmapUpdate update, const Pose2& pose, double t);
+  void note_changes(const CostmapUpdate& update);  // cells an incremental planner repairs at the next plan
   // Recovery: starts the recoveries (false when the navigation gives up), and the twist of the
   // running one.
   bool start_recovery(const Pose2& pose, double t, const std::string& why);

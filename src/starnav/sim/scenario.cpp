@@ -993,6 +993,22 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
   if (auto v = top.take("sensors")) {
     Fields f = fields_of(*v, doc);
     if (auto l = f.take("lidar")) s.lidar = parse_lidar(*l, doc, rc);
+    if (auto ls = f.take("lidars")) {
+      if (!ls->node().IsMap()) ls->fail("expected LiDARs by name (rear: {preset: ..., mount: ...}), found " + node_kind(ls->node()));
+      if (!s.lidar) ls->fail("more LiDARs need the first one (sensors.lidar)");
+      Fields g = fields_of(*ls, doc);
+      for (const std::string& name : g.keys()) {
+        const Value v = *g.take(name.c_str());
+        const bool snake = !name.empty() && name[0] >= 'a' && name[0] <= 'z' &&
+                           name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos;
+        if (!snake || name == "lidar")
+          v.fail("a LiDAR's name is lower_snake_case (its stream is lidar/NAME)");
+        if (s.other_lidars.size() == kMaxOtherLidars) v.fail("more than " + std::to_string(kMaxOtherLidars) + " more LiDARs");
+        ScenarioLidar l = parse_lidar(v, doc, rc);
+        l.stream = "lidar/" + name;
+        s.other_lidars.push_back(std::move(l));
+      }
+    }
     if (auto i = f.take("imu")) {
       Fields g = fields_of(*i, doc);
       ScenarioImu imu;
@@ -1026,7 +1042,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
       s.encoders = enc;
     }
     if (auto b = f.take("bumper")) s.bumper = b->boolean();
-    f.finish("lidar, imu, encoders, bumper");
+    f.finish("lidar, lidars, imu, encoders, bumper");
   }
 
   if (auto v = top.take("commands")) {
@@ -1169,6 +1185,7 @@ ScenarioSpec parse_document(const YAML::Node& root, const std::string& file) {
                   file, src.line, field);
   };
   if (s.lidar) check_rate(s.lidar->config.rate_hz, s.lidar->source, "sensors.lidar.rate_hz");
+  for (const ScenarioLidar& l : s.other_lidars) check_rate(l.config.rate_hz, l.source, l.source.field + ".rate_hz");
   if (s.imu) check_rate(s.imu->config.rate_hz, s.imu->source, "sensors.imu.rate_hz");
   if (s.encoders) check_rate(s.encoders->rate_hz, s.encoders->source, "sensors.encoders.rate_hz");
   check_simulation_steps(s, "sim.duration_s");
@@ -1288,10 +1305,14 @@ void check_simulation_steps(const ScenarioSpec& spec, const std::string& field) 
     throw Error(format_number(spec.duration_s) + " s at sim.dt_s " + format_number(spec.dt_s) + " s is " + format_number(steps) +
                     " steps, more than the " + format_number(kMaxSimulationSteps) + " a run may take",
                 spec.file, 0, field);
-  if (spec.lidar) {
-    const LidarConfig& l = spec.lidar->config;
+  double rays = 0.0;
+  std::vector<const ScenarioLidar*> lidars;
+  if (spec.lidar) lidars.push_back(&*spec.lidar);
+  for (const ScenarioLidar& l : spec.other_lidars) lidars.push_back(&l);
+  for (const ScenarioLidar* lidar : lidars) {
+    const LidarConfig& l = lidar->config;
     const double scans = std::floor(spec.duration_s * l.rate_hz) + 1.0;
-    const double rays = scans * static_cast<double>(l.ray_count());
+    rays += scans * static_cast<double>(l.ray_count());
     if (!(rays <= kMaxSimulationLidarRays))
       throw Error(format_number(spec.duration_s) + " s of " + format_number(l.rate_hz) + " Hz scans of " +
                       std::to_string(l.ray_count()) + " rays is " + format_number(rays) + " rays, more than the " +

@@ -105,8 +105,12 @@ struct ScenarioObstacle {
   ScenarioSource source;  // the list element (line) and "world.obstacles[i]"
 };
 
+// sensors.lidars holds at most this many LiDARs besides sensors.lidar.
+inline constexpr std::size_t kMaxOtherLidars = 8;
+
 struct ScenarioLidar {
   LidarConfig config;         // preset plus overrides, mount and self-filter resolved
+  std::string stream = "lidar";  // sensors.lidar: "lidar"; sensors.lidars.NAME: "lidar/NAME"
   std::string preset;         // "" for a fully custom sensor
   double horizontal_resolution_deg = 0.0;  // 0 = the preset's default
   ScenarioSource source;
@@ -193,6 +197,7 @@ struct ScenarioSpec {
   ScenarioSource start_source;  // robot.start (the robot section's line when absent)
 
   std::optional<ScenarioLidar> lidar;
+  std::vector<ScenarioLidar> other_lidars;  // sensors.lidars: more LiDARs by name (a rear one), in file order
   std::optional<ScenarioImu> imu;
   std::optional<ScenarioEncoders> encoders;
   bool bumper = true;

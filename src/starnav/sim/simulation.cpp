@@ -71,6 +71,10 @@ void Simulation::init() {
     throw Error(e.message(), spec_.file, field == "robot.start" ? spec_.start_source.line : spec_.robot_source.line, field);
   }
   if (spec_.lidar) lidar_.emplace(spec_.lidar->config, root.fork(2));
+  // Streams 20, 21, ... for more LiDARs: the first LiDAR's draws stay as they were.
+  for (std::size_t i = 0; i < spec_.other_lidars.size(); ++i)
+    other_lidars_.emplace_back(spec_.other_lidars[i].config, root.fork(20 + i));
+  next_other_scan_.assign(other_lidars_.size(), 0);
   if (spec_.imu) imu_model_.emplace(spec_.imu->config, root.fork(3), spec_.start.yaw);
   if (spec_.encoders) encoders_.emplace(vehicle_->model().actuator_count(), spec_.encoders->config, root.fork(4));
 
@@ -138,6 +142,13 @@ void Simulation::sample_sensors(bool initial) {
     scan_lidar();
     // One scan per step at most: a rate above 1/dt is capped to the step rate.
     while (due(next_scan_, lidar_->config().rate_hz, t)) ++next_scan_;
+  }
+  for (std::size_t i = 0; i < other_lidars_.size(); ++i) {
+    Lidar& lidar = other_lidars_[i];
+    if (!due(next_other_scan_[i], lidar.config().rate_hz, t)) continue;
+    lidar.scan(world_, vehicle_->state().pose, t, other_scan_);
+    if (on_other_scan) on_other_scan(spec_.other_lidars[i].stream, other_scan_);
+    while (due(next_other_scan_[i], lidar.config().rate_hz, t)) ++next_other_scan_[i];
   }
 }
 

@@ -95,6 +95,9 @@ class Simulation {
   std::function<void(const ImuModel::ImuReading&)> on_imu;
   std::function<void(const EncoderSample&)> on_encoders;
   std::function<void(const BumperReading&)> on_bumper;
+  // The scans of sensors.lidars (a rear LiDAR), each with its stream ("lidar/rear"), after the
+  // first LiDAR's scan of the same step.
+  std::function<void(const std::string& stream, const LidarScan&)> on_other_scan;
   // When set, replaces the command script: called at every step with t_k and the vehicle in its
   // state at t_k; returns the body twist to apply over the step (navigation drives through it).
   std::function<BodyTwist(double t)> command_source;
@@ -142,6 +145,9 @@ class Simulation {
   std::optional<ElevationMap> terrain_map_;
   std::unique_ptr<Vehicle> vehicle_;
   std::optional<Lidar> lidar_;
+  std::vector<Lidar> other_lidars_;
+  std::vector<std::int64_t> next_other_scan_;
+  LidarScan other_scan_;
   std::optional<ImuModel> imu_model_;
   std::optional<WheelEncoders> encoders_;
   LidarScan scan_;
