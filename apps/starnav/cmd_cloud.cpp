@@ -11,15 +11,13 @@
 // converged, 1 when it stopped at max_iterations, 2 bad input.
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "cli_util.hpp"
 #include "commands.hpp"
-#include "starnav/cloud/cloud_filters.hpp"
-#include "starnav/cloud/cloud_io.hpp"
 #include "starnav/core/angle.hpp"
+#include "starnav/experiment/cloud_registration.hpp"
 #include "starnav/registry/components.hpp"
 
 namespace starnav::cli {
@@ -36,42 +34,36 @@ struct RegisterOptions {
 };
 
 void run_cloud_register(const RegisterOptions& o, Context& ctx) {
-  const std::vector<ParamSetting> settings = parse_set_options(o.sets);
-  std::unique_ptr<ScanMatcher3d> matcher = find_scan_matcher_3d(o.matcher, "--matcher").make({}, settings);
-  Rigid3 initial = Rigid3::Identity();
+  CloudRegistrationRequest rq;
+  rq.matcher = o.matcher;
+  rq.matcher_field = "--matcher";
+  rq.settings = parse_set_options(o.sets);
   if (!o.initial.empty()) {
     const std::vector<double> p = parse_number_list(o.initial, "--initial", 6, "X,Y,Z,ROLL,PITCH,YAW (m, degrees)");
-    initial = to_rigid(Pose3::from_rpy(Vec3(p[0], p[1], p[2]), deg_to_rad(p[3]), deg_to_rad(p[4]), deg_to_rad(p[5])));
+    rq.initial = to_rigid(Pose3::from_rpy(Vec3(p[0], p[1], p[2]), deg_to_rad(p[3]), deg_to_rad(p[4]), deg_to_rad(p[5])));
   }
-  if (!(o.voxel_m >= 0.0)) throw Error("must be >= 0 (0: no voxel grid)", {}, 0, "--voxel-m");
-  PointCloud source = read_point_cloud(o.source).points, target = read_point_cloud(o.target).points;
-  if (o.voxel_m > 0.0) {
-    source = voxel_downsample(source, o.voxel_m);
-    target = voxel_downsample(target, o.voxel_m);
+  rq.voxel_leaf_m = o.voxel_m;
+  std::string warning;
+  CloudRegistration r;
+  try {
+    r = register_cloud_files(o.source, o.target, rq, &warning);
+  } catch (const Error& e) {
+    if (e.field() == "voxel_leaf_m") throw Error(e.message(), {}, 0, "--voxel-m");
+    throw;
   }
-  const CloudMatch m = register_clouds(*matcher, target, source, initial);
-  nlohmann::ordered_json j;
-  j["matcher"] = std::string(matcher->name());
-  j["converged"] = m.converged;
-  j["fitness"] = m.fitness;
-  j["iterations"] = m.iterations;
-  j["source_points"] = source.size();
-  j["target_points"] = target.size();
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (int r = 0; r < 4; ++r) rows.push_back({m.transform(r, 0), m.transform(r, 1), m.transform(r, 2), m.transform(r, 3)});
-  j["transform"] = rows;
-  j["time_s"] = m.time_s;
+  if (!warning.empty()) print_warning("--matcher: " + warning);
+  const CloudMatch& m = r.match;
   if (o.json) {
-    std::cout << j.dump() << "\n";
+    std::cout << cloud_registration_json(r);
   } else {
-    std::cout << "matcher:     " << j["matcher"].get<std::string>() << (m.converged ? " (converged" : " (not converged")
-              << " after " << m.iterations << " iterations)\n";
-    std::cout << "points:      " << source.size() << " source, " << target.size() << " target\n";
+    std::cout << "matcher:     " << r.matcher << (m.converged ? " (converged" : " (not converged") << " after "
+              << m.iterations << " iterations)\n";
+    std::cout << "points:      " << r.source_points << " source, " << r.target_points << " target\n";
     std::cout << "fitness:     " << m.fitness << " m^2\n";
     std::cout << "transform:   (source -> target)\n";
-    for (int r = 0; r < 4; ++r)
-      std::cout << "  " << m.transform(r, 0) << " " << m.transform(r, 1) << " " << m.transform(r, 2) << " "
-                << m.transform(r, 3) << "\n";
+    for (int row = 0; row < 4; ++row)
+      std::cout << "  " << m.transform(row, 0) << " " << m.transform(row, 1) << " " << m.transform(row, 2) << " "
+                << m.transform(row, 3) << "\n";
   }
   ctx.exit_code = m.converged ? 0 : 1;
 }
