@@ -316,12 +316,12 @@ std::vector<PlanResult> plan_many_on_grid(const OccupancyGrid& grid, std::span<c
   if (request.options.record_trace) throw Error("expanded cells are kept by single queries only", {}, 0, "expanded");
   const GridPlannerOptions options = grid_planner_options(request);
   try {
-    make_grid_planner(request.planner, grid, options);  // bad options fail here, before any thread starts
+    // Bad options fail where the first planner is built (the pool passes its error on).
+    return plan_many(queries, [&] { return make_grid_planner(request.planner, grid, options); }, request.limits, threads);
   } catch (const Error& e) {
     if (e.field().empty() || e.field() == "planner") throw;
     rethrow_at_key(e, settings, kOccupancyRenamed);
   }
-  return plan_many(queries, [&] { return make_grid_planner(request.planner, grid, options); }, request.limits, threads);
 }
 
 std::vector<PlanResult> plan_many_on_terrain(const ElevationMap& map, std::span<const PlanEndpoints> queries,
