@@ -6,6 +6,7 @@
 
 #include "bindings.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/experiment/map_report.hpp"
 #include "starnav/io/movingai.hpp"
 #include "starnav/terrain/terrain_analysis.hpp"
 #include "starnav/terrain/terrain_generator.hpp"
@@ -125,31 +126,11 @@ ElevationMapHandle elevation_handle(ElevationMap&& map, std::string source) {
   return h;
 }
 
-// The map info of `starnav map info --json`.
+// The map info of `starnav map info --json`, as a dict.
 py::dict map_info(const MapHandle& h) {
-  const LoadedMap& m = *h.loaded;
-  const GridGeometry& g = m.geometry();
-  py::dict d;
-  d["file"] = h.from_file ? py::object(py::str(h.source)) : py::object(py::none());
-  d["format"] = h.from_file ? std::string(map_format_name(m.format)) : h.source;
-  d["width"] = g.width;
-  d["height"] = g.height;
-  d["resolution_m"] = g.resolution;
-  d["origin"] = py::make_tuple(g.origin.x, g.origin.y, g.origin.yaw);
-  d["index_grid"] = g.y_down;
-  if (m.is_elevation()) {
-    const ElevationMap& e = m.elevation();
-    const auto range = e.height_range();
-    d["observed"] = e.observed_count();
-    d["unobserved"] = e.cell_count() - e.observed_count();
-    d["z_min_m"] = range ? py::object(py::float_(range->min)) : py::object(py::none());
-    d["z_max_m"] = range ? py::object(py::float_(range->max)) : py::object(py::none());
-  } else {
-    const OccupancyCounts c = m.occupancy().counts(m.thresholds());
-    d["free"] = c.free;
-    d["occupied"] = c.occupied;
-    d["unknown"] = c.unknown;
-  }
+  const std::string text = map_info_json(*h.loaded, h.from_file ? h.source : "", h.from_file ? "" : h.source, -1);
+  py::dict d = py::module_::import("json").attr("loads")(text);
+  d["origin"] = py::tuple(d["origin"]);
   return d;
 }
 
