@@ -152,7 +152,9 @@ PlanRequest occupancy_plan_request(const std::string& planner, std::span<const P
     std::string weighted;
     for (const GlobalPlannerDef& d : global_planners())
       if (d.info.has(Capability::HeuristicWeight)) weighted += (weighted.empty() ? "" : ", ") + d.info.name;
-    fail_at(*find_setting(settings, "weight"), "'" + planner + "' takes no weight (planners that do: " + weighted + ")");
+    const std::string message = "'" + planner + "' takes no weight (planners that do: " + weighted + ")";
+    if (const ParamSetting* s = find_setting(settings, "weight")) fail_at(*s, message);
+    throw Error(message, {}, 0, "weight");
   }
   if (rq.smoothing == PlanSmoothing::Gradient) {
     try {
