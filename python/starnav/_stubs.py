@@ -40,7 +40,7 @@ def pybind_signature(obj, name, skip_self=False):
     doc = (getattr(obj, "__doc__", None) or "").strip().split("\n")[0]
     m = re.match(r"^\w+\((.*)\)\s*->\s*(.+)$", doc)
     if not m:
-        return "def %s(*args: Any, **kwargs: Any) -> Any: ..." % name
+        return "def %s(%s*args: Any, **kwargs: Any) -> Any: ..." % (name, "self, " if skip_self else "")
     args, ret = m.group(1), stub_type(m.group(2))
     parts = split_args(args)
     if skip_self and parts:

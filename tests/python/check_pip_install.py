@@ -4,15 +4,23 @@ files, as a clone has them), offline, into a scratch venv that sees Debian's pac
 project's version, its stubs, and plans. Slow (it builds the library): ctest label `pip`, run by
 `make pip-check`, not by `make test`."""
 import os
+import pathlib
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 from conftest import SOURCE_DIR
 
 
-def test_pip_installs_the_package_offline(tmp_path):
+def test_pip_installs_the_package_offline():
+    # A folder of its own, removed afterwards (the build in it is over 100 MB).
+    with tempfile.TemporaryDirectory(prefix="starnav-pip-") as folder:
+        install_and_use(pathlib.Path(folder))
+
+
+def install_and_use(tmp_path):
     files = subprocess.run(["git", "-C", SOURCE_DIR, "ls-files", "--cached", "--others", "--exclude-standard", "-z"],
                            capture_output=True, check=True).stdout.decode().split("\0")
     clone = tmp_path / "clone"
