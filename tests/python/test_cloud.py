@@ -219,3 +219,15 @@ def test_help_shows_the_matchers_parameters():
         info = next(c for c in starnav.components("scan_matcher_3d") if c["name"] == name)
         for p in info["params"]:
             assert p["key"] in f.__doc__ and p["doc"] in f.__doc__
+
+
+def test_pose_matrix_is_roll_pitch_yaw():
+    """Rz(yaw) Ry(pitch) Rx(roll), the REP-103 convention, written out apart from the library."""
+    r, p, y = np.radians([10.0, -20.0, 30.0])
+    rx = np.array([[1, 0, 0], [0, np.cos(r), -np.sin(r)], [0, np.sin(r), np.cos(r)]])
+    ry = np.array([[np.cos(p), 0, np.sin(p)], [0, 1, 0], [-np.sin(p), 0, np.cos(p)]])
+    rz = np.array([[np.cos(y), -np.sin(y), 0], [np.sin(y), np.cos(y), 0], [0, 0, 1]])
+    t = starnav.cloud.pose_matrix(1.0, 2.0, 3.0, 10.0, -20.0, 30.0)
+    assert np.allclose(t[:3, :3], rz @ ry @ rx, atol=1e-12) and np.array_equal(t[:3, 3], [1.0, 2.0, 3.0])
+    assert np.array_equal(t[3], [0, 0, 0, 1])
+    assert starnav.cloud.Matcher("ndt_mt").name == "ndt_mt"

@@ -140,6 +140,8 @@ def test_elevation_from_an_array():
     assert np.array_equal(m.observed, ~np.isnan(z))
     assert np.array_equal(m.heights, np.nan_to_num(z.astype(np.float64)))
     assert np.array_equal(m.to_array(), z.astype(np.float64), equal_nan=True)
+    # One height per cell: its min and max are the height itself (0 where unobserved).
+    assert np.array_equal(m.min_heights, m.heights) and np.array_equal(m.max_heights, m.heights)
     assert m.info()["observed"] == 5 and m.info()["z_min_m"] == -1.0 and m.info()["z_max_m"] == 2.0
     masked = starnav.ElevationMap(np.ones((2, 2)), observed=np.array([[True, False], [True, True]]))
     assert masked.info()["observed"] == 3
@@ -238,3 +240,12 @@ def test_movingai_scenarios(tmp_path):
     assert s["map"] == ["tiny.map", "tiny.map"]
     assert s["start"].tolist() == [[0, 0], [1, 0]] and s["goal"].tolist() == [[3, 2], [2, 2]]
     assert s["optimal_length"].tolist() == [3.82842712, 2.41421356] and s["bucket"].tolist() == [0, 1]
+
+
+def test_map_server_thresholds_are_the_files(tmp_path):
+    yaml = tmp_path / "t.yaml"
+    yaml.write_text("image: %s\nresolution: 0.5\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.8\n"
+                    "free_thresh: 0.1\n" % source("tests", "data", "ros_modes.pgm"))
+    m = starnav.load_map(str(yaml))
+    assert m.thresholds == pytest.approx((80.0, 10.0))
+    same_info(m, str(yaml))  # the counts follow the file's thresholds, as the CLI's do

@@ -48,6 +48,8 @@ def test_occupancy_planner_equals_the_cli(office, name):
     assert tuple(r.path_cells[0]) == (3, 3) and tuple(r.path_cells[-1]) == (60, 44)
     d = r.to_dict()
     assert d["cost"] == r.cost and d["expanded"] == r.expanded and d["path"] == r.path.tolist()
+    assert d["admissible"] == r.admissible and d["generated"] == r.generated and d["time_ms"] == r.time_ms
+    assert d["length"] == r.length and repr(r).startswith("<starnav.PlanResult found")
 
 
 @pytest.mark.parametrize("name", ELEVATION)
@@ -227,7 +229,7 @@ def test_batch_equals_single_queries(office, planner):
     for i in range(40):
         r = starnav.plan(office, starts[i], goals[i], planner)
         assert bool(batch.found[i]) == r.found and batch.reasons[i] == r.reason
-        assert batch.expanded[i] == r.expanded and batch.generated[i] == r.generated
+        assert batch.expanded[i] == r.expanded and batch.generated[i] == r.generated and batch.time_ms[i] >= 0
         if r.found:
             assert batch.cost[i] == r.cost and batch.length[i] == r.length
             assert np.array_equal(batch.path(i), r.path) and np.array_equal(batch.path_cells(i), r.path_cells)
