@@ -52,20 +52,20 @@ def main(out_dir):
     print("%s: %d and %d points; gicp %s after %d iterations, fitness %.4f m^2" % (
         what, len(source), len(target), "converged" if reg.converged else "did not converge", reg.iterations, reg.fitness))
     print("transform (frame 1 -> frame 0):\n%s" % np.array2string(reg.transform, precision=4, suppress_small=True))
-    fig, axes = plt.subplots(1, 2, figsize=(12, 6), sharex=True, sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5.5), sharex=True, sharey=True)
     for ax, cloud, title in ((axes[0], source, "before"), (axes[1], aligned, "after gicp")):
-        ax.scatter(target[:, 0], target[:, 1], s=0.3, c="tab:blue", label="frame 0 (target)")
-        ax.scatter(cloud[:, 0], cloud[:, 1], s=0.3, c="tab:red", label="frame 1 (source)")
+        ax.scatter(target[::2, 0], target[::2, 1], s=0.3, c="tab:blue", label="frame 0 (target)")  # every other point
+        ax.scatter(cloud[::2, 0], cloud[::2, 1], s=0.3, c="tab:red", label="frame 1 (source)")
         ax.set_title("%s: %s" % (what, title))
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)")
     axes[0].set_ylabel("y (m)")
     axes[0].legend(loc="upper right", markerscale=15)
-    lim = 40 if os.path.isdir(KITTI) else 10
+    lim = 30 if os.path.isdir(KITTI) else 10
     axes[0].set_xlim(-lim, lim)
     axes[0].set_ylim(-lim, lim)
     path = os.path.join(out_dir, "register_clouds.png")
-    fig.savefig(path, dpi=100, bbox_inches="tight")
+    fig.savefig(path, dpi=75, bbox_inches="tight")
     print("wrote", path)
     return path
 
