@@ -36,8 +36,9 @@ void warn_deprecated(const std::string& warning);
 // ---- settings ---------------------------------------------------------------------------------------
 
 // One keyword argument as the text a scenario or --set would give: True/False -> "true"/"false",
-// an integer as itself, a float as its shortest exact text, a str as it is, a list or tuple of
-// names -> "a, b" (a name list), of numbers -> "1, 2". Anything else is a TypeError naming `key`.
+// an integer as itself, a float as its shortest exact text, a str as it is, a list, tuple or
+// array -> "[a, b]" (a name list; nested, polygons "[[[x, y], ...], ...]"). Anything else is a
+// TypeError naming `key`.
 std::string setting_text(const py::handle& value, const std::string& key);
 // The keyword arguments that are not None, in the order given, as settings whose field is empty
 // (so errors name the key, as the keyword was written).

@@ -92,13 +92,12 @@ std::string setting_text(const py::handle& value, const std::string& key) {
   if (PyUnicode_Check(v)) return value.cast<std::string>();
   if (py::hasattr(value, "dtype") && py::hasattr(value, "item") && py::getattr(value, "ndim", py::int_(1)).cast<int>() == 0)
     return setting_text(value.attr("item")(), key);  // a numpy scalar
-  if (PyList_Check(v) || PyTuple_Check(v)) {
+  if (PyList_Check(v) || PyTuple_Check(v) || py::isinstance(value, py::module_::import("numpy").attr("ndarray"))) {
     std::string text;
     for (const py::handle item : value) text += (text.empty() ? "" : ", ") + setting_text(item, key);
-    return text;
+    return "[" + text + "]";  // a name list ([a, b]) or nested lists (polygons: [[[x, y], ...], ...])
   }
-  throw py::type_error(key + ": expected a number, a boolean, a name or a list of names, got " +
-                       std::string(Py_TYPE(v)->tp_name));
+  throw py::type_error(key + ": expected a number, a boolean, a name or a list, got " + std::string(Py_TYPE(v)->tp_name));
 }
 
 std::vector<ParamSetting> settings_of(const py::dict& kwargs) {

@@ -3,12 +3,13 @@ matchers) and one per declared option table (terrain analysis, generators, the p
 with a signature and a docstring generated from the declared parameters (key, type, default,
 range, unit, doc), so help() and the type stubs (_stubs.py) show what the library checks."""
 import inspect
+import json
 import typing
 
 from . import _starnav
 
 # The Python type of each declared parameter type (core/params.hpp: param_type_name).
-PYTHON_TYPES = {"real": float, "integer": int, "boolean": bool, "choice": str, "names": list}
+PYTHON_TYPES = {"real": float, "integer": int, "boolean": bool, "choice": str, "names": list, "polygons": list}
 
 
 def components(role=""):
@@ -31,6 +32,8 @@ def default_value(spec):
             return {"true": True, "false": False}[text]
         if kind == "names":
             return [n.strip() for n in text.strip("[]").split(",") if n.strip()]
+        if kind == "polygons":
+            return json.loads(text)
         if kind == "choice":
             return text if text in spec["choices"] else None
     except (ValueError, KeyError):
@@ -61,7 +64,7 @@ def signature(head, specs, tail=(), returns=inspect.Signature.empty):
     for n, d in tail:
         params.append(inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, default=d))
     for s in specs:
-        value, kind = default_value(s), PYTHON_TYPES[s["type"]]
+        value, kind = default_value(s), PYTHON_TYPES.get(s["type"], object)
         params.append(inspect.Parameter(s["key"], inspect.Parameter.KEYWORD_ONLY, default=value,
                                         annotation=kind if value is not None else typing.Optional[kind]))
     return inspect.Signature(params, return_annotation=returns)

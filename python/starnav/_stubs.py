@@ -85,7 +85,7 @@ def annotation(a):
     if typing.get_origin(a) is typing.Union:  # Optional[T]
         inner = [x for x in typing.get_args(a) if x is not type(None)]
         return "Optional[%s]" % annotation(inner[0])
-    return {float: "float", int: "int", bool: "bool", str: "str", list: "list[str]"}.get(a, getattr(a, "__name__", "Any"))
+    return {float: "float", int: "int", bool: "bool", str: "str", list: "list[Any]"}.get(a, getattr(a, "__name__", "Any"))
 
 
 def python_signature(function, name):

@@ -10,7 +10,7 @@ from starnav import _stubs
 
 PACKAGE = os.path.dirname(starnav.__file__)
 STUBS = ["__init__.pyi", "planners.pyi", "matchers.pyi", "terrain.pyi", "cloud.pyi", "_starnav.pyi"]
-TYPES = {"real": "float", "integer": "int", "boolean": "bool", "choice": "str", "names": "list[str]"}
+TYPES = {"real": "float", "integer": "int", "boolean": "bool", "choice": "str", "names": "list[Any]", "polygons": "list[Any]"}
 
 
 def functions(stub):
