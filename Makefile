@@ -12,7 +12,7 @@ NOGDAL_BUILD ?= build-nogdal
 CMAKE_BUILD = JOBS=$(JOBS) scripts/cmake-build.sh
 CTEST = ctest --output-on-failure --progress -j $(JOBS)
 
-.PHONY: all deps build demo test bench bench-full asan san-build fuzz fuzz-replay nogdal-check format \
+.PHONY: all deps build demo test pip-check bench bench-full asan san-build fuzz fuzz-replay nogdal-check format \
   install install-check clean
 
 all: build
@@ -26,8 +26,14 @@ build: deps
 demo: build
 	@scripts/demo.sh $(BUILD)/bin/starnav
 
+# Every test but the slow pip install of the Python package (make pip-check).
 test: build
-	@cd $(BUILD) && $(CTEST) --timeout 900
+	@cd $(BUILD) && $(CTEST) --timeout 900 -LE '^pip$$'
+
+# pip install --no-build-isolation --no-index of a copy of the checkout into a scratch venv
+# (docs/python.md): builds the library again, a few minutes.
+pip-check: build
+	@cd $(BUILD) && $(CTEST) --timeout 1800 -L '^pip$$'
 
 bench: build
 	@scripts/bench.sh $(BUILD)

@@ -13,6 +13,12 @@ core=(build-essential cmake ninja-build pkg-config python3 curl libeigen3-dev li
 if [ "${STARNAV_WITH_GDAL:-ON}" != "OFF" ]; then core+=(libgdal-dev); fi
 if [ "${STARNAV_WITH_PCL:-ON}" != "OFF" ]; then core+=(libpcl-dev); fi
 if [ "${STARNAV_WITH_HTTP:-ON}" != "OFF" ]; then core+=(libcpp-httplib-dev); fi
+# The Python package (python/, docs/python.md): pybind11 for Debian's /usr/bin/python3, numpy, pytest for
+# its tests, matplotlib for the examples' figures, scikit-build for `pip install --no-build-isolation .`.
+if [ "${STARNAV_WITH_PYTHON:-ON}" != "OFF" ]; then
+  core+=(python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-skbuild
+         python3-venv python3-pip)
+fi
 fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
 case "$what" in
   core) pkgs=("${core[@]}") ;;

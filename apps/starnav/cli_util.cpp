@@ -19,6 +19,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/number_text.hpp"
+#include "starnav/experiment/plan_query.hpp"
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/core/output_file.hpp"
 
@@ -94,17 +95,7 @@ Vec2 parse_xy(const std::string& text, const std::string& flag) {
 }
 
 Cell parse_endpoint_cell(const std::string& text, const std::string& flag, bool in_cells, const GridGeometry& g) {
-  const Vec2 p = parse_xy(text, flag);
-  if (in_cells) {
-    const double lim = static_cast<double>(std::numeric_limits<int>::max());
-    if (p.x() != std::floor(p.x()) || p.y() != std::floor(p.y()) || std::abs(p.x()) > lim || std::abs(p.y()) > lim)
-      throw Error("expected cell indices X,Y (two integers), got '" + text + "'", {}, 0, flag);
-    return {static_cast<int>(p.x()), static_cast<int>(p.y())};
-  }
-  const Vec2 c = g.world_to_cell_continuous(p);
-  const double lim = 1e9;
-  if (std::abs(c.x()) > lim || std::abs(c.y()) > lim) return {-1, -1};  // far outside the map
-  return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
+  return plan_endpoint_cell(parse_xy(text, flag), in_cells, g, flag, text);
 }
 
 void rethrow_with_flag(const Error& e, const std::vector<std::pair<std::string, std::string>>& renamed) {
@@ -203,17 +194,6 @@ void write_text_file(const std::string& path, const std::string& text, const std
   } catch (const Error& e) {
     throw Error(e.message(), path, 0, flag);
   }
-}
-
-MapFormat output_map_format(const std::string& path, bool elevation) {
-  const std::string ext = lower_extension(path);
-  if (ext == ".yaml" || ext == ".yml") return elevation ? MapFormat::ElevationYaml : MapFormat::RosMap;
-  if (ext == ".map") return MapFormat::MovingAi;
-  if (ext == ".asc") return MapFormat::Asc;
-  if (ext == ".csv") return MapFormat::Csv;
-  if (ext == ".raw" || ext == ".r16") return MapFormat::UnityRaw;
-  if (ext == ".tif" || ext == ".tiff") return MapFormat::GeoTiff;
-  throw Error("unknown output format (expected .map, .yaml, .asc, .csv, .raw)", path);
 }
 
 bool picture_is_png(const std::string& path, const std::string& flag) {

@@ -89,9 +89,6 @@ void check_distinct_files(const std::vector<CommandFile>& files);
 // Writes `text` to `path`; an Error naming the file and `flag` when it cannot.
 void write_text_file(const std::string& path, const std::string& text, const std::string& flag);
 
-// The format to write for an output file name; .yaml means an elevation sidecar for elevation
-// maps and a map_server map for occupancy grids.
-MapFormat output_map_format(const std::string& path, bool elevation);
 
 // True for a .png picture, false for .svg; throws Error naming `flag` for anything else.
 bool picture_is_png(const std::string& path, const std::string& flag);

@@ -7,6 +7,7 @@
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/experiment/map_report.hpp"
 #include "starnav/io/map_file.hpp"
 
 namespace starnav::cli {
@@ -21,31 +22,12 @@ struct MapInfoOptions {
 void run_map_info(const MapInfoOptions& o) {
   const LoadedMap m = load_map(o.file);
   const GridGeometry& g = m.geometry();
-  nlohmann::ordered_json j;
-  j["file"] = o.file;
-  j["format"] = map_format_name(m.format);
-  j["width"] = g.width;
-  j["height"] = g.height;
-  j["resolution_m"] = g.resolution;
-  j["origin"] = {g.origin.x, g.origin.y, g.origin.yaw};
-  j["index_grid"] = g.y_down;
-  if (m.is_elevation()) {
-    const ElevationMap& e = m.elevation();
-    const auto range = e.height_range();
-    j["observed"] = e.observed_count();
-    j["unobserved"] = e.cell_count() - e.observed_count();
-    j["z_min_m"] = range ? nlohmann::ordered_json(range->min) : nlohmann::ordered_json(nullptr);
-    j["z_max_m"] = range ? nlohmann::ordered_json(range->max) : nlohmann::ordered_json(nullptr);
-  } else {
-    const OccupancyCounts c = m.occupancy().counts(m.thresholds());
-    j["free"] = c.free;
-    j["occupied"] = c.occupied;
-    j["unknown"] = c.unknown;
-  }
+  const std::string info = map_info_json(m, o.file);
   if (o.json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << info;
     return;
   }
+  const nlohmann::ordered_json j = nlohmann::ordered_json::parse(info);
   std::cout << "file:        " << o.file << "\n";
   std::cout << "format:      " << map_format_name(m.format) << "\n";
   std::cout << "size:        " << g.width << " x " << g.height << " cells";

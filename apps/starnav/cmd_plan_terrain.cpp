@@ -17,34 +17,19 @@
 // roll/pitch/tilt _mean_deg and _max_deg, roll/pitch _mean_abs_deg, moves_measured,
 // cells_measured, attitude_nodes (null when no path). `cost` is the planner's own: metres for OA*
 // and AOEA*, the sum of Liu move costs for IA*; `length` is the horizontal length in metres.
-#include <algorithm>
 #include <iostream>
 
 #include "cli_util.hpp"
 #include "cmd_plan_terrain.hpp"
 #include "starnav/core/error.hpp"
-#include "starnav/plan/grid_planner.hpp"
+#include "starnav/experiment/plan_query.hpp"
 
 namespace starnav::cli {
 
-namespace {
-
-RoughTerrainPlannerKind planner_kind(const std::string& name) {
-  const std::vector<std::string> occupancy = grid_planner_names();
-  if (std::find(occupancy.begin(), occupancy.end(), name) != occupancy.end())
-    throw Error("'" + name + "' plans on occupancy maps; on an elevation map use oa (A* on the map's own obstacles), "
-                "aoea or ia",
-                {}, 0, "--planner");
-  return parse_rough_terrain_planner(name, "--planner");
-}
-
-}  // namespace
-
-void run_plan_terrain(const TerrainPlanRequest& rq, const TerrainPlanFlags& flags, Context& ctx) {
-  const RoughTerrainPlannerKind kind = planner_kind(rq.planner);
-  RoughTerrainPlannerOptions options = terrain_planner_options(flags, {kind});
-  options.record_trace = rq.expanded;
-  const TerrainPlanOutcome outcome = plan_on_terrain(*rq.map, rq.start, rq.goal, kind, options, rq.limits);
+void run_plan_terrain(const TerrainPlanRequest& rq, Context& ctx) {
+  const RoughTerrainPlannerKind kind = terrain_plan_planner(rq.planner, "--planner");
+  const TerrainPlanQuery query = terrain_plan_query(rq.settings, std::vector<RoughTerrainPlannerKind>{kind});
+  const TerrainPlanOutcome outcome = plan_on_terrain(*rq.map, rq.start, rq.goal, kind, query.options, query.limits);
   const bool found = outcome.result.found();
   if (!rq.out.empty() && found) write_text_file(rq.out, terrain_plan_path_csv(outcome), "--out");
   if (!rq.svg.empty()) write_terrain_plan_picture(outcome, *rq.map, rq.start, rq.goal, rq.svg);

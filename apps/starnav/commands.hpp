@@ -32,5 +32,6 @@ void register_slam3d_command(CLI::App& app, Context& ctx);    // cmd_slam3d.cpp
 void register_view_command(CLI::App& app, Context& ctx);      // cmd_view.cpp
 void register_sweep_commands(CLI::App& app, Context& ctx);    // cmd_sweep.cpp
 void register_export_commands(CLI::App& app, Context& ctx);   // cmd_export.cpp
+void register_cloud_commands(CLI::App& app, Context& ctx);    // cmd_cloud.cpp
 
 }  // namespace starnav::cli

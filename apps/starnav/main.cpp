@@ -137,6 +137,7 @@ int main(int argc, char** argv) {
   starnav::cli::register_view_command(app, ctx);
   starnav::cli::register_sweep_commands(app, ctx);
   starnav::cli::register_export_commands(app, ctx);
+  starnav::cli::register_cloud_commands(app, ctx);
   starnav::cli::apply_number_rules(app);
 
   if (const std::string unknown = unknown_command_message(app, argc, argv); !unknown.empty()) {

@@ -1,24 +1,35 @@
 #include "terrain_cli.hpp"
 
-#include <algorithm>
-#include <cmath>
-
 #include "cli_util.hpp"
 #include "starnav/core/error.hpp"
 
 namespace starnav::cli {
 
-namespace {
-
-bool uses_thresholds(RoughTerrainPlannerKind k) { return k != RoughTerrainPlannerKind::OA; }
-bool uses_costs(RoughTerrainPlannerKind k) { return k == RoughTerrainPlannerKind::IA; }
-
-}  // namespace
-
 const CLI::Option* TerrainPlanFlags::first_given() const {
   for (const CLI::Option* o : {hy, ay, sy, weights_opt, admissible_opt, cost_per_metre_opt, robot_radius, unobserved_opt})
     if (o && o->count() > 0) return o;
   return nullptr;
+}
+
+std::vector<ParamSetting> TerrainPlanFlags::settings() const {
+  std::vector<ParamSetting> out;
+  const auto given = [](const CLI::Option* o) { return o && o->count() > 0; };
+  const auto add = [&](const std::string& key, const std::string& value) {
+    out.push_back({key, value, {}, 0, plan_query_flag(key)});
+  };
+  if (given(hy)) add("h_y", hy_m);
+  if (given(ay)) add("a_y", ay_rad);
+  if (given(sy)) add("s_y", sy_m2);
+  if (given(weights_opt)) {
+    const std::vector<double> w = parse_number_list(weights, "--weights", 5, "ws,we,wr,w1,w2 (five numbers)");
+    const char* keys[] = {"w_s", "w_e", "w_r", "w1", "w2"};
+    for (int i = 0; i < 5; ++i) add(keys[i], format_param_real(w[static_cast<std::size_t>(i)]));
+  }
+  if (given(admissible_opt)) add("admissible", admissible ? "true" : "false");
+  if (given(cost_per_metre_opt)) add("cost_per_metre", cost_per_metre ? "true" : "false");
+  if (given(robot_radius)) add("robot_radius_m", robot_radius_m);
+  if (given(unobserved_opt)) add("unobserved", unobserved);
+  return out;
 }
 
 void add_terrain_plan_flags(CLI::App* cmd, TerrainPlanFlags& f) {
@@ -43,55 +54,7 @@ void add_terrain_plan_flags(CLI::App* cmd, TerrainPlanFlags& f) {
 
 RoughTerrainPlannerOptions terrain_planner_options(const TerrainPlanFlags& f,
                                                    const std::vector<RoughTerrainPlannerKind>& planners) {
-  const bool thresholds = std::any_of(planners.begin(), planners.end(), uses_thresholds);
-  const bool costs = std::any_of(planners.begin(), planners.end(), uses_costs);
-  const bool aoea =
-      std::find(planners.begin(), planners.end(), RoughTerrainPlannerKind::AOEA) != planners.end();
-  auto refuse = [](const CLI::Option* o, const char* who) {
-    if (o && o->count() > 0) throw Error(std::string("applies to ") + who + " only", {}, 0, o->get_name());
-  };
-  if (!thresholds) {
-    refuse(f.hy, "--planner aoea and ia");
-    refuse(f.ay, "--planner aoea and ia");
-    refuse(f.sy, "--planner aoea and ia");
-  }
-  if (!costs) {
-    refuse(f.weights_opt, "--planner ia");
-    refuse(f.admissible_opt, "--planner ia");
-    refuse(f.cost_per_metre_opt, "--planner ia");
-  }
-  if (!aoea) refuse(f.robot_radius, "--planner aoea");
-
-  RoughTerrainPlannerOptions o;
-  o.cost.h_y = f.hy_m;
-  o.cost.a_y = f.ay_rad;
-  o.cost.s_y = f.sy_m2;
-  if (!f.weights.empty()) {
-    const std::vector<double> w = parse_number_list(f.weights, "--weights", 5, "ws,we,wr,w1,w2 (five numbers)");
-    o.cost.w_s = w[0];
-    o.cost.w_e = w[1];
-    o.cost.w_r = w[2];
-    o.cost.w1 = w[3];
-    o.cost.w2 = w[4];
-  }
-  o.cost.cost_per_metre = f.cost_per_metre;
-  o.heuristic = f.admissible ? LiuHeuristic::Admissible : LiuHeuristic::Paper;
-  o.reopen = true;
-  o.robot_radius_m = f.robot_radius_m;
-  o.unobserved = parse_unobserved_policy(f.unobserved, "--unobserved");
-  try {
-    o.validate();
-  } catch (const Error& e) {
-    // Name the flag the user typed.
-    const std::string& field = e.field();
-    const std::string flag = field == "h_y"              ? "--hy-m"
-                             : field == "a_y"            ? "--ay-rad"
-                             : field == "s_y"            ? "--sy-m2"
-                             : field == "robot_radius_m" ? "--robot-radius-m"
-                                                         : "--weights";
-    throw Error(e.message(), {}, 0, flag);
-  }
-  return o;
+  return terrain_plan_query(f.settings(), planners).options;
 }
 
 }  // namespace starnav::cli

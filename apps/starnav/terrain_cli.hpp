@@ -1,26 +1,27 @@
 #pragma once
 // What `starnav plan` on elevation maps and `starnav bench terrain` share (Liu et al. 2024,
-// docs/terrain.md): the planner flags and the options they make. The reports and pictures are
-// the library's (experiment/terrain_report.hpp).
+// docs/terrain.md): the planner flags and the options they make. The flags are the command line's
+// spelling of the library's declared query parameters (experiment/plan_query.hpp), which parse
+// and check them; the reports and pictures are the library's (experiment/terrain_report.hpp).
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
+#include "starnav/core/params.hpp"
+#include "starnav/experiment/plan_query.hpp"
 #include "starnav/experiment/terrain_report.hpp"
 #include "starnav/terrain/rough_terrain_planners.hpp"
 
 namespace starnav::cli {
 
-// The Liu 2024 flags (read through their CLI::Option: count() == 0 means "not given").
+// The Liu 2024 flags, as given (read through their CLI::Option: count() == 0 means "not given").
 struct TerrainPlanFlags {
-  double hy_m = LiuCostParams{}.h_y;
-  double ay_rad = LiuCostParams{}.a_y;
-  double sy_m2 = LiuCostParams{}.s_y;
+  std::string hy_m, ay_rad, sy_m2;
   std::string weights;  // ws,we,wr,w1,w2
   bool admissible = false;
   bool cost_per_metre = false;
-  double robot_radius_m = RoughTerrainPlannerOptions{}.robot_radius_m;
-  std::string unobserved = "blocked";
+  std::string robot_radius_m;
+  std::string unobserved;
   CLI::Option* hy = nullptr;
   CLI::Option* ay = nullptr;
   CLI::Option* sy = nullptr;
@@ -32,6 +33,8 @@ struct TerrainPlanFlags {
 
   // The first flag given on the command line, or nullptr.
   const CLI::Option* first_given() const;
+  // The flags given, as settings of terrain_plan_params() (each naming its flag).
+  std::vector<ParamSetting> settings() const;
 };
 
 // Registers --hy-m, --ay-rad, --sy-m2, --weights, --admissible, --cost-per-metre,

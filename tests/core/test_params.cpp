@@ -188,5 +188,41 @@ TEST(ParamPolygons, ATableDeclaresAndAppliesThem) {
   EXPECT_STREQ(param_type_name(specs[0].type), "polygons");
 }
 
+// A custom entry checks its own rule; nest("") puts a table's keys beside the outer ones.
+struct Outer {
+  Config inner;
+  long long whole = 2;
+};
+
+TEST(Params, CustomEntriesAndNestingUnderNoPrefix) {
+  ParamTable<Outer> t;
+  ParamSpec whole{"whole", ParamType::Integer, {}, closed(2, 8), {}, "", "an even number"};
+  t.custom(
+      std::move(whole),
+      [](Outer& o, const ParamSetting& v) {
+        const long long n = parse_param_integer(v);
+        if (n % 2 != 0) throw Error("must be even, got " + v.value, v.file, v.line, v.field.empty() ? v.key : v.field);
+        o.whole = n;
+      },
+      [](const Outer& o) { return std::to_string(o.whole); });
+  t.nest("", table(), [](Outer& o) -> Config& { return o.inner; });
+  EXPECT_EQ(t.keys(), (std::vector<std::string>{"whole", "speed_mps", "yaw_rate_degps", "enabled", "mode", "inner.count"}));
+  const std::vector<ParamSpec> specs = t.specs();
+  EXPECT_EQ(specs[0].default_value, "2");
+  EXPECT_EQ(specs[1].default_value, "0.2");
+  Outer o;
+  t.apply(o, {"whole", "6", "", 0, ""});
+  t.apply(o, {"speed_mps", "0.5", "", 0, ""});
+  EXPECT_EQ(o.whole, 6);
+  EXPECT_DOUBLE_EQ(o.inner.speed_mps, 0.5);
+  try {
+    t.apply(o, {"whole", "3", "f.yaml", 4, "x.whole"});
+    FAIL() << "an odd number passed";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "f.yaml:4: x.whole: must be even, got 3");
+  }
+  EXPECT_THROW(t.apply(o, {"speed_mps", "-1", "", 0, ""}), Error);  // the nested table's own range
+}
+
 }  // namespace
 }  // namespace starnav

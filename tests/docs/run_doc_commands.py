@@ -16,10 +16,16 @@ changes made to a command before it runs are the ones listed in docs/ci.md ("The
   sim --live / --live-wait                                 -> --port 0; with --live-wait a viewer
                                                               connects to /events
 
+Every ```python block is run the same way, as one script: /usr/bin/python3 (the interpreter running
+this) with the build's package first on the path (PYTHONPATH=BUILD_DIR/python, as `make test` builds
+it), from the repository root, /tmp/ replaced as above; it must exit 0. A block that names ../shared
+is skipped when that folder is absent; every python block is skipped when the build has no Python
+package (configured with -DSTARNAV_WITH_PYTHON=OFF).
+
 A block right after a line `<!-- doc-test: skip REASON -->` is not run (a command that changes the
 repository, say).
 
-  run_doc_commands.py --list ROOT            the runnable blocks, one "FILE:INDEX" per line
+  run_doc_commands.py --list ROOT            the runnable blocks, one "FILE:INDEX" per line ("FILE:pyINDEX" for python)
   run_doc_commands.py --run FILE:INDEX ROOT CLI BUILD_DIR SCRATCH
 """
 import os
@@ -42,12 +48,12 @@ def documents(root):
     return docs
 
 
-def blocks(path):
-    """The ```sh blocks of a Markdown file: (index, [command lines]), skipped ones left out."""
+def blocks(path, language="sh"):
+    """The ```sh (or ```python) blocks of a Markdown file: (index, [lines]), skipped ones left out."""
     lines = open(path, encoding="utf-8").read().split("\n")
     out, index, i = [], 0, 0
     while i < len(lines):
-        if lines[i].strip() == "```sh":
+        if lines[i].strip() == "```" + language:
             skip = i > 0 and lines[i - 1].strip().startswith("<!-- doc-test: skip")
             j = i + 1
             body = []
@@ -224,6 +230,32 @@ def tail(text, n=15):
     return "\n".join("    " + l for l in lines[-n:] if l) + ("\n" if text.strip() else "")
 
 
+def run_python_block(doc, index, body, root, build, scratch):
+    """One ```python block as a script; 0 when it ran (or was skipped), 1 when it failed."""
+    code = "\n".join(body)
+    name = "%s python block %d" % (doc, index)
+    package = os.path.join(build, "python")
+    if not os.path.isfile(os.path.join(package, "starnav", "__init__.py")):
+        print("skip  %s: the build has no Python package (STARNAV_WITH_PYTHON=OFF)" % name)
+        return 0
+    shared = os.path.normpath(os.path.join(root, "..", "shared"))
+    if "../shared" in code and not os.path.isdir(shared):
+        print("skip  %s: needs ../shared (absent)" % name)
+        return 0
+    code = code.replace("/tmp/", scratch + "/")
+    env = dict(os.environ, MPLBACKEND="Agg")
+    env["PYTHONPATH"] = package + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    t0 = time.monotonic()
+    p = subprocess.run([sys.executable, "-c", code], cwd=root, env=env, capture_output=True, text=True, timeout=900)
+    status = "ok" if p.returncode == 0 else "fail"
+    print("%-4s %6.1f s  %s" % (status, time.monotonic() - t0, name))
+    if p.returncode != 0:
+        print("      exit %d\n%s%s" % (p.returncode, tail(p.stdout), tail(p.stderr)))
+        return 1
+    print("%s block py%d: ran as written" % (doc, index))
+    return 0
+
+
 def main(argv):
     if len(argv) == 3 and argv[1] == "--list":
         root = argv[2]
@@ -231,12 +263,21 @@ def main(argv):
             for index, body in blocks(os.path.join(root, doc)):
                 if commands(body):
                     print("%s:%d" % (doc, index))
+            for index, body in blocks(os.path.join(root, doc), "python"):
+                if "".join(body).strip():
+                    print("%s:py%d" % (doc, index))
         return 0
     if len(argv) == 7 and argv[1] == "--run":
         doc, index = argv[2].rsplit(":", 1)
         root, cli, build, scratch = (os.path.abspath(a) for a in argv[3:7])
         shutil.rmtree(scratch, ignore_errors=True)
         os.makedirs(scratch)
+        if index.startswith("py"):
+            found = dict(blocks(os.path.join(root, doc), "python")).get(int(index[2:]))
+            if found is None:
+                print("%s has no python block %s" % (doc, index), file=sys.stderr)
+                return 2
+            return run_python_block(doc, int(index[2:]), found, root, build, scratch)
         found = dict(blocks(os.path.join(root, doc))).get(int(index))
         if found is None:
             print("%s has no runnable block %s" % (doc, index), file=sys.stderr)

@@ -92,4 +92,22 @@ PointCloud prefilter_cloud(std::span<const Vec3> points, const PrefilterConfig& 
   return cloud;
 }
 
+const ParamTable<PrefilterConfig>& prefilter_params() {
+  static const ParamTable<PrefilterConfig> table = [] {
+    using C = PrefilterConfig;
+    ParamTable<C> t;
+    t.real("min_range_m", [](C& c) -> double& { return c.window.min_range_m; }, closed(0.0, 100.0), "m",
+           "prefilter: points nearer the sensor are dropped (the robot's body)");
+    t.real("max_range_m", [](C& c) -> double& { return c.window.max_range_m; }, closed(0.1, 1000.0), "m",
+           "prefilter: points further away are dropped");
+    t.real("voxel_leaf_m", &C::voxel_leaf_m, closed(0.0, 5.0), "m", "prefilter: voxel grid leaf (0: none)");
+    t.real("outlier_radius_m", &C::outlier_radius_m, closed(0.0, 10.0), "m",
+           "prefilter: radius outlier removal radius (0: none)");
+    t.integer("outlier_min_neighbours", &C::outlier_min_neighbours, closed(0, 1000), "",
+              "prefilter: neighbours a point needs within the radius");
+    return t;
+  }();
+  return table;
+}
+
 }  // namespace starnav

@@ -8,6 +8,7 @@
 #include <span>
 
 #include "starnav/cloud/point_cloud.hpp"
+#include "starnav/core/params.hpp"
 
 namespace starnav {
 
@@ -41,5 +42,9 @@ struct PrefilterCounts {
   std::size_t raw = 0, windowed = 0, voxelised = 0, kept = 0;
 };
 PointCloud prefilter_cloud(std::span<const Vec3> points, const PrefilterConfig& config, PrefilterCounts* counts = nullptr);
+
+// The prefilter's declared parameters: min_range_m, max_range_m, voxel_leaf_m, outlier_radius_m,
+// outlier_min_neighbours (3D SLAM's section declares them; the Python bindings' prefilter takes them).
+const ParamTable<PrefilterConfig>& prefilter_params();
 
 }  // namespace starnav

@@ -11,6 +11,7 @@
 #include <exception>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/file_error.hpp"
 
 namespace starnav {
 
@@ -53,17 +54,17 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes, st
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     const int err = errno;
-    if (err == ENOENT) throw Error("no such file", path);
-    if (err == EISDIR) throw Error("is a directory, not a file", path);
-    throw Error(std::string("cannot open the file: ") + std::strerror(err), path);
+    if (err == ENOENT) throw FileError("no such file", path, err);
+    if (err == EISDIR) throw FileError("is a directory, not a file", path, err);
+    throw FileError(std::string("cannot open the file: ") + std::strerror(err), path, err);
   }
   struct Closer {
     int fd;
     ~Closer() { ::close(fd); }
   } closer{fd};
   struct stat st {};
-  if (::fstat(fd, &st) != 0) throw Error(std::string("cannot read the file: ") + std::strerror(errno), path);
-  if (S_ISDIR(st.st_mode)) throw Error("is a directory, not a file", path);
+  if (::fstat(fd, &st) != 0) throw FileError(std::string("cannot read the file: ") + std::strerror(errno), path, errno);
+  if (S_ISDIR(st.st_mode)) throw FileError("is a directory, not a file", path, EISDIR);
   if (!S_ISREG(st.st_mode)) throw Error("is not a regular file (a device, FIFO or socket): give a file", path);
   const auto size = static_cast<std::uint64_t>(st.st_size);
   if (size > max_bytes)
@@ -77,7 +78,7 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes, st
       const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
       if (n < 0) {
         if (errno == EINTR) continue;
-        throw Error(std::string("read error: ") + std::strerror(errno), path);
+        throw FileError(std::string("read error: ") + std::strerror(errno), path, errno);
       }
       if (n == 0) break;
       done += static_cast<std::size_t>(n);

@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/file_error.hpp"
 
 namespace starnav {
 
@@ -51,14 +52,14 @@ void write_file_atomically(const std::string& path, std::string_view bytes) {
   }
   struct stat st {};
   if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-    if (S_ISDIR(st.st_mode)) throw Error("is a folder, not a file", path);
+    if (S_ISDIR(st.st_mode)) throw FileError("is a folder, not a file", path, EISDIR);
     // A device or a FIFO: written in place.
     const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC);
-    if (fd < 0) throw Error("cannot open for writing: " + reason(errno), path);
+    if (fd < 0) throw FileError("cannot open for writing: " + reason(errno), path, errno);
     const bool ok = write_all(fd, bytes);
     const int err = errno;
-    if (::close(fd) != 0 && ok) throw Error("write failed: " + reason(errno), path);
-    if (!ok) throw Error("write failed: " + reason(err), path);
+    if (::close(fd) != 0 && ok) throw FileError("write failed: " + reason(errno), path, errno);
+    if (!ok) throw FileError("write failed: " + reason(err), path, err);
     return;
   }
   static std::atomic<unsigned long> counter{0};
@@ -67,7 +68,7 @@ void write_file_atomically(const std::string& path, std::string_view bytes) {
                                 std::to_string(counter.fetch_add(1));
   const fs::path temp = folder / temp_name;
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) throw Error("cannot create the file: " + reason(errno), path);
+  if (fd < 0) throw FileError("cannot create the file: " + reason(errno), path, errno);
   bool ok = write_all(fd, bytes);
   int err = errno;
   if (::close(fd) != 0 && ok) {
@@ -80,7 +81,7 @@ void write_file_atomically(const std::string& path, std::string_view bytes) {
   }
   if (!ok) {
     ::unlink(temp.c_str());
-    throw Error("write failed: " + reason(err), path);
+    throw FileError("write failed: " + reason(err), path, err);
   }
 }
 

@@ -176,14 +176,23 @@ class ParamTable {
     return *this;
   }
 
-  // Replaces the default shown in docs when it comes from elsewhere (e.g. "robot.max_step_m").
-  // Every parameter of `sub` under `prefix.`, bound to the nested configuration `access` gives.
+  // A parameter whose value the caller parses and checks itself (`set` throws Error naming the
+  // setting, as parse_param_real does), for a rule no range states: "a whole number >= 0", a
+  // list of numbers, a check against another setting. `spec.default_value` is read back by `get`.
+  ParamTable& custom(ParamSpec spec, std::function<void(Config&, const ParamSetting&)> set,
+                     std::function<std::string(const Config&)> get) {
+    add(std::move(spec), std::move(set), std::move(get));
+    return *this;
+  }
+
+  // Every parameter of `sub` under `prefix.` (or under its own key when `prefix` is empty),
+  // bound to the nested configuration `access` gives.
   template <class Sub, class Access>
   ParamTable& nest(const std::string& prefix, const ParamTable<Sub>& sub, Access access) {
-    const std::size_t strip = prefix.size() + 1;
+    const std::size_t strip = prefix.empty() ? 0 : prefix.size() + 1;
     for (const auto& e : sub.entries_) {
       ParamSpec s = e.spec;
-      s.key = prefix + "." + s.key;
+      if (!prefix.empty()) s.key = prefix + "." + s.key;
       add(std::move(s),
           [set = e.set, access, strip](Config& c, const ParamSetting& v) {
             ParamSetting inner = v;
@@ -196,6 +205,7 @@ class ParamTable {
     return *this;
   }
 
+  // Replaces the default shown in docs when it comes from elsewhere (e.g. "robot.max_step_m").
   ParamTable& default_rule(const std::string& key, std::string rule) {
     for (Entry& e : entries_)
       if (e.spec.key == key) e.rule = std::move(rule);

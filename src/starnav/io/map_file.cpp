@@ -186,4 +186,15 @@ std::vector<std::string> map_output_files(const std::string& path, MapFormat for
   return files;
 }
 
+MapFormat output_map_format(const std::string& path, bool elevation) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".yaml" || ext == ".yml") return elevation ? MapFormat::ElevationYaml : MapFormat::RosMap;
+  if (ext == ".map") return MapFormat::MovingAi;
+  if (ext == ".asc") return MapFormat::Asc;
+  if (ext == ".csv") return MapFormat::Csv;
+  if (ext == ".raw" || ext == ".r16") return MapFormat::UnityRaw;
+  if (ext == ".tif" || ext == ".tiff") return MapFormat::GeoTiff;
+  throw Error("unknown output format (expected .map, .yaml, .asc, .csv, .raw)", path);
+}
+
 }  // namespace starnav

@@ -38,6 +38,11 @@ struct LoadedMap {
 
 LoadedMap load_map(const std::string& path);
 
+// The format a map is written in, by the output's extension: .yaml (map_server, or a 16-bit PNG
+// with its YAML for an elevation map), .map, .asc, .csv, .raw/.r16, .tif/.tiff (refused when
+// writing). Throws Error(path) for another extension.
+MapFormat output_map_format(const std::string& path, bool elevation);
+
 // Throws Error(path) unless `format` suits the map (occupancy formats for occupancy grids,
 // elevation formats for elevation maps) and starnav writes it: what a command checks first.
 void check_map_writable(const LoadedMap& map, const std::string& path, MapFormat format);

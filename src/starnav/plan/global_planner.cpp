@@ -18,30 +18,21 @@ PlanResult GridGlobalPlanner::plan(const PlanningLayers& layers, Cell start, Cel
   return r;
 }
 
-namespace {
-
-// The graded cost band of GridPlannerOptions::ou2022.inflation, for the planners that honour it:
-// moves near obstacles cost more, so paths keep to the middle of corridors (ROS costmap_2d's
-// inflation costs, ou2022_options.hpp).
-struct CostBandSettings {
-  double cost_radius_m = 0.0;
-  double cost_scale_per_m = 10.0;
-  double cost_weight = 4.0;
-};
-
-const ParamTable<CostBandSettings>& cost_band_params() {
-  static const ParamTable<CostBandSettings> table = [] {
-    using C = CostBandSettings;
+const ParamTable<InflationOptions>& cost_band_params() {
+  static const ParamTable<InflationOptions> table = [] {
+    using C = InflationOptions;
     ParamTable<C> t;
     t.real("cost_radius_m", &C::cost_radius_m, closed(0.0, 10.0), "m",
            "moves within this distance of an obstacle cost more (0: off)");
-    t.real("cost_scale_per_m", &C::cost_scale_per_m, closed(0.0, 100.0), "1/m", "decay of the extra cost with distance");
+    t.real("cost_scale_per_m", &C::cost_scale, closed(0.0, 100.0), "1/m", "decay of the extra cost with distance");
     t.real("cost_weight", &C::cost_weight, closed(0.0, 1000.0), "",
            "a move next to an obstacle costs 1 + cost_weight times its length");
     return t;
   }();
   return table;
 }
+
+namespace {
 
 bool honours_cost_band(const std::string& name) {
   GridPlannerOptions o;
@@ -80,10 +71,10 @@ GlobalPlannerDef grid_global_planner(const std::string& name, std::string summar
                   settings.front().field);
     GridPlannerOptions options = ctx.grid;
     if (band) {
-      const CostBandSettings c = configured(cost_band_params(), settings, ctx.file);
-      options.ou2022.inflation.cost_radius_m = c.cost_radius_m;
-      options.ou2022.inflation.cost_scale = c.cost_scale_per_m;
-      options.ou2022.inflation.cost_weight = c.cost_weight;
+      const InflationOptions declared = configured(cost_band_params(), settings, ctx.file);
+      options.ou2022.inflation.cost_radius_m = declared.cost_radius_m;
+      options.ou2022.inflation.cost_scale = declared.cost_scale;
+      options.ou2022.inflation.cost_weight = declared.cost_weight;
     }
     return std::make_unique<GridGlobalPlanner>(name, options);
   };

@@ -57,6 +57,11 @@ class GridGlobalPlanner final : public GlobalPlanner {
   Cell goal_{};
 };
 
+// The graded cost band of GridPlannerOptions::ou2022.inflation as the planners that honour it
+// declare it (cost_radius_m, cost_scale_per_m, cost_weight): moves near obstacles cost more, so
+// paths keep to the middle of corridors (ROS costmap_2d's inflation costs, ou2022_options.hpp).
+const ParamTable<InflationOptions>& cost_band_params();
+
 // The registry entry of grid planner `name` (capabilities from a planner built on a 1 x 1 grid).
 GlobalPlannerDef grid_global_planner(const std::string& name, std::string summary,
                                      std::vector<std::string> deprecated_aliases = {});

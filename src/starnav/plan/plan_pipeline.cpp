@@ -14,15 +14,20 @@ PlanSmoothing parse_plan_smoothing(const std::string& text, const std::string& f
   throw Error("expected none, los or gradient, got '" + one_line(text, 40) + "'", {}, 0, field);
 }
 
-PlanOutcome plan_on_grid(const OccupancyGrid& grid, Cell start, Cell goal, const PlanRequest& request) {
+GridPlannerOptions grid_planner_options(const PlanRequest& request) {
   GridPlannerOptions options = request.options;
-  const bool gradient = request.smoothing == PlanSmoothing::Gradient;
   switch (request.smoothing) {
     case PlanSmoothing::PlannerDefault: break;
     case PlanSmoothing::None: options.ou2022.smoothing = PathSmoothing::None; break;
     case PlanSmoothing::LineOfSight:
     case PlanSmoothing::Gradient: options.ou2022.smoothing = PathSmoothing::LineOfSight; break;
   }
+  return options;
+}
+
+PlanOutcome plan_on_grid(const OccupancyGrid& grid, Cell start, Cell goal, const PlanRequest& request) {
+  const GridPlannerOptions options = grid_planner_options(request);
+  const bool gradient = request.smoothing == PlanSmoothing::Gradient;
   if (gradient) validate_gradient_smoothing(request.gradient);
 
   PlanOutcome out;

@@ -56,6 +56,10 @@ struct PlanOutcome {
   const std::vector<Vec2>& path() const { return smoothed ? smoothed->points : result.path_world; }
 };
 
+// The planner's options of a request: request.options with the smoothing asked for (gradient
+// smoothing runs line of sight first).
+GridPlannerOptions grid_planner_options(const PlanRequest& request);
+
 // Throws Error for an unknown planner or options it cannot honour (fields as make_grid_planner:
 // "planner", "connectivity", "weight", "heuristic", "inflate", ...; "smooth_clearance" for bad
 // gradient options). A query without a path is a result (result.found() false), not an error.

@@ -13,16 +13,7 @@ const ParamTable<GraphSlam3dConfig>& graph_slam_3d_params() {
   static const ParamTable<GraphSlam3dConfig> table = [] {
     using C = GraphSlam3dConfig;
     ParamTable<C> t;
-    t.real("min_range_m", [](C& c) -> double& { return c.prefilter.window.min_range_m; }, closed(0.0, 100.0), "m",
-           "prefilter: points nearer the sensor are dropped (the robot's body)");
-    t.real("max_range_m", [](C& c) -> double& { return c.prefilter.window.max_range_m; }, closed(0.1, 1000.0), "m",
-           "prefilter: points further away are dropped");
-    t.real("voxel_leaf_m", [](C& c) -> double& { return c.prefilter.voxel_leaf_m; }, closed(0.0, 5.0), "m",
-           "prefilter: voxel grid leaf (0: none)");
-    t.real("outlier_radius_m", [](C& c) -> double& { return c.prefilter.outlier_radius_m; }, closed(0.0, 10.0), "m",
-           "prefilter: radius outlier removal radius (0: none)");
-    t.integer("outlier_min_neighbours", [](C& c) -> std::size_t& { return c.prefilter.outlier_min_neighbours; },
-              closed(0, 1000), "", "prefilter: neighbours a point needs within the radius");
+    t.nest("", prefilter_params(), [](C& c) -> PrefilterConfig& { return c.prefilter; });
     t.real("keyframe_delta_trans_m", &C::keyframe_delta_trans_m, closed(0.01, 100.0), "m", "a new key frame after this much motion");
     t.real("keyframe_delta_angle_deg", &C::keyframe_delta_angle_rad, closed(0.1, 360.0), "deg",
            "a new key frame after this much turning", kPi / 180.0);

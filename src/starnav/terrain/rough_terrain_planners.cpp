@@ -347,8 +347,6 @@ std::unique_ptr<RoughTerrainPlanner> make_rough_terrain_planner(std::string_view
 
 namespace starnav {
 
-namespace {
-
 const ParamTable<RoughTerrainPlannerOptions>& rough_terrain_params() {
   static const ParamTable<RoughTerrainPlannerOptions> table = [] {
     using C = RoughTerrainPlannerOptions;
@@ -363,6 +361,8 @@ const ParamTable<RoughTerrainPlannerOptions>& rough_terrain_params() {
   }();
   return table;
 }
+
+namespace {
 
 // A rough-terrain planner as a GlobalPlanner: a search on the elevation layer per call.
 class TerrainGlobalPlanner final : public GlobalPlanner {

@@ -25,6 +25,7 @@
 #include <string_view>
 #include <vector>
 
+#include "starnav/core/params.hpp"
 #include "starnav/map/elevation_map.hpp"
 #include "starnav/plan/grid_graph.hpp"
 #include "starnav/plan/global_planner.hpp"
@@ -211,6 +212,10 @@ class RoughTerrainPlanner final : public GridPlanner {
 
 std::unique_ptr<RoughTerrainPlanner> make_rough_terrain_planner(std::string_view name, const ElevationMap& map,
                                                                 const RoughTerrainPlannerOptions& options = {});
+
+// The parameters the three planners declare in the registry (robot_radius_m, reopen, unobserved):
+// a scenario's navigation.<planner> section; `starnav plan` takes them too (experiment/plan_query.hpp).
+const ParamTable<RoughTerrainPlannerOptions>& rough_terrain_params();
 
 // The registry entry of a rough-terrain planner (capability needs_elevation).
 GlobalPlannerDef rough_terrain_global_planner(RoughTerrainPlannerKind kind);

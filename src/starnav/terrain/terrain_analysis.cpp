@@ -38,6 +38,30 @@ void TerrainAnalysisOptions::validate() const {
     throw Error("must be a finite number >= 0", {}, 0, "robot_radius_m");
 }
 
+const ParamTable<TerrainAnalysisOptions>& terrain_analysis_params() {
+  static const ParamTable<TerrainAnalysisOptions> table = [] {
+    using O = TerrainAnalysisOptions;
+    ParamTable<O> t;
+    t.choice(
+        "unobserved", {"blocked", "free_flat", "unknown_cost"},
+        [](O& o, const std::string& v) { o.unobserved = parse_unobserved_policy(v); },
+        [](const O& o) { return std::string(unobserved_policy_name(o.unobserved)); }, "how unobserved cells are treated");
+    t.real("h_y", [](O& o) -> double& { return o.thresholds.h_y; }, positive(), "m",
+           "Liu obstacle: a height difference to a neighbour from this on");
+    t.real("a_y", [](O& o) -> double& { return o.thresholds.a_y; }, open(0.0, kPi / 2), "rad",
+           "Liu obstacle: a slope to a neighbour from this on");
+    t.real("s_y", [](O& o) -> double& { return o.thresholds.s_y; }, positive(), "m^2",
+           "Liu obstacle: a ruggedness (3x3 height variance) from this on");
+    t.real("max_step_m", [](O& o) -> double& { return o.li.max_step_m; }, positive(), "m",
+           "Li 2019: the largest step the robot climbs (a cell's height spread)");
+    t.real("max_slope_deg", [](O& o) -> double& { return o.li.max_slope_rad; }, open(0.0, 90.0), "deg",
+           "Li 2019: the steepest slope the robot climbs", kPi / 180.0);
+    t.real("robot_radius_m", &O::robot_radius_m, non_negative(), "m", "obstacles are expanded by this radius (0: none)");
+    return t;
+  }();
+  return table;
+}
+
 int move_index(int dx, int dy) {
   for (int k = 0; k < kMoveCount; ++k)
     if (kMoveDx[k] == dx && kMoveDy[k] == dy) return k;

@@ -22,6 +22,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
+#include "starnav/core/params.hpp"
 #include "starnav/map/elevation_map.hpp"
 #include "starnav/map/mask_inflation.hpp"
 #include "starnav/terrain/liu_cost.hpp"
@@ -152,6 +153,10 @@ class TerrainAnalysis {
   std::vector<std::uint8_t> expanded_li_;
   IncrementalInflation inflation_;  // scratch of the windowed expansion update
 };
+
+// TerrainAnalysisOptions as declared parameters: unobserved, h_y, a_y, s_y (the Liu thresholds of
+// the obstacle mask), max_step_m, max_slope_deg (Li 2019's node criteria), robot_radius_m.
+const ParamTable<TerrainAnalysisOptions>& terrain_analysis_params();
 
 // The Liu obstacle mask of `analysis` for other thresholds than its own (same definition).
 std::vector<std::uint8_t> liu_obstacle_mask(const TerrainAnalysis& analysis, const LiuCostParams& thresholds);

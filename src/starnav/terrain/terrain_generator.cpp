@@ -456,4 +456,67 @@ RoadTerrain generate_road(const RoadOptions& o) {
   return out;
 }
 
+// ---- declared parameters ---------------------------------------------------------------------
+
+namespace {
+
+// The grid, the seed and the origin every generator takes.
+template <class O>
+void declare_terrain_grid(ParamTable<O>& t) {
+  t.real("width_m", &O::width_m, positive(), "m", "size of the map along x");
+  t.real("height_m", &O::height_m, positive(), "m", "size of the map along y");
+  t.real("resolution", &O::resolution, positive(), "m", "metres per cell");
+  t.integer("seed", &O::seed, non_negative(), "", "the seed of every random draw (same seed, same heights)");
+  t.real("origin_x_m", [](O& o) -> double& { return o.origin.x; }, any_value(), "m", "world x of the map's lower-left corner");
+  t.real("origin_y_m", [](O& o) -> double& { return o.origin.y; }, any_value(), "m", "world y of the map's lower-left corner");
+  t.real("origin_yaw_deg", [](O& o) -> double& { return o.origin.yaw; }, any_value(), "deg", "the map's yaw about that corner",
+         kPi / 180.0);
+}
+
+}  // namespace
+
+const ParamTable<HillsOptions>& hills_params() {
+  static const ParamTable<HillsOptions> table = [] {
+    using O = HillsOptions;
+    ParamTable<O> t;
+    declare_terrain_grid(t);
+    t.real("amplitude", &O::amplitude, non_negative(), "", "multiplies every height (hills and roughness)");
+    t.real("hills_per_100m2", &O::hills_per_100m2, non_negative(), "", "hills per 100 m^2 (at least one hill)");
+    t.real("hill_height_min_m", &O::hill_height_min_m, non_negative(), "m", "lowest hill");
+    t.real("hill_height_max_m", &O::hill_height_max_m, non_negative(), "m", "highest hill");
+    t.real("hill_sigma_min_m", &O::hill_sigma_min_m, positive(), "m", "narrowest hill's Gaussian sigma");
+    t.real("hill_sigma_max_m", &O::hill_sigma_max_m, positive(), "m", "widest hill's Gaussian sigma");
+    t.real("roughness_m", &O::roughness_m, non_negative(), "m", "standard deviation of the small-scale roughness");
+    t.real("roughness_correlation_m", &O::roughness_correlation_m, non_negative(), "m",
+           "Gaussian blur sigma of the roughness noise");
+    return t;
+  }();
+  return table;
+}
+
+const ParamTable<RoadOptions>& road_params() {
+  static const ParamTable<RoadOptions> table = [] {
+    using O = RoadOptions;
+    ParamTable<O> t;
+    declare_terrain_grid(t);
+    t.choice(
+        "road_class", {"A", "B", "C", "D", "E", "F", "G", "H"}, [](O& o, const std::string& v) { o.road_class = v[0]; },
+        [](const O& o) { return std::string(1, o.road_class); }, "road-roughness class (ISO 8608 / GB/T 7031)");
+    t.real("gd_n0", &O::gd_n0, non_negative(), "m^3", "Gd(n0) of the PSD (0: the class's geometric mean)");
+    t.choice(
+        "method", {"directional", "paper"}, [](O& o, const std::string& v) { o.method = parse_road_method(v); },
+        [](const O& o) { return std::string(road_method_name(o.method)); },
+        "directional: plane waves in several directions; paper: per-cell random phase, blurred");
+    t.real("n0", &O::n0, positive(), "1/m", "reference spatial frequency");
+    t.real("n1", &O::n1, positive(), "1/m", "lower edge of the frequency band");
+    t.real("n2", &O::n2, positive(), "1/m", "upper edge of the frequency band");
+    t.real("waviness", &O::waviness, positive(), "", "the PSD's exponent W");
+    t.integer("intervals", &O::intervals, closed(1, kMaxRoadIntervals), "", "log-spaced frequency intervals");
+    t.integer("directions", &O::directions, closed(1, kMaxRoadDirections), "", "wave directions (directional)");
+    t.real("blur_sigma_cells", &O::blur_sigma_cells, non_negative(), "cells", "Gaussian blur sigma (paper)");
+    return t;
+  }();
+  return table;
+}
+
 }  // namespace starnav

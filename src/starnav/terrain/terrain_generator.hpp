@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
+#include "starnav/core/params.hpp"
 #include "starnav/map/elevation_map.hpp"
 
 namespace starnav {
@@ -117,5 +118,11 @@ struct RoadTerrain {
 };
 // Heights before features have expected mean 0 and expected variance spectrum.sigma2 at every cell.
 RoadTerrain generate_road(const RoadOptions& options);
+
+// The generators' options as declared parameters (the Python bindings' keyword arguments; the
+// keys are the options' names, the origin as origin_x_m, origin_y_m, origin_yaw_deg; features are
+// added apart, add_terrain_feature). Defaults are the structs'; validate() checks the rest.
+const ParamTable<HillsOptions>& hills_params();
+const ParamTable<RoadOptions>& road_params();
 
 }  // namespace starnav
