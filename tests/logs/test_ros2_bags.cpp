@@ -530,6 +530,210 @@ TEST(Rosbag2Sqlite, HostileDatabasesAreRefusedInOneLine) {
   }
 }
 
+// ---- What a recording's records may cost, for every bag reader ----------------------------------
+
+// A message of a small recording, serialised for ROS 1 or ROS 2 (CDR).
+struct RecordingMessage {
+  enum Kind { Scan, Odometry, CutOdometry, TfOdometry } kind;
+  std::uint32_t sec;
+};
+
+std::string cdr_odometry(std::uint32_t sec, double x) {
+  test::CdrBytes c(false);
+  c.header(static_cast<std::int32_t>(sec), 0, "odom").str("base_link");
+  c.put(x).put(0.0).put(0.0).put(0.0).put(0.0).put(0.0).put(1.0);
+  for (int i = 0; i < 36; ++i) c.put(0.0);
+  for (int i = 0; i < 6; ++i) c.put(0.0);
+  for (int i = 0; i < 36; ++i) c.put(0.0);
+  return c.bytes;
+}
+
+std::string serialised(const RecordingMessage& m, bool ros2) {
+  const double x = 0.1 * m.sec;
+  switch (m.kind) {
+    case RecordingMessage::Scan:
+      return ros2 ? cdr_scan(false, 0, "laser", {1.0f, 2.0f, 3.0f}) : test::laser_scan(m.sec, 0, "laser", -0.5f, 0.5f, 10.0f, {1.0f, 2.0f, 3.0f});
+    case RecordingMessage::Odometry: return ros2 ? cdr_odometry(m.sec, x) : test::odometry(m.sec, 0, "base_link", x, 0.0, 0.0, 0.0, 0.0);
+    case RecordingMessage::CutOdometry: {
+      const std::string whole = ros2 ? cdr_odometry(m.sec, x) : test::odometry(m.sec, 0, "base_link", x, 0.0, 0.0, 0.0, 0.0);
+      return whole.substr(0, whole.size() / 2);  // ends inside its pose's covariance
+    }
+    case RecordingMessage::TfOdometry: return ros2 ? cdr_tf(false, "odom", "base_link", x, 0.0) : ros1_tf(m.sec, {{"odom", "base_link", x, 0.0, 0.0}});
+  }
+  return {};
+}
+
+// The topics: /scan (LaserScan) and /odom (Odometry), or /tf (TFMessage) for TfOdometry messages.
+struct RecordingTopic {
+  std::string name, ros1_type, ros2_type;
+};
+const RecordingTopic kScanTopic{"/scan", "sensor_msgs/LaserScan", "sensor_msgs/msg/LaserScan"};
+const RecordingTopic kOdomTopic{"/odom", "nav_msgs/Odometry", "nav_msgs/msg/Odometry"};
+const RecordingTopic kTfTopic{"/tf", "tf2_msgs/TFMessage", "tf2_msgs/msg/TFMessage"};
+const RecordingTopic& topic_of(const RecordingMessage& m) {
+  return m.kind == RecordingMessage::Scan ? kScanTopic : m.kind == RecordingMessage::TfOdometry ? kTfTopic : kOdomTopic;
+}
+
+// `messages` as a recording of `format` in `dir`: ROS 1 bags (none, bz2, lz4 chunks), MCAP (indexed,
+// or cut before its summary so that it is read record by record), SQLite3, and a rosbag2 folder of
+// an SQLite3 file whose messages are compressed one by one with zstd. Every topic is declared,
+// whether or not it has messages. Returns the path to read.
+std::string write_recording(const std::string& format, const std::vector<RecordingMessage>& messages, const test::ScratchDir& dir) {
+  const std::vector<RecordingTopic> topics = {kScanTopic, kOdomTopic, kTfTopic};
+  if (format.rfind("ros1", 0) == 0) {
+    test::BagWriter w(format.substr(5));
+    for (std::uint32_t i = 0; i < topics.size(); ++i) w.connection({i, topics[i].name, topics[i].ros1_type});
+    for (const RecordingMessage& m : messages) {
+      const auto at = std::find_if(topics.begin(), topics.end(), [&](const RecordingTopic& t) { return t.name == topic_of(m).name; });
+      w.message(static_cast<std::uint32_t>(at - topics.begin()), m.sec, 0, serialised(m, false));
+    }
+    const std::string path = dir.file(format + ".bag");
+    test::write_text(path, w.bytes());
+    return path;
+  }
+  if (format.rfind("mcap", 0) == 0) {
+    McapWriter w("ros2", McapWriter::Compression::Zstd, 256);
+    std::map<std::string, std::uint16_t> channels;
+    for (const RecordingTopic& t : topics) channels[t.name] = w.add_channel(w.add_schema(t.ros2_type, "ros2msg", ""), t.name, "cdr");
+    for (const RecordingMessage& m : messages) w.add_message(channels.at(topic_of(m).name), m.sec, m.sec, serialised(m, true));
+    std::string bytes = w.finish();
+    if (format == "mcap_unindexed") {
+      // Cut at the footer's summary_start: the data section alone, read record by record.
+      std::uint64_t summary_start = 0;
+      std::memcpy(&summary_start, bytes.data() + bytes.size() - 8 - 20, 8);
+      bytes.resize(static_cast<std::size_t>(summary_start));
+    }
+    const std::string path = dir.file(format + ".mcap");
+    test::write_text(path, bytes);
+    return path;
+  }
+  const bool folder = format == "rosbag2_zstd_messages";
+  const std::string db = folder ? dir.file("bag") + "/bag_0.db3" : dir.file(format + ".db3");
+  if (folder) {
+    fs::create_directories(dir.file("bag"));
+    test::write_text(dir.file("bag") + "/metadata.yaml",
+                     "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n  relative_file_paths: [bag_0.db3]\n"
+                     "  compression_format: zstd\n  compression_mode: MESSAGE\n");
+  }
+  sqlite3* handle = nullptr;
+  EXPECT_EQ(sqlite3_open(db.c_str(), &handle), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(handle,
+                         "PRAGMA synchronous = OFF; BEGIN;"
+                         "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT);"
+                         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, data BLOB);",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  for (std::size_t i = 0; i < topics.size(); ++i)
+    EXPECT_EQ(sqlite3_exec(handle, ("INSERT INTO topics VALUES (" + std::to_string(i + 1) + ", '" + topics[i].name + "', '" + topics[i].ros2_type + "', 'cdr');").c_str(),
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+  sqlite3_stmt* insert = nullptr;
+  EXPECT_EQ(sqlite3_prepare_v2(handle, "INSERT INTO messages(topic_id, timestamp, data) VALUES (?, ?, ?)", -1, &insert, nullptr), SQLITE_OK);
+  for (const RecordingMessage& m : messages) {
+    const auto at = std::find_if(topics.begin(), topics.end(), [&](const RecordingTopic& t) { return t.name == topic_of(m).name; });
+    const std::string data = folder ? zstd_compress(serialised(m, true)) : serialised(m, true);
+    sqlite3_bind_int64(insert, 1, at - topics.begin() + 1);
+    sqlite3_bind_int64(insert, 2, m.sec);
+    sqlite3_bind_blob(insert, 3, data.data(), static_cast<int>(data.size()), SQLITE_TRANSIENT);
+    EXPECT_EQ(sqlite3_step(insert), SQLITE_DONE);
+    sqlite3_reset(insert);
+  }
+  sqlite3_finalize(insert);
+  EXPECT_EQ(sqlite3_exec(handle, "COMMIT;", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(handle);
+  return folder ? dir.file("bag") : db;
+}
+
+const std::vector<std::string> kRecordingFormats = {"ros1_none", "ros1_bz2", "ros1_lz4", "mcap_indexed", "mcap_unindexed", "sqlite3",
+                                                    "rosbag2_zstd_messages"};
+
+// A recording for scans whose scan topic has no message is refused before its odometry is read: the
+// cut odometry message at its end is never reached (`log info`'s allow_no_scans reaches it).
+TEST(BagRecords, ARecordingWithoutScansIsRefusedBeforeItsOdometryIsRead) {
+  const test::ScratchDir dir;
+  std::vector<RecordingMessage> messages;
+  for (std::uint32_t t = 1; t <= 20; ++t) messages.push_back({RecordingMessage::Odometry, t});
+  messages.push_back({RecordingMessage::CutOdometry, 21});
+  for (const std::string& format : kRecordingFormats) {
+    SCOPED_TRACE(format);
+    const std::string path = write_recording(format, messages, dir);
+    LogReadOptions o;
+    o.odom_topic = "/odom";
+    try {
+      read_robot_log(path, o);
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), "--scan-topic") << e.what();
+      EXPECT_NE(e.message().find("holds no message on its sensor_msgs/LaserScan topic /scan"), std::string::npos) << e.what();
+    }
+    o.allow_no_scans = true;
+    try {
+      read_robot_log(path, o);
+      ADD_FAILURE() << "accepted the cut message";
+    } catch (const Error& e) {
+      EXPECT_NE(e.field().find("covariance"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A recording's records are bounded as a text log's (LogRecordBudget; here with a small limit
+// instead of its size + 64 MiB): messages counted before any is decoded are refused from their
+// count (the cut message at the end is never reached), transforms as they are stored.
+TEST(BagRecords, RecordsAreBoundedFromTheirCountsOrAsTheyAreStored) {
+  const test::ScratchDir dir;
+  std::vector<RecordingMessage> counted{{RecordingMessage::Scan, 1}};
+  std::vector<RecordingMessage> transforms{{RecordingMessage::Scan, 1}};
+  for (std::uint32_t t = 1; t <= 50; ++t) {
+    counted.push_back({RecordingMessage::Odometry, t});
+    transforms.push_back({RecordingMessage::TfOdometry, t});
+  }
+  counted.push_back({RecordingMessage::CutOdometry, 51});
+  const std::size_t limit = sizeof(LogScan) + 3 * sizeof(float) + 20 * sizeof(LogOdometry);
+  for (const std::string& format : kRecordingFormats) {
+    SCOPED_TRACE(format);
+    const test::ScratchDir sub;
+    LogReadOptions o;
+    o.record_limit_bytes = limit;
+    const std::string from_counts = test::error_of([&] { read_robot_log(write_recording(format, counted, sub), o); });
+    EXPECT_NE(from_counts.find("its 1 scan, 51 odometry, 0 ground-truth and 0 IMU messages would take more than " + std::to_string(limit) +
+                               " bytes parsed"),
+              std::string::npos)
+        << from_counts;
+    const test::ScratchDir sub2;
+    const std::string path = write_recording(format, transforms, sub2);
+    o.odom_topic = "/tf";
+    const std::string as_stored = test::error_of([&] { read_robot_log(path, o); });
+    EXPECT_NE(as_stored.find("its 1 scan, 20 odometry, 0 ground-truth, 0 IMU and 0 static transform records would take more than"),
+              std::string::npos)
+        << as_stored;
+    // Under the log's own rule (its size + 64 MiB) the same recording is read whole.
+    o.record_limit_bytes.reset();
+    EXPECT_EQ(read_robot_log(path, o).odometry.size(), 50u);
+  }
+}
+
+// A message that two entries of an MCAP message index point at is read once.
+TEST(BagRecords, AMessageIndexedTwiceIsReadOnce) {
+  McapWriter w("ros2", McapWriter::Compression::None);
+  const std::uint16_t scan = w.add_channel(w.add_schema("sensor_msgs/msg/LaserScan", "ros2msg", ""), "/scan", "cdr");
+  w.add_message(scan, 1, 1, cdr_scan(false, 1000, "laser", {1.0f}));
+  w.add_message(scan, 2, 2, cdr_scan(false, 2000, "laser", {2.0f}));
+  std::string bytes = w.finish();
+  ASSERT_EQ(read_ros2_bag_bytes(bytes, "a.mcap").scans.size(), 2u);
+  // The message index right after the chunk (opcode 0x06 after the header, schema and channel
+  // records): opcode 0x07, its length, the channel id, then (log_time, offset) pairs.
+  const std::size_t chunk = bytes.find('\x06', 8 + 9);
+  std::uint64_t chunk_length = 0;
+  std::memcpy(&chunk_length, bytes.data() + chunk + 1, 8);
+  const std::size_t index = chunk + 9 + static_cast<std::size_t>(chunk_length);
+  ASSERT_EQ(bytes[index], '\x07');
+  const std::size_t entries = index + 9 + 2 + 4;
+  std::memcpy(bytes.data() + entries + 16, bytes.data() + entries, 16);  // the second entry: the first's
+  const RobotLog log = read_ros2_bag_bytes(bytes, "a.mcap");
+  ASSERT_EQ(log.scans.size(), 1u);
+  EXPECT_EQ(log.scans[0].ranges_m, std::vector<float>{1.0f});
+}
+
 TEST(Zstd, DecompressionIsBoundedBeforeItAllocates) {
   const std::string zeros(1 << 20, '\0');
   const std::string z = zstd_compress(zeros);

@@ -51,10 +51,13 @@ std::string limits_markdown() {
             "CARMEN lines, text extracts, ROS bags' LaserScan messages", "checked from the count before the readings are stored"},
            {"decompressed data", bytes(static_cast<double>(kMaxDecompressedBytes)), ".gz, bzip2 and LZ4 inputs, the pixels of a PNG map image",
             "a small archive that inflates without bound is refused while inflating; a PNG from its IHDR header before its pixels are read"},
-           {"parsed records of a robot log", "its (decompressed) size + " + bytes_mib(static_cast<double>(kLogRecordSlackBytes)),
-            "CARMEN logs and text extracts: scans with their readings, odometry, ground truth",
-            "counted from the lines before any record is stored; a log for `slam`, `localize` or `map build` with odometry but no "
-            "scan line is refused there"},
+           {"parsed records of a robot log",
+            "its size (compressed parts counted decompressed), at most " + bytes(static_cast<double>(kMaxLogFileBytes)) + ", + " +
+                bytes_mib(static_cast<double>(kLogRecordSlackBytes)),
+            "CARMEN logs, text extracts, ROS 1 bags, MCAP and rosbag2 SQLite3 recordings (also `slam3d`'s bag index): scans with "
+            "their readings, odometry, ground truth, IMU, transforms",
+            "judged from the lines or each topic's message count before any record is stored, then charged as records are stored; "
+            "a log for `slam`, `localize` or `map build` without any scan is refused there"},
            {"a file's head", "its format's header", "MovingAI maps and scenarios, ESRI ASCII grids, PNG and PGM images, KITTI .bin clouds",
             "read and checked before the rest of the file: a file of another kind, or larger than its header says, costs its first bytes"},
            {"cells of a grid", count(static_cast<double>(kMaxGridCells)), "every map format's width x height",

@@ -29,13 +29,23 @@ std::optional<Pose> chain(const std::vector<FrameTransform>& tfs, const std::str
     if constexpr (std::is_same_v<Pose, Pose2>) return t.pose;
     else return t.pose3;
   };
+  // Each frame's transforms in file order, so that a breadth-first walk visits each transform at
+  // most twice (a bag's many frames cost their number, not its square).
+  std::map<std::string_view, std::vector<std::size_t>> touching;
+  for (std::size_t i = 0; i < tfs.size(); ++i) {
+    touching[tfs[i].parent].push_back(i);
+    if (tfs[i].child != tfs[i].parent) touching[tfs[i].child].push_back(i);
+  }
   std::map<std::string, Pose> reached{{from, Pose()}};
   std::deque<std::string> queue{from};
   while (!queue.empty()) {
     const std::string f = queue.front();
     queue.pop_front();
     if (f == to) return reached[f];
-    for (const FrameTransform& t : tfs) {
+    const auto links = touching.find(f);
+    if (links == touching.end()) continue;
+    for (const std::size_t i : links->second) {
+      const FrameTransform& t = tfs[i];
       if (t.parent == f && !reached.count(t.child)) {
         reached[t.child] = reached[f].compose(of(t));
         queue.push_back(t.child);
@@ -267,7 +277,45 @@ void BagLogAssembler::count(const std::string& topic, std::size_t messages) {
   if (use(topic) == BagTopicUse::Skip) log_.skipped[topic + " (" + type_of(topic) + ")"] += messages;
 }
 
+void BagLogAssembler::begin(std::uint64_t source_bytes) {
+  budget_.emplace(log_.path, source_bytes, options_.record_limit_bytes);
+  std::size_t scans = 0, odometry = 0, truth = 0, imu = 0;
+  std::string scan_topic;
+  for (const auto& [topic, u] : uses_) {
+    const std::size_t n = counts_[topic];
+    if (u == BagTopicUse::Scan) scans += n, scan_topic = topic;
+    else if (u == BagTopicUse::Odometry) odometry += n;
+    else if (u == BagTopicUse::Truth) truth += n;
+    else if (u == BagTopicUse::Imu) imu += n;
+  }
+  if (!options_.allow_no_scans && !scan_topic.empty() && scans == 0)
+    throw Error("holds no message on its sensor_msgs/LaserScan topic " + printable(scan_topic, 200) + ": nothing to map or localize with",
+                log_.path, 0, "--scan-topic");
+  // The messages' records, judged from their counts before any is stored (the scans' readings and
+  // the transforms are charged as they come).
+  budget_->check(scans * sizeof(LogScan) + odometry * sizeof(LogOdometry) + truth * sizeof(LogTruePose) + imu * sizeof(LogImu), [&] {
+    return std::to_string(scans) + " scan, " + std::to_string(odometry) + " odometry, " + std::to_string(truth) + " ground-truth and " +
+           std::to_string(imu) + " IMU messages";
+  });
+}
+
+void BagLogAssembler::add_source_bytes(std::uint64_t bytes) {
+  if (budget_) budget_->add_source(bytes);
+}
+
+std::string BagLogAssembler::stored() const {
+  return std::to_string(log_.scans.size()) + " scan, " + std::to_string(log_.odometry.size() + tf_odometry_count_) + " odometry, " +
+         std::to_string(log_.truth.size()) + " ground-truth, " + std::to_string(log_.imu.size()) + " IMU and " +
+         std::to_string(statics_.size()) + " static transform records";
+}
+
+void BagLogAssembler::charge(std::uint64_t bytes) {
+  if (!budget_) throw Error("records added before the bag's messages were counted", log_.path);
+  budget_->charge(bytes, [&] { return stored(); });
+}
+
 void BagLogAssembler::add_scan(LogScan scan, std::string_view frame_id) {
+  charge(sizeof(LogScan) + scan.ranges_m.size() * sizeof(float));
   if (laser_frame_.empty()) laser_frame_ = frame_name(frame_id);
   if (options_.range_max_m) scan.range_max_m = *options_.range_max_m;
   if (options_.flaser_beam_angles) set_flaser_beam_angles(scan, scan.ranges_m.size());
@@ -275,6 +323,7 @@ void BagLogAssembler::add_scan(LogScan scan, std::string_view frame_id) {
 }
 
 void BagLogAssembler::add_odometry(LogOdometry odometry, std::string_view child_frame_id) {
+  charge(sizeof(LogOdometry));
   if (base_frame_.empty()) base_frame_ = frame_name(child_frame_id);
   log_.odometry.push_back(odometry);
 }
@@ -282,25 +331,36 @@ void BagLogAssembler::add_odometry(LogOdometry odometry, std::string_view child_
 void BagLogAssembler::add_transforms(const std::vector<FrameTransform>& transforms, BagTopicUse use, std::size_t source_index) {
   for (const FrameTransform& t : transforms) {
     if (use == BagTopicUse::TfStatic) {
+      // /tf_static is latched: recorders repeat it. One transform per pair of frames is kept (the
+      // first, which the chain would take).
+      if (static_pairs_.count({t.parent, t.child})) continue;
+      charge(sizeof(FrameTransform) + 2 * (t.parent.size() + t.child.size()));
+      static_pairs_.emplace(t.parent, t.child);
       statics_.push_back(t);
     } else if (use == BagTopicUse::OdometryTf && t.parent == "odom") {
+      charge(sizeof(LogOdometry));
       LogOdometry o;
       o.stamp_us = t.stamp_us;
       o.pose = t.pose;
       o.source_index = source_index;
       tf_odometry_[t.child].push_back(o);
+      ++tf_odometry_count_;
     }
   }
 }
 
 void BagLogAssembler::add_truth(std::int64_t stamp_us, const Pose2& pose) {
+  charge(sizeof(LogTruePose));
   LogTruePose t;
   t.stamp_us = stamp_us;
   t.pose = pose;
   log_.truth.push_back(t);
 }
 
-void BagLogAssembler::add_imu(LogImu imu) { log_.imu.push_back(std::move(imu)); }
+void BagLogAssembler::add_imu(LogImu imu) {
+  charge(sizeof(LogImu));
+  log_.imu.push_back(std::move(imu));
+}
 
 RobotLog BagLogAssembler::finish() {
   for (const auto& [topic, use] : uses_) {

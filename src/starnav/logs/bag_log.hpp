@@ -21,8 +21,10 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "starnav/core/geometry.hpp"
@@ -110,8 +112,15 @@ class BagLogAssembler {
   BagTopicUse use(const std::string& topic) const;
   const std::string& type_of(const std::string& topic) const;
 
-  // Counts a message of `topic` (every message of every topic, decoded or not).
-  void count(const std::string& topic, std::size_t messages = 1);
+  // Counts the messages of `topic` (every topic's, decoded or not), before begin().
+  void count(const std::string& topic, std::size_t messages);
+  // Before the first message: `source_bytes` is the bag's size with its compressed parts counted
+  // decompressed. A log for scans (not allow_no_scans) whose scan topic has no message is refused
+  // here, and so is one whose counted messages' records would pass the bound (LogRecordBudget);
+  // each record is charged against it as it is added.
+  void begin(std::uint64_t source_bytes);
+  // Data decompressed while reading (messages compressed one by one) that source_bytes left out.
+  void add_source_bytes(std::uint64_t bytes);
   void add_scan(LogScan scan, std::string_view frame_id);
   void add_odometry(LogOdometry odometry, std::string_view child_frame_id);
   // The transforms of one tf2_msgs/TFMessage of /tf_static or of the odometry's tf topic.
@@ -123,13 +132,20 @@ class BagLogAssembler {
   RobotLog finish();
 
  private:
+  // Charges `bytes` of records (begin() first).
+  void charge(std::uint64_t bytes);
+  std::string stored() const;
+
   LogReadOptions options_;
+  std::optional<LogRecordBudget> budget_;
+  std::size_t tf_odometry_count_ = 0;
   RobotLog log_;
   std::map<std::string, std::string> types_;
   std::map<std::string, BagTopicUse> uses_;
   std::map<std::string, std::size_t> counts_;
   std::string laser_frame_, base_frame_;
   std::vector<FrameTransform> statics_;
+  std::set<std::pair<std::string, std::string>> static_pairs_;  // (parent, child) of statics_
   // odom -> child transforms of the tf odometry topic, per child frame.
   std::map<std::string, std::vector<LogOdometry>> tf_odometry_;
 };

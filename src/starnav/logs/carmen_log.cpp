@@ -169,14 +169,14 @@ LogScan raw_laser(const Fields& f, bool robot_laser) {
   return s;
 }
 
-// The memory a text log's records take, bounded by the text's size plus kLogRecordSlackBytes:
-// the records are counted from the lines' first words before any is stored (and a log that must
-// hold scans but has none is refused there, before its odometry is stored); the readings are
-// charged as each scan is read.
+// The memory a text log's records take, bounded as every log's (LogRecordBudget): the records
+// are counted from the lines' first words before any is stored (and a log that must hold scans
+// but has none is refused there, before its odometry is stored); the readings are charged as each
+// scan is read.
 class RecordBudget {
  public:
-  RecordBudget(std::string_view text, const std::string& path, bool odomscan, bool scans_required)
-      : path_(path), limit_(text.size() + kLogRecordSlackBytes) {
+  RecordBudget(std::string_view text, const std::string& path, bool odomscan, const LogReadOptions& o)
+      : budget_(path, text.size(), o.record_limit_bytes) {
     for_each_line(text, [&](std::string_view line, int) {
       const std::size_t b = line.find_first_not_of(" \t");
       if (b == std::string_view::npos) return;
@@ -191,7 +191,7 @@ class RecordBudget {
         ++truth;
     });
     // A text with no record line at all is not a log: read_robot_log says so.
-    if (scans_required && scans == 0 && odometry + truth > 0)
+    if (!o.allow_no_scans && scans == 0 && odometry + truth > 0)
       throw Error(odomscan ? "holds no LASERSCAN line: nothing to map or localize with"
                            : "holds no laser scan line (FLASER, ROBOTLASER1, RAWLASER1..4): nothing to map or localize with",
                   path);
@@ -199,13 +199,9 @@ class RecordBudget {
   }
   // Adds `bytes`; refuses the log when the records pass the bound.
   void charge(std::size_t bytes, int line) {
-    used_ += bytes;
-    if (used_ > limit_)
-      throw Error("its " + std::to_string(scans) + " scan, " + std::to_string(odometry) + " odometry and " +
-                      std::to_string(truth) + " ground-truth lines would take more than " + std::to_string(limit_) +
-                      " bytes parsed, the log's size plus " + std::to_string(kLogRecordSlackBytes >> 20) +
-                      " MiB (the most a log's records may take)",
-                  path_, line);
+    budget_.charge(bytes, [&] {
+      return std::to_string(scans) + " scan, " + std::to_string(odometry) + " odometry and " + std::to_string(truth) + " ground-truth lines";
+    }, line);
   }
   void reserve(RobotLog& log) const {
     log.scans.reserve(scans);
@@ -215,9 +211,7 @@ class RecordBudget {
   std::size_t scans = 0, odometry = 0, truth = 0;
 
  private:
-  const std::string& path_;
-  std::size_t limit_;
-  std::size_t used_ = 0;
+  LogRecordBudget budget_;
 };
 
 }  // namespace
@@ -233,7 +227,7 @@ RobotLog read_carmen_log(std::string_view text, const std::string& path, const L
   RobotLog log;
   log.path = path;
   log.format = "carmen";
-  RecordBudget budget(text, path, false, !o.allow_no_scans);
+  RecordBudget budget(text, path, false, o);
   budget.reserve(log);
   std::vector<std::size_t> flaser;
   for_each_line(text, [&](std::string_view line, int line_no) {
@@ -300,7 +294,7 @@ RobotLog read_odomscan_text(std::string_view text, const std::string& path, cons
   RobotLog log;
   log.path = path;
   log.format = "odomscan_text";
-  RecordBudget budget(text, path, true, !o.allow_no_scans);
+  RecordBudget budget(text, path, true, o);
   budget.reserve(log);
   std::vector<std::size_t> scans;
   for_each_line(text, [&](std::string_view line, int line_no) {

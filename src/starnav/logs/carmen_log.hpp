@@ -40,8 +40,12 @@ struct LogReadOptions {
   std::string imu_topic;    // the Imu topic (default: the only one)
   std::string truth_topic;  // the ground truth: an Odometry, PoseStamped or PoseWithCovarianceStamped
                             // topic (default: none)
-  // A bag without a LaserScan topic is read (its topics listed) rather than refused: `log info`.
+  // A log without scans is read (a bag's topics listed) rather than refused: `log info`. Otherwise
+  // a log that holds no scan is refused before its odometry is stored.
   bool allow_no_scans = false;
+  // The most the parsed records may take, instead of the log's size rule (LogRecordBudget): tests
+  // try the bound on small logs.
+  std::optional<std::size_t> record_limit_bytes;
   // Bags converted from FLASER logs: the beam angles of FLASER (above) instead of the messages'
   // angle_min and angle_increment, which such converters invented.
   bool flaser_beam_angles = false;

@@ -7,9 +7,6 @@
 
 namespace starnav {
 
-// The most bytes a log file may have on disk (2 GiB); decompressed, see decompress.hpp.
-inline constexpr std::size_t kMaxLogFileBytes = std::size_t{2} << 30;
-
 // Throws Error naming the file (and line or byte, and field) for anything it cannot read: not a
 // regular file, too large, corrupt compression, malformed lines or records.
 RobotLog read_robot_log(const std::string& path, const LogReadOptions& options = {});

@@ -83,6 +83,8 @@ McapReader::McapReader(std::string_view bytes, std::string path) : bytes_(bytes)
     channels_.clear();
     schemas_.clear();
     counts_.clear();
+    chunks_.clear();
+    chunk_bytes_ = 0;
     scan(nullptr, nullptr);
     scanned_ = true;
   }
@@ -185,6 +187,17 @@ bool McapReader::read_summary() {
     return false;
   }
   std::sort(chunks_.begin(), chunks_.end(), [](const ChunkIndex& a, const ChunkIndex& b) { return a.start < b.start; });
+  // What the compressed chunks decompress to, from the chunk records themselves (their
+  // uncompressed_size is what decompression holds them to).
+  for (const ChunkIndex& ci : chunks_) {
+    McapFields f(bytes_.substr(ci.start + kMcapRecordHead, static_cast<std::size_t>(ci.length - kMcapRecordHead)), path_, mcap_at(ci.start));
+    if (static_cast<std::uint8_t>(bytes_[ci.start]) != kMcapChunk) continue;  // read_indexed refuses it
+    f.u64("message_start_time");
+    f.u64("message_end_time");
+    const std::uint64_t size = f.u64("uncompressed_size");
+    f.u32("uncompressed_crc");
+    if (!f.str("compression").empty()) chunk_bytes_ += std::min<std::uint64_t>(size, kMaxDecompressedBytes);
+  }
   return true;
 }
 
@@ -292,6 +305,7 @@ void McapReader::scan(const std::function<bool(const McapChannel&)>* wanted, con
     } else if (op == kMcapChunk) {
       std::string storage;
       const std::string_view records = mcap_chunk_records(f, storage, path_, at);
+      if (first && !storage.empty()) chunk_bytes_ += storage.size();
       for (std::size_t in = 0; in < records.size();) {
         const std::string where = "chunk at file byte " + std::to_string(at) + ", its record at byte " + std::to_string(in);
         if (records.size() - in < kMcapRecordHead) throw Error("a record header cut short (" + where + ")", path_, 0, "records");
@@ -328,7 +342,9 @@ void McapReader::read_indexed(const std::function<bool(const McapChannel&)>& wan
       for (std::uint32_t k = 0; k + 16 <= n; k += 16) offsets.push_back(mcap_load<std::uint64_t>(entries + k + 8));
     }
     if (offsets.empty()) continue;
+    // A message listed twice (by two indexes, or twice in one) is read once.
     std::sort(offsets.begin(), offsets.end());
+    offsets.erase(std::unique(offsets.begin(), offsets.end()), offsets.end());
     const std::size_t at = static_cast<std::size_t>(ci.start);
     if (static_cast<std::uint8_t>(bytes_[at]) != kMcapChunk || mcap_load<std::uint64_t>(bytes_.data() + at + 1) != ci.length - kMcapRecordHead)
       throw Error("no chunk of " + std::to_string(ci.length) + " bytes where the chunk index says (" + mcap_at(at) + ")", path_, 0, "chunk_start_offset");

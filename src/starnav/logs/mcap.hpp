@@ -62,6 +62,9 @@ class McapReader {
   // Messages per channel (from the message indexes or the scan).
   const std::map<std::uint16_t, std::uint64_t>& message_counts() const { return counts_; }
   bool indexed() const { return indexed_; }
+  // What the file's compressed chunks decompress to (their uncompressed_size, at most
+  // kMaxDecompressedBytes each).
+  std::uint64_t chunk_bytes() const { return chunk_bytes_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
 
   // Visits the messages of the channels `wanted` accepts, in file order.
@@ -88,6 +91,7 @@ class McapReader {
   std::vector<std::string> warnings_;
   bool indexed_ = false;
   bool scanned_ = false;
+  std::uint64_t chunk_bytes_ = 0;
 };
 
 // ---- Writing --------------------------------------------------------------------------------------

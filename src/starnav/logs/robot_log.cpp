@@ -13,6 +13,29 @@
 
 namespace starnav {
 
+LogRecordBudget::LogRecordBudget(std::string path, std::uint64_t source_bytes, std::optional<std::size_t> limit)
+    : path_(std::move(path)), source_(source_bytes), limit_(limit) {}
+
+void LogRecordBudget::add_source(std::uint64_t bytes) { source_ += bytes; }
+
+std::uint64_t LogRecordBudget::limit() const {
+  if (limit_) return *limit_;
+  return std::min<std::uint64_t>(source_, kMaxLogFileBytes) + kLogRecordSlackBytes;
+}
+
+void LogRecordBudget::check(std::uint64_t bytes, const std::function<std::string()>& what, int line) const {
+  if (bytes <= limit() && used_ <= limit() - bytes) return;
+  const std::string rule = limit_ ? std::string("the limit given")
+                                  : "the log's size" + std::string(source_ > kMaxLogFileBytes ? " (at most " + std::to_string(kMaxLogFileBytes) + ")" : "") +
+                                        " plus " + std::to_string(kLogRecordSlackBytes >> 20) + " MiB, the most a log's records may take";
+  throw Error("its " + what() + " would take more than " + std::to_string(limit()) + " bytes parsed (" + rule + ")", path_, line);
+}
+
+void LogRecordBudget::charge(std::uint64_t bytes, const std::function<std::string()>& what, int line) {
+  check(bytes, what, line);
+  used_ += bytes;
+}
+
 std::vector<Vec2> LogScan::end_points(const Pose2& sensor, std::size_t max) const {
   std::vector<Vec2> out;
   if (max == 0) return out;

@@ -23,12 +23,41 @@ namespace starnav {
 // 1141). Every reader refuses more before storing them.
 inline constexpr std::size_t kMaxScanBeams = 100000;
 
-// What a log's parsed records (scans with their readings, odometry, ground truth, IMU) may take
-// beyond the bytes of the (decompressed) text they come from. A real log's records are smaller than
-// its text (a reading of 6 or 7 characters is stored as a 4-byte float); only a degenerate log of
-// bare lines (30 million short ODOM lines) costs several times its text. The text readers count
-// their lines before storing any record and refuse such a log there.
+// What a log's parsed records (scans with their readings, odometry, ground truth, IMU, transforms)
+// may take beyond the bytes they come from: the log's size with its compressed parts counted
+// decompressed (a .gz, a bag's chunks, a rosbag2 file or message compressed with zstd), at most
+// kMaxLogFileBytes. A real log's records are smaller than its bytes (a reading of 6 or 7
+// characters is stored as a 4-byte float, a 700-byte Odometry message as 56 bytes); only a
+// degenerate log (30 million bare ODOM lines, a small archive of millions of messages) costs more,
+// and is refused: from its counts (lines, messages per topic) before any record is stored, else
+// as the records are stored.
 inline constexpr std::size_t kLogRecordSlackBytes = std::size_t{64} << 20;
+// The most bytes a log file may have on disk (2 GiB); decompressed, see core/input_file.hpp.
+inline constexpr std::size_t kMaxLogFileBytes = std::size_t{2} << 30;
+// The most any log's records may take: the largest log's size plus the slack.
+inline constexpr std::size_t kMaxLogRecordBytes = kMaxLogFileBytes + kLogRecordSlackBytes;
+
+// The account of a log's records against that bound (every reader keeps one).
+class LogRecordBudget {
+ public:
+  // `source_bytes`: the log's size as read (decompressed); `limit`: instead of the rule (tests).
+  LogRecordBudget(std::string path, std::uint64_t source_bytes, std::optional<std::size_t> limit = std::nullopt);
+  // Decompressed data met while reading, beyond what `source_bytes` counted (messages compressed
+  // one by one).
+  void add_source(std::uint64_t bytes);
+  std::uint64_t limit() const;
+  // Throws when `bytes` more would pass the limit; `what` names the records ("2000000 odometry
+  // lines"), `line` where they come from (0: the file).
+  void check(std::uint64_t bytes, const std::function<std::string()>& what, int line = 0) const;
+  // Adds `bytes` (check first).
+  void charge(std::uint64_t bytes, const std::function<std::string()>& what, int line = 0);
+  std::uint64_t used() const { return used_; }
+
+ private:
+  std::string path_;
+  std::uint64_t source_ = 0, used_ = 0;
+  std::optional<std::size_t> limit_;
+};
 
 struct LogScan {
   std::int64_t stamp_us = 0;        // CARMEN ipc_timestamp, bag header.stamp (rounded to 1 us)

@@ -296,8 +296,14 @@ Ros2Bag::Ros2Bag(const std::string& path) : path_(path) {
   for (auto& f : files_) {
     open_file(*f);
     add_topics(*f);
+    add_source_bytes(*f);
     if (files_.size() > 1) f->release();
   }
+}
+
+void Ros2Bag::add_source_bytes(const File& f) {
+  source_bytes_ += f.view.size();
+  if (f.mcap) source_bytes_ += f.mcap->chunk_bytes();
 }
 
 Ros2Bag::Ros2Bag(std::string_view bytes, const std::string& path) : path_(path) {
@@ -308,6 +314,7 @@ Ros2Bag::Ros2Bag(std::string_view bytes, const std::string& path) : path_(path) 
   files_.push_back(std::move(f));
   open_file(*files_.front());
   add_topics(*files_.front());
+  add_source_bytes(*files_.front());
 }
 
 Ros2Bag::~Ros2Bag() = default;
@@ -371,6 +378,7 @@ void Ros2Bag::for_each_message(const std::function<bool(const Ros2Topic&)>& want
   const auto deliver = [&](Ros2Message& m) {
     if (compressed_messages_) {
       decompressed = zstd_decompress_any(m.data, *m.file, 0, kMaxDecompressedBytes);
+      m.inflated = decompressed.size();
       m.data = decompressed;
     }
     visit(m);
@@ -429,11 +437,13 @@ RobotLog assemble(Ros2Bag& bag, const LogReadOptions& o) {
   for (const Ros2Topic& t : bag.topics()) topics.push_back({t.name, t.type});
   BagLogAssembler log(topics, o, bag.path(), bag.format());
   for (const Ros2Topic& t : bag.topics()) log.count(t.name, t.messages);
+  log.begin(bag.source_bytes());
   std::size_t index = 0;
   std::vector<FrameTransform> transforms;
   bag.for_each_message([&](const Ros2Topic& t) { return log.use(t.name) != BagTopicUse::Skip; },
                        [&](const Ros2Message& m) {
                          ++index;
+                         log.add_source_bytes(m.inflated);
                          const std::string& topic = m.topic->name;
                          CdrReader r(m.data, *m.file, topic + " message " + std::to_string(index) + " (" + m.where + "),");
                          const BagTopicUse use = log.use(topic);
@@ -464,6 +474,13 @@ PointCloudBagIndex index_ros2_point_cloud_bag(const std::string& path, const Poi
   PointCloudBagIndex ix;
   choose_point_cloud_topics(topics, o, path, ix);
   std::vector<FrameTransform> statics;
+  LogRecordBudget budget(path, bag.source_bytes());
+  const auto charge = [&](std::size_t bytes) {
+    budget.charge(bytes, [&] {
+      return std::to_string(ix.cloud_stamps_us.size()) + " cloud stamps, " + std::to_string(ix.odometry.size()) + " odometry, " +
+             std::to_string(ix.truth.size()) + " ground-truth and " + std::to_string(statics.size()) + " static transform records";
+    });
+  };
   std::size_t index = 0;
   bag.for_each_message(
       [&](const Ros2Topic& t) {
@@ -472,22 +489,28 @@ PointCloudBagIndex index_ros2_point_cloud_bag(const std::string& path, const Poi
       },
       [&](const Ros2Message& m) {
         ++index;
+        budget.add_source(m.inflated);
         const std::string& topic = m.topic->name;
         CdrReader r(m.data, *m.file, topic + " message " + std::to_string(index) + " (" + m.where + "),");
         if (topic == ix.cloud_topic) {
           const BagPointCloud h = cdr_point_cloud(r, true);
           if (ix.cloud_frame.empty()) ix.cloud_frame = frame_name(h.frame_id);
+          charge(sizeof(std::int64_t));
           ix.cloud_stamps_us.push_back(h.stamp_us);
         } else if (topic == ix.odom_topic) {
           CdrOdometry d = cdr_odometry(r);
           if (ix.base_frame.empty()) ix.base_frame = frame_name(d.child_frame_id);
           d.odometry.source_index = index;
+          charge(sizeof(LogOdometry));
           ix.odometry.push_back(d.odometry);
         } else if (topic == ix.truth_topic) {
           const CdrOdometry d = cdr_odometry(r);
+          charge(sizeof(StampedPose3));
           ix.truth.push_back({d.odometry.stamp_us, d.pose3});
         } else {
+          const std::size_t before = statics.size();
           cdr_tf(r, statics);
+          charge((statics.size() - before) * sizeof(FrameTransform));
         }
       });
   if (ix.base_frame.empty()) ix.base_frame = "base_link";

@@ -43,6 +43,7 @@ struct Ros2Message {
   std::string_view data;     // the CDR bytes (decompressed when the bag compresses messages)
   std::string where;         // "file byte N" (MCAP: the record or its chunk), "row N" (SQLite3)
   const std::string* file = nullptr;
+  std::size_t inflated = 0;  // what decompressing the message added (compression_mode MESSAGE)
 };
 
 // A recording: one file (its bytes) or a rosbag2 folder (its files read one at a time).
@@ -60,6 +61,9 @@ class Ros2Bag {
   // Every topic of every file, by name (messages summed).
   const std::vector<Ros2Topic>& topics() const { return topics_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
+  // The recording's size: every file's bytes (decompressed when compressed whole) and what its
+  // MCAP chunks decompress to; messages compressed one by one add theirs as they are read.
+  std::uint64_t source_bytes() const { return source_bytes_; }
   // The messages of the wanted topics, file after file, in each file's order.
   void for_each_message(const std::function<bool(const Ros2Topic&)>& wanted, const std::function<void(const Ros2Message&)>& visit);
 
@@ -67,12 +71,14 @@ class Ros2Bag {
   struct File;
   void open_file(File& f);
   void add_topics(const File& f);
+  void add_source_bytes(const File& f);
 
   std::string path_, format_;
   std::vector<std::unique_ptr<File>> files_;
   std::vector<Ros2Topic> topics_;
   std::vector<std::string> warnings_;
   bool compressed_messages_ = false;
+  std::uint64_t source_bytes_ = 0;
 };
 
 RobotLog read_ros2_bag(const std::string& path, const LogReadOptions& options = {});

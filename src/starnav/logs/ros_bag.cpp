@@ -151,6 +151,8 @@ class BagWalker {
     for (const auto& [id, c] : connections_) out.push_back(*c);
     return out;
   }
+  // The bag's bytes with its chunks' decompressed data added (after a walk).
+  std::uint64_t decompressed_bytes() const { return bytes_.size() + chunk_bytes_; }
 
  private:
   void connection(const Record& rec, const ByteReader& r) {
@@ -174,7 +176,10 @@ class BagWalker {
     const std::uint64_t time = rec.header.value<std::uint64_t>("time", r);
     const auto it = connections_.find(id);
     if (it == connections_.end()) r.fail("conn", "message on connection " + std::to_string(id) + " before its connection record");
-    if (!visit) return;
+    if (!visit) {
+      ++it->second->messages;
+      return;
+    }
     BagMessageView m;
     m.connection = it->second.get();
     m.record_time_ns = static_cast<std::uint64_t>(time & 0xffffffffu) * 1'000'000'000ull + (time >> 32);
@@ -201,6 +206,7 @@ class BagWalker {
     } else {
       r.fail("compression", "unknown chunk compression '" + printable(compression, 20) + "' (none, bz2, lz4)");
     }
+    if (compression != "none") chunk_bytes_ += inner.size();
     ByteReader in(inner, path_, 0, "chunk at file byte " + std::to_string(at) + ", decompressed");
     for_each_record(in, [&](const Record& inner_rec, ByteReader& ir) {
       if (inner_rec.op == kOpConnection) connection(inner_rec, ir);
@@ -212,6 +218,7 @@ class BagWalker {
   std::string_view bytes_;
   const std::string& path_;
   std::map<std::uint32_t, std::unique_ptr<BagConnection>> connections_;
+  std::uint64_t chunk_bytes_ = 0;
 };
 
 // ---- Messages -------------------------------------------------------------------------------------
@@ -402,10 +409,10 @@ void for_each_bag_message(std::string_view bytes, const std::string& path,
   w.walk(&visit);
 }
 
-std::vector<BagConnection> bag_connections(std::string_view bytes, const std::string& path) {
+BagContents bag_contents(std::string_view bytes, const std::string& path) {
   BagWalker w(bytes, path);
   w.walk(nullptr);
-  return w.connections();
+  return {w.connections(), w.decompressed_bytes()};
 }
 
 // ROS 1's decoders, for assemble_bag_message.
@@ -418,13 +425,16 @@ struct Ros1Decode {
 };
 
 RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const LogReadOptions& o) {
-  BagLogAssembler log(bag_topics(bag_connections(bytes, path)), o, path, "ros1_bag");
+  // The first pass counts every topic's messages, so that the records are judged before any is stored.
+  const BagContents contents = bag_contents(bytes, path);
+  BagLogAssembler log(bag_topics(contents.connections), o, path, "ros1_bag");
+  for (const BagConnection& c : contents.connections) log.count(c.topic, c.messages);
+  log.begin(contents.decompressed_bytes);
   std::size_t index = 0;
   std::vector<FrameTransform> transforms;
   for_each_bag_message(bytes, path, [&](const BagMessageView& m) {
     ++index;
     const BagConnection& c = *m.connection;
-    log.count(c.topic);
     const BagTopicUse use = log.use(c.topic);
     if (use == BagTopicUse::Skip) return;
     ByteReader r(m.data, path, 0, c.topic + " message " + std::to_string(index) + " (record at file byte " +
@@ -435,10 +445,18 @@ RobotLog read_ros1_bag(std::string_view bytes, const std::string& path, const Lo
 }
 
 PointCloudBagIndex index_point_cloud_bag(std::string_view bytes, const std::string& path, const PointCloudBagOptions& o) {
-  const std::vector<BagConnection> conns = bag_connections(bytes, path);
+  const BagContents contents = bag_contents(bytes, path);
+  const std::vector<BagConnection>& conns = contents.connections;
   PointCloudBagIndex ix;
   choose_point_cloud_topics(bag_topics(conns), o, path, ix);
   std::vector<FrameTransform> statics;
+  LogRecordBudget budget(path, contents.decompressed_bytes);
+  const auto charge = [&](std::size_t bytes) {
+    budget.charge(bytes, [&] {
+      return std::to_string(ix.cloud_stamps_us.size()) + " cloud stamps, " + std::to_string(ix.odometry.size()) + " odometry, " +
+             std::to_string(ix.truth.size()) + " ground-truth and " + std::to_string(statics.size()) + " static transform records";
+    });
+  };
   std::size_t index = 0;
   for_each_bag_message(bytes, path, [&](const BagMessageView& m) {
     ++index;
@@ -452,17 +470,22 @@ PointCloudBagIndex index_point_cloud_bag(std::string_view bytes, const std::stri
       // Only the header: the points are decoded when streamed.
       const StampedHeader h = read_header(r);
       if (ix.cloud_frame.empty()) ix.cloud_frame = frame_name(h.frame_id);
+      charge(sizeof(std::int64_t));
       ix.cloud_stamps_us.push_back(h.stamp_us);
     } else if (c.topic == ix.odom_topic) {
       DecodedOdometry d = decode_odometry(r);
       if (ix.base_frame.empty()) ix.base_frame = frame_name(d.child_frame_id);
       d.odometry.source_index = index;
+      charge(sizeof(LogOdometry));
       ix.odometry.push_back(d.odometry);
     } else if (c.topic == ix.truth_topic) {
       const DecodedOdometry d = decode_odometry(r);
+      charge(sizeof(StampedPose3));
       ix.truth.push_back({d.odometry.stamp_us, d.pose3});
     } else {
+      const std::size_t before = statics.size();
       decode_tf(r, statics);
+      charge((statics.size() - before) * sizeof(FrameTransform));
     }
   });
   if (ix.base_frame.empty()) ix.base_frame = "base_link";

@@ -27,6 +27,7 @@ struct BagConnection {
   std::string topic;
   std::string type;  // "sensor_msgs/LaserScan"
   std::string md5sum;
+  std::uint64_t messages = 0;  // message records on the connection
 };
 
 struct BagMessageView {
@@ -40,8 +41,13 @@ struct BagMessageView {
 // Throws Error naming `path`, the byte offset and the record field for malformed input.
 void for_each_bag_message(std::string_view bytes, const std::string& path,
                           const std::function<void(const BagMessageView&)>& visit);
-// The connections (topics and types) of a bag, in id order.
-std::vector<BagConnection> bag_connections(std::string_view bytes, const std::string& path);
+// What one pass over a bag finds before any message is decoded: its connections (topics, types
+// and message counts) in id order, and its size with every chunk counted decompressed.
+struct BagContents {
+  std::vector<BagConnection> connections;
+  std::uint64_t decompressed_bytes = 0;
+};
+BagContents bag_contents(std::string_view bytes, const std::string& path);
 
 // True when `bytes` starts with the bag 2.0 magic line.
 bool is_ros1_bag(std::string_view bytes);
