@@ -122,10 +122,27 @@ TEST(InputCostsCli, ParameterProductsAreBoundedByWhatTheyCost) {
   GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
 #else
   test::ScratchDir dir;
+  std::string log;
+  for (int i = 1; i <= 3; ++i) log += "FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 " + std::to_string(i) + ".0 host 0\n";
+  test::write_text(dir.file("small.clf"), log);
   const std::vector<CostCase> cases = {
       {{"sim", test::scenario_path("dwa_doorway.yaml"), "--out", dir.file("d1"), "--quiet", "--duration", "3", "--set",
         "navigation.dwa.window_m=50", "--set", "navigation.map.resolution_m=0.005"},
-       "navigation.dwa.window_m (--set): window_m / the map's resolution_m gives a window of 10000 x 10000 cells, more than 4000000"},
+       "navigation.dwa.window_m (--set): window_m 50 m, padded by"},
+      {{"sim", test::scenario_path("dwa_doorway.yaml"), "--out", dir.file("d2"), "--quiet", "--duration", "3", "--set",
+        "navigation.dwa.inflation_radius_m=10", "--set", "navigation.map.resolution_m=0.005"},
+       "navigation.dwa.inflation_radius_m (--set): the window the rollouts reach"},
+      {{"sim", test::scenario_path("dwa_doorway.yaml"), "--out", dir.file("d3"), "--quiet", "--duration", "3", "--set",
+        "navigation.map.resolution_m=0.001"},
+       "navigation.map.resolution_m (--set): the navigation map's extent 8 x 4 m (navigation.map.extent world) over "
+       "navigation.map.resolution_m 0.001 m gives 8000 x 4000 cells, more than 16777216"},
+      {{"slam", "run", dir.file("small.clf"), "--out", dir.file("s1"), "--quiet", "--set", "local.matcher.resolution_m=0.005", "--set",
+        "local.matcher.window_linear_m=10", "--set", "local.matcher.window_angular_deg=180"},
+       "--set local.matcher.window_linear_m: local.matcher.window_linear_m 10 m / local.matcher.resolution_m 0.005 m and "
+       "local.matcher.window_angular_deg 180 deg"},
+      {{"map", "build", dir.file("small.clf"), "--out", dir.file("m.yaml"), "--set", "no_return_clear_m=1000", "--set", "resolution_m=0.005"},
+       "--set no_return_clear_m: no_return_clear_m 1000 m over resolution_m 0.005 m: one scan's beams without a return span 400001 x "
+       "400001 cells, more than the 67108864"},
   };
   expect_refused_within(cases, 1024 * 1024, dir);
 #endif

@@ -17,6 +17,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/planar_motion.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/registry/components.hpp"
 #include "support/test_support.hpp"
@@ -178,6 +179,27 @@ TEST(ClearanceWindow, CellsBeyondTheMapAreObstacles) {
   local.build(m, {0.3, 2.0}, 1.0, 0.5);
   const Cell c = local.cell_of({0.325, 2.025});
   EXPECT_NEAR(local.clearance_m(local.index(c.x, c.y)), 0.35, 1e-9);  // to the centre of the cell at x = -0.025
+}
+
+// A window is judged by its cells before anything is allocated: (2 ceil(half / res) + 1 +
+// 2 (ceil(pad / res) + 1))^2 against 4e6, whatever the map behind it (a map of 4 x 4 cells here).
+TEST(ClearanceWindow, AWindowOfMoreCellsThanTheLimitIsRefusedBeforeItIsBuilt) {
+  const OccupancyGrid m = empty_map(0.004, 0.004, 0.001);
+  ClearanceWindow local;
+  local.build(m, {0.002, 0.002}, 0.3, 0.09);  // 601 + 2 x 91 = 783 cells a side
+  EXPECT_EQ(local.width(), 601);
+  EXPECT_DOUBLE_EQ(clearance_window_cells(0.9, 0.09, 0.001), 1983.0 * 1983.0);  // 3.9e6: within the limit
+  for (const double half : {1.0, 1e9}) {  // 2001 + 182 cells a side: 4.8e6; and 2e12
+    try {
+      local.build(m, {0.002, 0.002}, half, 0.09);
+      ADD_FAILURE() << "built a window " << half << " m wide";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), "navigation.map.resolution_m");
+      EXPECT_NE(std::string(e.what()).find(format_number(clearance_window_cells(half, 0.09, 0.001)) + " cells, more than 4000000"),
+                std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 TEST(ClearanceWindow, WavefrontGoesRoundWallsWithOctileSteps) {
@@ -688,6 +710,33 @@ TEST(DwaController, IsFoundByNameWithItsParameters) {
   RobotConfig car;
   car.drive = DriveKind::Ackermann;
   EXPECT_THROW(d.make({car, ""}, {}), Error);
+
+  // The window it rebuilds at every command is judged on the map's cells when it is made: window_m
+  // (or, at 0, what its rollouts reach) padded by the footprint and inflation_radius_m.
+  struct Row {
+    std::vector<ParamSetting> settings;
+    double resolution_m;
+    std::string refused;  // the setting named; "": accepted
+  };
+  const std::vector<Row> rows = {
+      {{{"window_m", "50", "s.yaml", 3, "navigation.dwa.window_m"}}, 0.005, "navigation.dwa.window_m"},
+      {{{"inflation_radius_m", "10", "s.yaml", 4, "navigation.dwa.inflation_radius_m"}}, 0.005, "navigation.dwa.inflation_radius_m"},
+      {{{"window_m", "50", "s.yaml", 3, "navigation.dwa.window_m"}}, 0.05, ""},
+      {{{"inflation_radius_m", "10", "s.yaml", 4, "navigation.dwa.inflation_radius_m"}}, 0.05, ""},
+      {{}, 0.005, ""},
+  };
+  for (const Row& r : rows) {
+    SCOPED_TRACE(std::to_string(r.resolution_m) + (r.settings.empty() ? std::string() : " " + r.settings[0].key));
+    if (r.refused.empty()) {
+      const auto made = d.make({mecanum(), "s.yaml", r.resolution_m}, r.settings);
+      const auto w = dynamic_cast<const DwaController&>(*made).window_extent(r.resolution_m);
+      EXPECT_LE(clearance_window_cells(w.half_m, w.pad_m, r.resolution_m), 4e6);
+      continue;
+    }
+    const std::string what = test::error_of([&] { d.make({mecanum(), "s.yaml", r.resolution_m}, r.settings); });
+    EXPECT_EQ(what.find("s.yaml:" + std::to_string(r.settings[0].line) + ": " + r.refused + ": "), 0u) << what;
+    EXPECT_NE(what.find("more than 4000000"), std::string::npos) << what;
+  }
 }
 
 }  // namespace

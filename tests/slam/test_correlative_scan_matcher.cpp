@@ -8,6 +8,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/registry/components.hpp"
 #include "starnav/slam/correlative_scan_matcher.hpp"
 #include "starnav/slam/occupancy_mapping.hpp"
@@ -110,6 +111,61 @@ TEST(CorrelativeScanMatcher, ReportsNoMatchAndRefusesBadInput) {
   const ScanMatcherDef& def = find_scan_matcher("correlative", "scan_matcher");
   EXPECT_EQ(def.info.name, "correlative");
   EXPECT_TRUE(def.make({}, {})->supports_map());
+}
+
+// A search is judged before anything is built: its top candidates (angles in Olson's steps for the
+// farthest point, times the blocks of 2^depth translations a side) against 2^24, and the
+// likelihood field of one scan all round (reach, margin, 3 sigma and a cell each side) against
+// 2^24 cells; each refusal names the parameters of its product. The counts here are worked out
+// apart from the matcher (the same closed forms as the brute-force search above).
+TEST(CorrelativeScanMatcher, SearchesAndFieldsThatWouldPassTheirLimitsAreRefusedBeforeTheyAreBuilt) {
+  struct Row {
+    double resolution_m, linear_m, angular_deg, reach_m, margin_m;
+    int depth;
+    std::string refused;  // the field of the error; "": accepted
+  };
+  const std::vector<Row> rows = {
+      {0.005, 10, 180, 30, 0, 2, "linear"},  // the attack: 37701 angles x 1001^2 blocks
+      {0.05, 0.3, 20, 30, 0.3, 2, ""},       // the local SLAM's defaults
+      {0.05, 8, 180, 15, 0, 7, ""},          // graph SLAM's wide search
+      {0.05, 100, 180, 15, 0, 0, "linear"},  // 1885 angles x 4001^2
+      {0.01, 0.3, 20, 30, 0.3, 2, "reach"},  // a field of 6093^2 cells
+      {0.05, 0.3, 20, 103, 0.3, 2, "reach"},  // 4141^2 = 17.1 million cells
+      {0.05, 0.3, 20, 100, 0.3, 2, ""},       // 4021^2 = 16.2 million cells
+  };
+  for (const Row& r : rows) {
+    CorrelativeMatcherConfig c;
+    c.resolution_m = r.resolution_m;
+    const CorrelativeScanMatcher m(c);
+    const double step = std::acos(1 - r.resolution_m * r.resolution_m / (2 * r.reach_m * r.reach_m));
+    const double angles = 2 * std::ceil(deg_to_rad(r.angular_deg) / step) + 1;
+    const double n_l = std::ceil(r.linear_m / r.resolution_m);
+    const double blocks = std::floor(2 * n_l / std::pow(2.0, r.depth)) + 1;
+    const double side = 2 * std::ceil((r.reach_m + r.margin_m + 3 * c.sigma_m + r.resolution_m) / r.resolution_m) + 1;
+    const std::string expected = angles * blocks * blocks > 16777216.0 ? "linear" : side * side > 16777216.0 ? "reach" : "";
+    ASSERT_EQ(expected, r.refused);
+    SCOPED_TRACE(std::to_string(r.resolution_m) + " m, window " + std::to_string(r.linear_m) + " m, reach " + std::to_string(r.reach_m));
+    const SearchNames names{"linear", "angular", "reach", "m."};
+    const MatchWindow window{r.linear_m, deg_to_rad(r.angular_deg)};
+    if (expected.empty()) {
+      EXPECT_NO_THROW(m.check_search(window, r.reach_m, r.margin_m, r.depth, names));
+      continue;
+    }
+    try {
+      m.check_search(window, r.reach_m, r.margin_m, r.depth, names);
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), expected);
+      const std::string what = e.what();
+      EXPECT_NE(what.find("m.resolution_m"), std::string::npos) << what;
+      if (expected == "linear")
+        EXPECT_NE(what.find(format_number(angles) + " angles x " + format_number(2 * n_l + 1) + " x " + format_number(2 * n_l + 1)),
+                  std::string::npos)
+            << what;
+      else
+        EXPECT_NE(what.find(format_number(side) + " x " + format_number(side) + " cells"), std::string::npos) << what;
+    }
+  }
 }
 
 }  // namespace

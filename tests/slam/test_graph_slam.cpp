@@ -138,6 +138,26 @@ TEST(GraphSlam, TheRegistryMakesItAndNamesBadSettings) {
     EXPECT_NE(std::string(e.what()).find("slam.local.window_nodes"), std::string::npos) << e.what();
   }
   EXPECT_THROW(find_slam("gmapping"), Error);
+  // A search whose cost passes the matcher's limits is refused by the factory, at the setting that
+  // made it (its own field's, else the last one the message names).
+  struct Row {
+    std::vector<ParamSetting> settings;
+    std::string at;
+  };
+  const std::vector<Row> rows = {
+      {{{"local.matcher.resolution_m", "0.005", "x.yaml", 5, "slam.local.matcher.resolution_m"},
+        {"local.matcher.window_linear_m", "10", "x.yaml", 6, "slam.local.matcher.window_linear_m"},
+        {"local.matcher.window_angular_deg", "180", "x.yaml", 7, "slam.local.matcher.window_angular_deg"}},
+       "x.yaml:6: slam.local.matcher.window_linear_m: local.matcher.window_linear_m 10 m / local.matcher.resolution_m 0.005 m"},
+      {{{"local.matcher.resolution_m", "0.01", "x.yaml", 5, "slam.local.matcher.resolution_m"}},
+       "x.yaml:5: slam.local.matcher.resolution_m: local.max_range_m 30 m / local.matcher.resolution_m 0.01 m: the likelihood field"},
+      {{{"loop_window_linear_m", "100", "x.yaml", 8, "slam.loop_window_linear_m"}, {"search_depth", "0", "x.yaml", 9, "slam.search_depth"}},
+       "x.yaml:8: slam.loop_window_linear_m: loop_window_linear_m 100 m / local.matcher.resolution_m 0.05 m and loop_window_angular_deg 19.99"},
+  };
+  for (const Row& r : rows) {
+    const std::string what = test::error_of([&] { def.make(ctx, r.settings); });
+    EXPECT_EQ(what.find(r.at), 0u) << what;
+  }
 }
 
 // The first 450 scans hold the odometry's first freeze and jump (scan 313: 0.85 m and 50 deg at once).

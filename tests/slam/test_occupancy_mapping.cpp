@@ -14,6 +14,7 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/slam/log_mapping.hpp"
@@ -196,6 +197,45 @@ TEST(OccupancyMapper, GrowsFarAndRefusesAbsurdExtents) {
   EXPECT_THROW(OccupancyMapper{bad}, Error);
 }
 
+// Beams without a return clear no_return_clear_m (cut to max_range_m) whatever the scene: one scan
+// all round spans a square of 2 ceil(reach / resolution) + 1 cells a side, which the map must hold.
+// Parameters whose square passes the map's cells are refused before any cell exists, naming both.
+TEST(OccupancyMapper, ParametersWhoseOneScanPassesTheMapsCellsAreRefused) {
+  struct Row {
+    double no_return_clear_m, max_range_m, resolution_m;
+    double side;  // cells a side of one scan's square; 0: accepted
+  };
+  const std::vector<Row> rows = {
+      {1000, 0, 0.005, 400001},  // the attack's: 1.6e11 cells
+      {1000, 50, 0.005, 20001},  // cut to max_range_m: 4e8 cells
+      {300, 0, 0.05, 12001},     // 1.44e8 cells
+      {1000, 10, 0.005, 0},      // 4001^2 = 1.6e7 cells
+      {200, 0, 0.05, 0},         // 8001^2 = 6.4e7 cells, below 2^26 = 6.7e7
+      {0, 0, 0.005, 0},          // no clearing
+  };
+  for (const Row& r : rows) {
+    OccupancyMappingParams p;
+    p.no_return_clear_m = r.no_return_clear_m;
+    p.max_range_m = r.max_range_m;
+    p.resolution_m = r.resolution_m;
+    SCOPED_TRACE(std::to_string(r.no_return_clear_m) + " m at " + std::to_string(r.resolution_m) + " m");
+    if (r.side == 0) {
+      EXPECT_NO_THROW(OccupancyMapper{p});
+      continue;
+    }
+    try {
+      OccupancyMapper m(p);
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), "no_return_clear_m");
+      const std::string what = e.what();
+      EXPECT_NE(what.find("resolution_m"), std::string::npos) << what;
+      EXPECT_NE(what.find(format_number(r.side) + " x " + format_number(r.side) + " cells, more than the 67108864"), std::string::npos)
+          << what;
+    }
+  }
+}
+
 TEST(OccupancyMapper, WildCoordinatesAreRefusedBeforeAnyCellIsTouched) {
   // Each pose or reading is refused with the same error, and the mapper is as it was: no index was
   // computed from it (floor(1e19 / 0.05) does not fit an int64) and nothing was allocated for it.
@@ -210,8 +250,8 @@ TEST(OccupancyMapper, WildCoordinatesAreRefusedBeforeAnyCellIsTouched) {
       {Pose2(0, -1e300, 0), {1.0f}, 10, "reaches at most"},
       {Pose2(0, 0, 0), {1e30f}, kInfinity, "reaches at most"},  // a reading below an infinite range_max
       // 2e7 m from the map at 5 cm: 4e8 cells in a row, more than the cells a map may have.
-      {Pose2(2e7, 0, 0), {1.0f}, 10, "more than the 268435456 a map may have"},
-      {Pose2(0, 0, 0), {2e7f}, kInfinity, "more than the 268435456 a map may have"},
+      {Pose2(2e7, 0, 0), {1.0f}, 10, "more than the 67108864 a map may have"},
+      {Pose2(0, 0, 0), {2e7f}, kInfinity, "more than the 67108864 a map may have"},
   };
   for (const Case& c : cases) {
     OccupancyMapper m;

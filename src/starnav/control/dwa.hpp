@@ -36,10 +36,6 @@
 
 namespace starnav {
 
-// The most cells of the controller's local window (window_m / the map's resolution, squared): a
-// few arrays of them are rebuilt at every command.
-inline constexpr double kMaxDwaWindowCells = 4e6;
-
 struct DwaConfig {
   int vx_samples = 15;
   int vy_samples = 9;  // a robot that cannot move sideways samples vy = 0 only

@@ -208,15 +208,9 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   // The window: everything a rollout, its forward point and its footprint can reach.
   const double res = in.local_map->resolution();
   const FootprintModel& fm = checker_.model();
-  const BodyTwist fastest{limits_.max_vx, limits_.max_vy, limits_.max_wz};
-  const double check_max = dwa_check_time(fastest, limits_, config_.sim_time_s, config_.control_period_s, robot_.actuator_lag_s);
-  const double max_step = (limits_.max_speed_xy + limits_.max_wz * fm.bounding_radius_m()) * config_.sim_step_s;
-  const double outer = fm.bounding_radius_m() + checker_.grow_m() + 0.5 * max_step + res;
-  const double half = config_.window_m > 0.0 ? 0.5 * config_.window_m
-                                             : limits_.max_speed_xy * check_max + config_.forward_point_m + outer + 2.0 * res;
-  const double pad = std::max(outer, config_.inflation_radius_m) + res;
-  if (in.clearance) map_.build(*in.clearance, in.pose.translation(), half, pad);
-  else map_.build(*in.local_map, in.pose.translation(), half, pad);
+  const WindowExtent window = window_extent(res);
+  if (in.clearance) map_.build(*in.clearance, in.pose.translation(), window.half_m, window.pad_m);
+  else map_.build(*in.local_map, in.pose.translation(), window.half_m, window.pad_m);
   s.map = &map_;
   s.pass_clearance_m = 0.5 * fm.inscribed_radius_m();
 
@@ -343,6 +337,18 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   return {best_twist, ControlStatus::Tracking};
 }
 
+DwaController::WindowExtent DwaController::window_extent(double res) const {
+  const FootprintModel& fm = checker_.model();
+  const BodyTwist fastest{limits_.max_vx, limits_.max_vy, limits_.max_wz};
+  const double check_max = dwa_check_time(fastest, limits_, config_.sim_time_s, config_.control_period_s, robot_.actuator_lag_s);
+  const double max_step = (limits_.max_speed_xy + limits_.max_wz * fm.bounding_radius_m()) * config_.sim_step_s;
+  const double outer = fm.bounding_radius_m() + checker_.grow_m() + 0.5 * max_step + res;
+  WindowExtent w;
+  w.half_m = config_.window_m > 0.0 ? 0.5 * config_.window_m : limits_.max_speed_xy * check_max + config_.forward_point_m + outer + 2.0 * res;
+  w.pad_m = std::max(outer, config_.inflation_radius_m) + res;
+  return w;
+}
+
 std::optional<ControlDiagnostics> DwaController::diagnostics() const {
   if (!keep_samples_) return std::nullopt;
   ControlDiagnostics d;
@@ -378,14 +384,25 @@ LocalControllerDef dwa_controller() {
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const DwaConfig c = configured(dwa_params(), settings, ctx.file);
     try {
-      if (ctx.map_resolution_m > 0.0 && c.window_m > 0.0) {
-        const double side = std::ceil(c.window_m / ctx.map_resolution_m);
-        if (side * side > kMaxDwaWindowCells)
-          throw Error("window_m / the map's resolution_m gives a window of " + format_number(side) + " x " + format_number(side) +
-                          " cells, more than " + format_number(kMaxDwaWindowCells) + ": shrink window_m or coarsen the map",
-                      "", 0, "window_m");
+      auto controller = std::make_unique<DwaController>(c, ctx.robot);
+      // The window is rebuilt at every command: its cells are judged before the first.
+      if (ctx.map_resolution_m > 0.0) {
+        const DwaController::WindowExtent w = controller->window_extent(ctx.map_resolution_m);
+        const double cells = clearance_window_cells(w.half_m, w.pad_m, ctx.map_resolution_m);
+        if (!(cells <= kMaxClearanceWindowCells)) {
+          const double side = std::sqrt(cells);
+          const bool padding = c.window_m <= 0.0 && c.inflation_radius_m + ctx.map_resolution_m >= w.pad_m;
+          throw Error((c.window_m > 0.0 ? "window_m " + format_readable(c.window_m) + " m"
+                                        : "the window the rollouts reach (window_m 0: " + format_readable(2.0 * w.half_m) + " m)") +
+                          ", padded by " + format_readable(w.pad_m) + " m (the footprint, inflation_radius_m " +
+                          format_readable(c.inflation_radius_m) + " m), over navigation.map.resolution_m " +
+                          format_readable(ctx.map_resolution_m) + " m gives a window of " + format_number(side) + " x " +
+                          format_number(side) + " cells, more than " + format_number(kMaxClearanceWindowCells) +
+                          (padding ? ": lower inflation_radius_m or coarsen the map" : ": shrink window_m or coarsen the map"),
+                      "", 0, padding ? "inflation_radius_m" : "window_m");
+        }
       }
-      return std::make_unique<DwaController>(c, ctx.robot);
+      return controller;
     } catch (const Error& e) {
       rethrow_at_setting(e, settings, ctx.file);
     }

@@ -41,6 +41,13 @@ class DwaController final : public LocalController {
   const DwaConfig& config() const { return config_; }
   const FootprintChecker& footprint() const { return checker_; }
   const DwaLimits& limits() const { return limits_; }
+  // The local window on cells of `resolution`: its half-width (window_m / 2, or what a rollout, its
+  // forward point and its footprint reach) and its padding (the footprint's reach and
+  // inflation_radius_m, plus a cell).
+  struct WindowExtent {
+    double half_m = 0.0, pad_m = 0.0;
+  };
+  WindowExtent window_extent(double resolution) const;
   const std::vector<std::unique_ptr<DwaCritic>>& critics() const { return critics_; }
   // The last step's samples (kept only with keep_samples; then every sample's footprint is tested,
   // otherwise only those cheaper than the first clear one: the same choice either way).

@@ -5,19 +5,22 @@
 #include <vector>
 
 #include "starnav/cloud/cloud_io.hpp"
-#include "starnav/control/dwa.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/run_limits.hpp"
+#include "starnav/harness/navigation_run.hpp"
 #include "starnav/io/yaml_document.hpp"
 #include "starnav/logs/decompress.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/robot_log.hpp"
+#include "starnav/map/clearance_window.hpp"
 #include "starnav/sense/lidar.hpp"
 #include "starnav/sim/occupancy_world.hpp"
 #include "starnav/sim/scenario.hpp"
+#include "starnav/slam/correlative_scan_matcher.hpp"
+#include "starnav/slam/graph_slam.hpp"
 #include "starnav/slam/occupancy_mapping.hpp"
 #include "starnav/terrain/terrain_generator.hpp"
 #include "starnav/viz/map_picture.hpp"
@@ -82,8 +85,17 @@ std::string limits_markdown() {
             "a sensor samples at most once per step; a faster rate would repeat the same state"},
            {"terrain cells", count(static_cast<double>(kMaxTerrainCells)), "`world.terrain` size_m / resolution_m", ""},
            {"gravel pieces", count(static_cast<double>(kMaxGravelPieces)), "`world.obstacles` gravel fields", ""},
-           {"DWA window cells", count(kMaxDwaWindowCells), "`navigation.dwa.window_m` / `navigation.map.resolution_m`, squared",
-            "the window's arrays are rebuilt at every command"},
+           {"cells of a navigation map", count(static_cast<double>(kMaxNavigationMapCells)),
+            "the map's extent (`navigation.map.extent`: the world's, or the paper's) / `navigation.map.resolution_m`",
+            "about " + std::to_string(kNavigationMapCellBytes) +
+                " bytes a cell (layers, expansion, distance field, views, the planner's search); the distance field's windows "
+                "(`navigation.map.clearance_range_m`, `barrier_distance_m` around a change) are clipped to the map"},
+           {"clearance window cells", count(kMaxClearanceWindowCells),
+            "a local window with its padding / `navigation.map.resolution_m`, squared: DWA's (`navigation.dwa.window_m`, or what "
+            "its rollouts reach, padded by the footprint and `inflation_radius_m`), a recovery's look ahead (the footprint and "
+            "0.5 s of its motion)",
+            "rebuilt at every command, about 40 bytes a cell; DWA's is checked when the controller is made, every window before "
+            "it is built"},
            {"wall boxes of an occupancy world", count(static_cast<double>(kMaxOccupancyWallBoxes)), "`world.occupancy_map`",
             "occupied runs merged into boxes"},
        }},
@@ -98,10 +110,24 @@ std::string limits_markdown() {
            {"road blur sigma", "the map's larger side in cells", "`--blur-cells`, `generate.blur_sigma_cells` (method paper only)",
             "a wider blur is the map's mean; the kernel is clipped to the map"},
        }},
-      {"Mapping and pictures",
+      {"Mapping, SLAM and pictures",
        {
-           {"cells of a map built from scans", count(static_cast<double>(kMaxOccupancyMapCells)), "`slam`, `map build`",
-            "the map grows with the scans' extent"},
+           {"cells of a map built from scans", count(static_cast<double>(kMaxOccupancyMapCells)),
+            "`slam`, `map build`; one scan's beams without a return (`no_return_clear_m`, cut to `max_range_m`, all round) / "
+            "`resolution_m`, squared",
+            "the map grows with the scans' extent, " + std::to_string(kOccupancyMapperCellBytes) +
+                " bytes a cell while it is built (twice that while it grows); the parameters are checked before any cell exists"},
+           {"cells of a likelihood field", count(static_cast<double>(kMaxCorrelativeFieldCells)),
+            "the correlative matcher's: one scan all round (`local.max_range_m`, `loop_max_range_m`, plus the window and 3 "
+            "sigma) / `local.matcher.resolution_m`, squared",
+            "about 50 bytes a cell while built; checked when graph SLAM is made, and every field before it is built"},
+           {"entries of a correlative search", count(static_cast<double>(kMaxCorrelativeSearchEntries)),
+            "angles (the window's yaw in steps that move the farthest point one cell) x blocks of 2^depth translations "
+            "(`window_linear_m` / `resolution_m`), squared; and angles x the scan's points",
+            "24 and 8 bytes each; the local, loop and wide searches are checked when graph SLAM is made, every search before "
+            "its tables are built"},
+           {"submap fields kept built", bytes(static_cast<double>(kMaxFieldCacheBytes)), "graph SLAM's `field_cache`",
+            "older fields beyond it are built again when searched (the same field)"},
            {"picture side", "below " + count(viz::kMaxPictureSidePixels) + " pixels", "every SVG and PNG", ""},
            {"PNG pixels", count(viz::kMaxPicturePixels), "every PNG picture", ""},
        }},

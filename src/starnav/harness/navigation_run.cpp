@@ -72,9 +72,13 @@ GridGeometry map_geometry(const ScenarioSpec& spec, const WorldDescription& worl
   g.origin = Pose2(lo.x(), lo.y(), 0.0);
   const double w = std::ceil((hi.x() - lo.x()) / n.resolution_m - 1e-9);
   const double h = std::ceil((hi.y() - lo.y()) / n.resolution_m - 1e-9);
-  if (!(w >= 1.0 && h >= 1.0) || w * h > 1e8)
-    fail_at(spec, spec.navigation->source, "the navigation map would have " + std::to_string(w) + " x " + std::to_string(h) +
-                                             " cells (at most 1e8; raise map.resolution_m)");
+  if (!(w >= 1.0 && h >= 1.0) || w * h > static_cast<double>(kMaxNavigationMapCells))
+    throw Error("the navigation map's extent " + format_readable(hi.x() - lo.x()) + " x " + format_readable(hi.y() - lo.y()) +
+                    " m (navigation.map.extent " + n.extent + ") over navigation.map.resolution_m " + format_readable(n.resolution_m) +
+                    " m gives " + format_number(w) + " x " + format_number(h) + " cells, more than " +
+                    std::to_string(kMaxNavigationMapCells) + " (about " + std::to_string(kNavigationMapCellBytes) +
+                    " bytes each): coarsen map.resolution_m",
+                spec.file, 0, "navigation.map.resolution_m");
   g.width = static_cast<int>(w);
   g.height = static_cast<int>(h);
   return g;
@@ -351,7 +355,11 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
   }
   navigation_params().apply(s, own);
 
-  c.geometry = map_geometry(spec, world, s);
+  try {
+    c.geometry = map_geometry(spec, world, s);
+  } catch (const Error& e) {
+    rethrow_at_setting(e, own, spec.file);
+  }
   NodeMapParams& m = c.map;
   m = s.map;
   const bool lidar2d = spec.lidar->config.lines() <= 1;

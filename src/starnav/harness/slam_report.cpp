@@ -60,7 +60,7 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   std::vector<PoseRelation> relations;
   if (!q.relations.empty()) relations = read_relations(q.relations);
   q.mapping.validate();
-  const RobotLog log = read_robot_log(q.log, q.read);
+  // The method and its parameters (what their searches would cost) are judged before the log is read.
   SlamChoice choice;
   choice.method = q.method;
   choice.settings = q.settings;
@@ -68,6 +68,7 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   std::unique_ptr<Slam> slam = make_slam(choice);
   if (slam->space() != SlamSpace::Planar)
     throw Error("'" + q.method + "' maps 3D clouds, not a log's planar scans (starnav slam3d runs it)", {}, 0, "--method");
+  const RobotLog log = read_robot_log(q.log, q.read);
   SlamRunResult r;
   r.log = q.log;
   r.method = std::string(slam->name());

@@ -22,7 +22,13 @@ namespace {
 struct WindowPlacement {
   int ix0 = 0, iy0 = 0, half = 0;
 };
-WindowPlacement place_window(const GridGeometry& g, const Vec2& centre, double half_m) {
+WindowPlacement place_window(const GridGeometry& g, const Vec2& centre, double half_m, double pad_m) {
+  const double cells = clearance_window_cells(half_m, pad_m, g.resolution);
+  if (!(cells <= kMaxClearanceWindowCells))
+    throw Error("a clearance window " + format_readable(half_m) + " m each way, padded by " + format_readable(pad_m) + " m, on cells of " +
+                    format_readable(g.resolution) + " m takes " + format_number(cells) + " cells, more than " +
+                    format_number(kMaxClearanceWindowCells) + ": coarsen the map",
+                "", 0, "navigation.map.resolution_m");
   const Vec2 c = g.world_to_cell_continuous(centre);
   WindowPlacement p;
   p.half = static_cast<int>(std::ceil(half_m / g.resolution));
@@ -32,6 +38,11 @@ WindowPlacement place_window(const GridGeometry& g, const Vec2& centre, double h
 }
 
 }  // namespace
+
+double clearance_window_cells(double half_m, double pad_m, double resolution) {
+  const double side = 2.0 * std::ceil(half_m / resolution) + 1.0 + 2.0 * (std::ceil(pad_m / resolution) + 1.0);
+  return side * side;
+}
 
 void ClearanceWindow::set_lattice(const GridGeometry& g, int ix0, int iy0, int half, double pad_m) {
   const double res = g.resolution;
@@ -64,7 +75,7 @@ void ClearanceWindow::build(const OccupancyGrid& map, const Vec2& centre, double
                         const OccupancyThresholds& thresholds) {
   const GridGeometry& g = map.geometry();
   const double res = g.resolution;
-  const WindowPlacement at = place_window(g, centre, half_m);
+  const WindowPlacement at = place_window(g, centre, half_m, pad_m);
   set_lattice(g, at.ix0, at.iy0, at.half, pad_m);
   const int ix0 = at.ix0, iy0 = at.iy0;
 
@@ -104,7 +115,7 @@ void ClearanceWindow::build(const ObstacleDistanceField& field, const Vec2& cent
                     format_readable(pad_m + g.resolution) + " m (raise navigation.map.clearance_range_m)",
                 "", 0, "navigation.map.clearance_range_m");
   const double res = g.resolution;
-  const WindowPlacement at = place_window(g, centre, half_m);
+  const WindowPlacement at = place_window(g, centre, half_m, pad_m);
   set_lattice(g, at.ix0, at.iy0, at.half, pad_m);
   const int ix0 = at.ix0, iy0 = at.iy0;
   field.refresh({ix0, iy0, ix0 + geometry_.width, iy0 + geometry_.height});

@@ -22,10 +22,21 @@
 
 namespace starnav {
 
+// The most cells of a clearance window with its padding (a local controller's window, a
+// recovery's look ahead): it is rebuilt at every command, about 40 bytes a cell (the mask, the
+// transform, the distances and nearest obstacles).
+inline constexpr double kMaxClearanceWindowCells = 4e6;
+// The cells of the padded window build() makes for `half_m` and `pad_m` on cells of `resolution`:
+// (2 ceil(half / resolution) + 1 + 2 (ceil(pad / resolution) + 1)) squared, in double (no
+// integer is formed before it is known to fit).
+double clearance_window_cells(double half_m, double pad_m, double resolution);
+
 class ClearanceWindow {
  public:
   // The window of `map` covering at least `half_m` around `centre` in x and y (rounded out to
   // whole cells), its distances exact for obstacles up to `pad_m` outside it. Reuses its buffers.
+  // Either build refuses (Error, field navigation.map.resolution_m) a window of more than
+  // kMaxClearanceWindowCells before anything is allocated.
   void build(const OccupancyGrid& map, const Vec2& centre, double half_m, double pad_m,
              const OccupancyThresholds& thresholds = {});
   // The same window read off a map's distance field (map/obstacle_distance_field.hpp, refreshed), without

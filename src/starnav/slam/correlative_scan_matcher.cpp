@@ -7,14 +7,36 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/map/distance_transform.hpp"
 
 namespace starnav {
 
 namespace {
 
-// The most cells a likelihood field may have (a reference spread over kilometres is refused).
-constexpr std::int64_t kMaxFieldCells = std::int64_t{1} << 26;
+// Olson's angular step for points out to `d_max`: the farthest point moves at most one cell.
+double angular_step(double resolution, double d_max) {
+  d_max = std::max(d_max, resolution);
+  return std::acos(std::max(-1.0, 1.0 - resolution * resolution / (2.0 * d_max * d_max)));
+}
+
+// The sizes of one search: angles and translations per axis (both odd: -n..n), and the top
+// level's translation blocks per axis.
+struct SearchSize {
+  double angles = 0, translations = 0, blocks = 0;
+  double step_rad = 0;
+  double candidates() const { return angles * blocks * blocks; }
+};
+
+SearchSize search_size(double resolution, double d_max, double linear_m, double angular_rad, int depth) {
+  SearchSize z;
+  z.step_rad = angular_step(resolution, d_max);
+  z.angles = 2.0 * std::ceil(angular_rad / z.step_rad) + 1.0;
+  const double n_l = std::ceil(linear_m / resolution);
+  z.translations = 2.0 * n_l + 1.0;
+  z.blocks = std::floor(2.0 * n_l / std::ldexp(1.0, depth)) + 1.0;  // -n_l, -n_l + 2^depth, ... <= n_l
+  return z;
+}
 
 // The field cell of a coordinate in cell units, clamped to +-2^30: a field has fewer than 2^26
 // cells, so a clamped point is outside it, and adding the search window's offsets cannot overflow
@@ -254,8 +276,8 @@ CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_points(std::span<
   const double r = c_.resolution_m;
   const Vec2 origin(std::floor(lo.x() / r) * r, std::floor(lo.y() / r) * r);
   const double wx = std::ceil((hi.x() - origin.x()) / r) + 1, wy = std::ceil((hi.y() - origin.y()) / r) + 1;
-  if (!(wx * wy <= static_cast<double>(kMaxFieldCells)))
-    throw Error("the reference spans more than " + std::to_string(kMaxFieldCells) + " cells of the likelihood field", {}, 0,
+  if (!(wx * wy <= static_cast<double>(kMaxCorrelativeFieldCells)))
+    throw Error("the reference spans more than " + std::to_string(kMaxCorrelativeFieldCells) + " cells of the likelihood field", {}, 0,
                 "resolution_m");
   const int w = static_cast<int>(wx), h = static_cast<int>(wy);
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
@@ -278,6 +300,10 @@ CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_points(std::span<
 CorrelativeScanMatcher::Field CorrelativeScanMatcher::field_of_map(const OccupancyGrid& map, int depth) const {
   require(depth >= 0 && depth <= 10, "depth", "must be in [0, 10]");
   // The field on the map's own cells (its resolution replaces resolution_m).
+  if (map.cell_count() > static_cast<std::size_t>(kMaxCorrelativeFieldCells))
+    throw Error("the map's " + std::to_string(map.width()) + " x " + std::to_string(map.height()) + " cells are more than the " +
+                    std::to_string(kMaxCorrelativeFieldCells) + " a likelihood field may have",
+                {}, 0, "map");
   std::vector<std::uint8_t> mask(map.cell_count());
   const double occupied = OccupancyThresholds{}.occupied_percent;  // map_server's
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = map[i] >= occupied;
@@ -313,6 +339,31 @@ std::unique_ptr<ScanReference> CorrelativeScanMatcher::prepare(std::span<const V
   for (const Vec2& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const Vec2 margin = Vec2::Constant(3 * c_.sigma_m + search_margin_m + c_.resolution_m);
   return std::make_unique<CorrelativeReference>(*this, field_of_points(points, lo - margin, hi + margin, search_depth));
+}
+
+void CorrelativeScanMatcher::check_search(const MatchWindow& window, double reach_m, double search_margin_m, int search_depth,
+                                          const SearchNames& names) const {
+  const double r = c_.resolution_m;
+  const std::string resolution = names.matcher + "resolution_m " + format_number(r) + " m";
+  const SearchSize z = search_size(r, reach_m, window.linear_m, window.angular_rad, search_depth);
+  if (z.candidates() > static_cast<double>(kMaxCorrelativeSearchEntries)) {
+    const std::string angular = names.angular.empty() ? std::string("the whole circle")
+                                                      : names.angular + " " + format_number(rad_to_deg(window.angular_rad)) + " deg";
+    throw Error(names.linear + " " + format_number(window.linear_m) + " m / " + resolution + " and " + angular + " (steps of " +
+                    format_number(rad_to_deg(z.step_rad)) + " deg for points out to " + names.reach + " " + format_number(reach_m) +
+                    " m) give a search of " + format_number(z.angles) + " angles x " + format_number(z.translations) + " x " +
+                    format_number(z.translations) + " translations: " + format_number(z.candidates()) +
+                    " candidates at the top of its depth-" + std::to_string(search_depth) + " branch and bound, more than " +
+                    std::to_string(kMaxCorrelativeSearchEntries) + ": narrow the window or coarsen resolution_m",
+                {}, 0, names.linear);
+  }
+  // One scan's points all round, widened as prepare() widens them.
+  const double side = 2.0 * std::ceil((reach_m + search_margin_m + 3.0 * c_.sigma_m + r) / r) + 1.0;
+  if (side * side > static_cast<double>(kMaxCorrelativeFieldCells))
+    throw Error(names.reach + " " + format_number(reach_m) + " m / " + resolution + ": the likelihood field of one scan all round spans " +
+                    format_number(side) + " x " + format_number(side) + " cells, more than the " +
+                    std::to_string(kMaxCorrelativeFieldCells) + " a field may have: lower " + names.reach + " or coarsen resolution_m",
+                {}, 0, names.reach);
 }
 
 MatchWindow CorrelativeScanMatcher::window() const {
@@ -361,7 +412,18 @@ ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<c
   double d_max = r;
   for (const Vec2& p : scan) d_max = std::max(d_max, p.norm());
   // Olson's angular step: the farthest point moves at most one cell.
-  const double step_a = std::acos(std::max(-1.0, 1.0 - r * r / (2.0 * d_max * d_max)));
+  const double step_a = angular_step(r, d_max);
+  // The tables are sized before they are built (check_search judges the configured searches;
+  // this holds any other scan or window).
+  const SearchSize z = search_size(r, d_max, window.linear_m, window.angular_rad, field.depth());
+  if (z.candidates() > static_cast<double>(kMaxCorrelativeSearchEntries) ||
+      z.angles * static_cast<double>(scan.size()) > static_cast<double>(kMaxCorrelativeSearchEntries))
+    throw Error("window_linear_m " + format_number(window.linear_m) + " m / resolution_m " + format_number(r) + " m and " +
+                    format_number(rad_to_deg(window.angular_rad)) + " deg for " + std::to_string(scan.size()) + " points out to " +
+                    format_number(d_max) + " m: a search of " + format_number(z.angles) + " angles x " + format_number(z.translations) +
+                    " x " + format_number(z.translations) + " translations takes more than " +
+                    std::to_string(kMaxCorrelativeSearchEntries) + " entries of its tables",
+                {}, 0, "window_linear_m");
   const int n_a = static_cast<int>(std::ceil(window.angular_rad / step_a));
   const int n_l = static_cast<int>(std::ceil(window.linear_m / r));
   const double inv_n = 1.0 / static_cast<double>(scan.size());

@@ -25,6 +25,14 @@
 
 namespace starnav {
 
+// The most cells of one likelihood field (2^24): a cell takes about 50 bytes while the field is
+// built (the distance transform, each cell's nearest point) and 4 + depth bytes kept.
+inline constexpr std::int64_t kMaxCorrelativeFieldCells = std::int64_t{1} << 24;
+// The most entries of one search's tables (2^24): the candidates at the top of its branch and
+// bound (angles x translation blocks, 24 bytes each) and the scan's points turned to every angle
+// (angles x points, 8 bytes each).
+inline constexpr std::int64_t kMaxCorrelativeSearchEntries = std::int64_t{1} << 24;
+
 struct CorrelativeMatcherConfig {
   double resolution_m = 0.05;         // cell of the likelihood field and translation step
   double sigma_m = 0.05;              // spread of the likelihood around each reference point
@@ -54,6 +62,12 @@ class CorrelativeScanMatcher final : public ScanMatcher {
   bool supports_reference() const override { return true; }
   std::unique_ptr<ScanReference> prepare(std::span<const Vec2> points, double search_margin_m, int search_depth) const override;
   MatchWindow window() const override;
+  // The field of one scan's points all round (reach plus the margins, over resolution_m, squared)
+  // against kMaxCorrelativeFieldCells; the search's top candidates (its angles, in Olson's steps
+  // for the farthest point, times the blocks of its translations) against
+  // kMaxCorrelativeSearchEntries.
+  void check_search(const MatchWindow& window, double reach_m, double search_margin_m, int search_depth,
+                    const SearchNames& names) const override;
 
   // The likelihood field of occupied cells (or points), for reuse across matches against one map.
   struct Field {

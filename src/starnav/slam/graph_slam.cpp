@@ -66,7 +66,9 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
         "loop_loss", {"none", "huber", "cauchy"}, [](C& c, const std::string& v) { c.loop_loss = parse_robust_loss(v); },
         [](const C& c) { return robust_loss_name(c.loop_loss); }, "robust loss of closures' edges");
     t.real("loop_loss_scale", &C::loop_loss_scale, closed(1e-3, 1e6), "", "chi (in standard deviations) where the loss bends");
-    t.integer("field_cache", &C::field_cache, closed(1, 100000), "", "submap likelihood fields kept built");
+    t.integer("field_cache", &C::field_cache, closed(1, 100000), "",
+              "submap likelihood fields kept built (at most " + std::to_string(kMaxFieldCacheBytes >> 30) +
+                  " GiB of them; others are built again when searched)");
     return t;
   }();
   return table;
@@ -113,6 +115,17 @@ std::unique_ptr<ScanMatcher> checked(std::unique_ptr<ScanMatcher> matcher) {
 GraphSlam::GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher> matcher)
     : c_(config), matcher_(checked(std::move(matcher))), local_(config.local, *matcher_) {
   c_.validate();
+  // Every search this SLAM will run, judged by the matcher before anything is built: the local
+  // window on the local map (points out to local.max_range_m), the closures' and the wide search's
+  // on submaps (points out to loop_max_range_m).
+  const std::string m = "local.matcher.";
+  matcher_->check_search(matcher_->window(), c_.local.max_range_m, matcher_->window().linear_m, 2,
+                         {m + "window_linear_m", m + "window_angular_deg", "local.max_range_m", m});
+  matcher_->check_search(MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad}, c_.loop_max_range_m, 0.0, c_.search_depth,
+                         {"loop_window_linear_m", "loop_window_angular_deg", "loop_max_range_m", m});
+  if (c_.global_every_nodes > 0)
+    matcher_->check_search(MatchWindow{c_.global_window_linear_m, kPi}, c_.loop_max_range_m, 0.0, c_.search_depth,
+                           {"global_window_linear_m", "", "loop_max_range_m", m});
 }
 
 bool GraphSlam::on_scan(const ScanMessage& scan) {
@@ -228,9 +241,16 @@ const ScanReference& GraphSlam::submap_field(std::size_t s) {
       return *cache_.front().field;
     }
   cache_.push_front({s, matcher_->prepare(submaps_[s].points, 0.0, c_.search_depth)});
-  while (cache_.size() > static_cast<std::size_t>(c_.field_cache)) cache_.pop_back();
-  std::size_t bytes = 0;
-  for (const CachedField& f : cache_) bytes += f.field->bytes();
+  // At most field_cache fields and kMaxFieldCacheBytes of them (the newest always): an evicted
+  // field is built again when asked for, the same.
+  std::size_t bytes = 0, kept = 0;
+  for (auto it = cache_.begin(); it != cache_.end(); ++it, ++kept) {
+    if (kept == static_cast<std::size_t>(c_.field_cache) || (kept > 0 && bytes + it->field->bytes() > kMaxFieldCacheBytes)) {
+      cache_.erase(it, cache_.end());
+      break;
+    }
+    bytes += it->field->bytes();
+  }
   stats_.peak_field_bytes = std::max(stats_.peak_field_bytes, bytes);
   return *cache_.front().field;
 }
@@ -342,7 +362,19 @@ SlamDef graph_slam() {
     SlamMatcherChoice choice = ctx.matcher;
     if (choice.name.empty()) choice.name = "correlative";
     choice.settings = std::move(matcher);
-    return std::make_unique<GraphSlam>(config, ctx.make_scan_matcher(choice));
+    std::unique_ptr<ScanMatcher> made = ctx.make_scan_matcher(choice);
+    try {
+      return std::make_unique<GraphSlam>(config, std::move(made));
+    } catch (const Error& e) {
+      // A search's cost names every parameter of its product: the error goes to its own field's
+      // setting, else to the last setting it names.
+      const bool own_field_set = std::any_of(settings.begin(), settings.end(), [&](const ParamSetting& v) { return v.key == e.field(); });
+      if (!own_field_set)
+        for (auto it = settings.rbegin(); it != settings.rend(); ++it)
+          if (e.message().find(it->key + " ") != std::string::npos)
+            throw Error(e.message(), it->file, it->line, it->field.empty() ? it->key : it->field);
+      rethrow_at_setting(e, settings, ctx.file);
+    }
   };
   return d;
 }

@@ -28,6 +28,11 @@
 
 namespace starnav {
 
+// The most bytes of submap likelihood fields kept built at once, whatever field_cache says (the
+// newest field always is): a fine resolution's fields are built again when searched instead of
+// filling the memory.
+inline constexpr std::size_t kMaxFieldCacheBytes = std::size_t{1} << 30;
+
 struct GraphSlamConfig {
   LocalSlamConfig local;
   int submap_nodes = 40;                  // nodes per submap (a new one starts every half)
@@ -48,7 +53,7 @@ struct GraphSlamConfig {
   double loop_sigma_m = 0.05, loop_sigma_rad = 0.0175;    // closures' edges
   RobustLoss loop_loss = RobustLoss::Cauchy;
   double loop_loss_scale = 2.0;           // chi where the loss bends
-  int field_cache = 48;                   // submap fields kept built
+  int field_cache = 48;                   // submap fields kept built (at most kMaxFieldCacheBytes of them)
   void validate() const;
 };
 const ParamTable<GraphSlamConfig>& graph_slam_params();

@@ -42,6 +42,17 @@ void OccupancyMappingParams::validate() const {
   require(std::isfinite(max_range_m) && max_range_m >= 0.0 && max_range_m <= 1000.0, "max_range_m", "must be in [0, 1000] m");
   require(std::isfinite(no_return_clear_m) && no_return_clear_m >= 0.0 && no_return_clear_m <= 1000.0, "no_return_clear_m",
           "must be in [0, 1000] m");
+  // Beams without a return clear this far whatever the scene: a scan all round covers a square
+  // twice as wide, which the map must hold.
+  const double reach = max_range_m > 0.0 ? std::min(no_return_clear_m, max_range_m) : no_return_clear_m;
+  const double side = 2.0 * std::ceil(reach / resolution_m) + 1.0;
+  if (reach > 0.0 && side * side > static_cast<double>(kMaxOccupancyMapCells))
+    throw Error("no_return_clear_m " + format_number(no_return_clear_m) + " m" +
+                    (reach < no_return_clear_m ? " (cut to max_range_m " + format_number(max_range_m) + " m)" : std::string()) +
+                    " over resolution_m " + format_number(resolution_m) + " m: one scan's beams without a return span " +
+                    format_number(side) + " x " + format_number(side) + " cells, more than the " + std::to_string(kMaxOccupancyMapCells) +
+                    " a map may have: lower no_return_clear_m or coarsen resolution_m",
+                {}, 0, "no_return_clear_m");
 }
 
 OccupancyMapper::OccupancyMapper(const OccupancyMappingParams& params) : params_(params) {

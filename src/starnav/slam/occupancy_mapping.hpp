@@ -25,9 +25,14 @@
 
 namespace starnav {
 
-// The most cells a map built from scans may grow to (2^28, about 268 million): a pose or a
-// reading far off the map's scale is refused instead of allocating without bound.
-inline constexpr std::int64_t kMaxOccupancyMapCells = std::int64_t{1} << 28;
+// The most cells a map built from scans may grow to (2^26, about 67 million: a cell takes 16
+// bytes while the map is built, 1 GiB, and twice that while the grid grows; the Freiburg campus at
+// 5 cm takes 37 million): a pose or a reading far off the map's scale is refused instead of
+// allocating without bound, and so are parameters whose one scan would reach farther
+// (OccupancyMappingParams::validate).
+inline constexpr std::int64_t kMaxOccupancyMapCells = std::int64_t{1} << 26;
+// Bytes of one cell of the map being built (OccupancyMapper::Cell).
+inline constexpr std::size_t kOccupancyMapperCellBytes = 16;
 // The farthest cell index from the origin a map may use (2^40: 5.5 million km at the finest 5 mm
 // cells), so that a wild pose is refused before any index arithmetic could overflow.
 inline constexpr double kMaxLatticeIndex = 1099511627776.0;
@@ -71,7 +76,10 @@ struct OccupancyMappingParams {
   double clamp_max_probability = 0.97;
   double max_range_m = 0.0;        // 0: no cut besides the scan's range_max
   double no_return_clear_m = 0.0;  // 0: no-return beams are dropped
-  void validate() const;           // Error naming the field
+  // Error naming the field; also when the beams of one scan that returned nothing, clearing
+  // no_return_clear_m (cut to max_range_m) all round, would span more than kMaxOccupancyMapCells
+  // cells of resolution_m.
+  void validate() const;
 };
 // The declared parameters (keys as the members).
 const ParamTable<OccupancyMappingParams>& occupancy_mapping_params();
@@ -142,6 +150,7 @@ class OccupancyMapper {
   std::vector<Touched> touched_;
   std::vector<MapCellChange> changes_;
   void collect_changes();
+  static_assert(sizeof(Cell) == kOccupancyMapperCellBytes);
 };
 
 }  // namespace starnav

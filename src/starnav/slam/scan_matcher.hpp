@@ -44,6 +44,15 @@ struct MatchWindow {
   double prior_linear_weight = 0.0, prior_angular_weight = 0.0;  // 1/m^2, 1/rad^2
 };
 
+// How the parameters of one search are named where they are set, for its errors (graph SLAM's
+// local window: local.matcher.window_linear_m; a closure's: loop_window_linear_m).
+struct SearchNames {
+  std::string linear;   // the window's +- x, y
+  std::string angular;  // its +- yaw ("": the whole circle)
+  std::string reach;    // what bounds the points' range from the sensor
+  std::string matcher;  // the prefix of the matcher's own keys ("local.matcher.")
+};
+
 // A reference prepared once for many matches (a local map, a submap), in the matcher's own form.
 class ScanReference {
  public:
@@ -77,6 +86,12 @@ class ScanMatcher {
   virtual std::unique_ptr<ScanReference> prepare(std::span<const Vec2> points, double search_margin_m, int search_depth) const;
   // The configured search window (a matcher without one: all zero, it refines from the guess).
   virtual MatchWindow window() const { return {0.0, 0.0, 0.0, 0.0, 0.0}; }
+  // Before any reference is prepared: throws Error (field `names.linear` or `names.reach`, the
+  // message naming every parameter of the product) when searches of `window` over points out to
+  // `reach_m` from the sensor, on references prepared with `search_margin_m` and `search_depth`,
+  // would take more memory than the matcher's limits; a matcher without such costs accepts any.
+  virtual void check_search(const MatchWindow& /*window*/, double /*reach_m*/, double /*search_margin_m*/, int /*search_depth*/,
+                            const SearchNames& /*names*/) const {}
 };
 
 struct ScanMatcherContext {
