@@ -83,6 +83,13 @@ TEST(InputCostsCli, AFileIsJudgedByItsHeadAndSizeBeforeItIsRead) {
   test::write_text(dir.file("big.yaml"),
                    "image: big.png\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n");
   write_sparse(dir.file("junk_image.png"), "", gib3);
+  write_sparse(dir.file("junk.csv"), "", gib3);
+  write_sparse(dir.file("rows.csv"), "1,2,3\n", gib3);
+  write_sparse(dir.file("junk.clf"), "", std::uint64_t{1500} << 20);  // under the 2 GiB a log may have
+  write_sparse(dir.file("trajectory.csv"), "", gib3);
+  write_sparse(dir.file("relations.txt"), "# t_i t_j dx dy dz droll dpitch dyaw\n", gib3);
+  test::write_text(dir.file("t.csv"), "t_s,x_m,y_m,yaw_rad\n1.0,0,0,0\n");
+
   test::write_text(dir.file("junk_image.yaml"),
                    "image: junk_image.png\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n");
   const std::vector<CostCase> cases = {
@@ -91,6 +98,13 @@ TEST(InputCostsCli, AFileIsJudgedByItsHeadAndSizeBeforeItIsRead) {
       {{"map", "info", dir.file("junk.asc")}, "expected an ESRI ASCII grid header line"},
       {{"map", "info", dir.file("big.yaml")}, "20000 x 20000 pixels decode to more than the 1073741824 bytes"},
       {{"map", "info", dir.file("junk_image.yaml")}, "unrecognised image format"},
+      {{"map", "info", dir.file("junk.csv")}, dir.file("junk.csv") + ":1: column 1: value"},
+      {{"map", "info", dir.file("rows.csv")}, dir.file("rows.csv") + ": byte 6 is a NUL: binary data, not an elevation CSV"},
+      {{"log", "info", dir.file("junk.clf")}, dir.file("junk.clf") + ": byte 0 is a NUL: not a CARMEN log"},
+      {{"slam", "eval", dir.file("trajectory.csv"), dir.file("relations.txt")},
+       dir.file("trajectory.csv") + ":1: line 1 is longer than 65536 bytes: not a trajectory CSV"},
+      {{"slam", "eval", dir.file("t.csv"), dir.file("relations.txt")},
+       dir.file("relations.txt") + ": byte 37 is a NUL: binary data, not a relation file"},
   };
   expect_refused_within(cases, 200 * 1024, dir);
 #endif

@@ -6,10 +6,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
 #include "starnav/cloud/cloud_io.hpp"
+#include "starnav/cloud/kitti_dataset.hpp"
+#include "starnav/cloud/lidar_recording.hpp"
 #include "starnav/core/error.hpp"
 #include "support/test_support.hpp"
 
@@ -190,6 +193,70 @@ TEST(CloudIo, AnOversizedKittiFrameIsRefusedFromItsSizeBeforeReading) {
   ::waitpid(child, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0) << "3: read, 4: another error, 5: out of memory";
+}
+
+// Files are judged by their head and size before they are read: each is read in a child whose
+// address space (200 MB) could not hold the file (3 GB, sparse on disk), and must be refused with
+// its own head's error (1: the reader returned, 2: another error, 3: out of memory: read first).
+TEST(CloudIo, FilesAreJudgedByTheirHeadAndSizeBeforeTheyAreRead) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
+#endif
+#endif
+  test::ScratchDir dir;
+  const std::uint64_t gib3 = std::uint64_t{3} << 30;
+  const std::string pcd10 = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 10\nHEIGHT 1\nPOINTS 10\n";
+  const std::string ply10 = "ply\nformat ascii 1.0\nelement vertex 10\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  std::string comments = "# .PCD v0.7\n";
+  while (comments.size() < 70000) comments += "# a header far longer than any PCL writes\n";
+  struct Row {
+    std::string name, head;
+    std::uint64_t size;
+    std::function<void(const std::string&)> read;
+    std::string says;
+  };
+  const auto cloud = [](const std::string& p) { read_point_cloud(p); };
+  const std::vector<Row> rows = {
+      {"junk.pcd", "", gib3, cloud, "unknown PCD header line"},
+      {"junk.ply", "", gib3, cloud, "does not start with the line 'ply'"},
+      {"junk.xyz", "", gib3, cloud, "not a point cloud: expected a PCD or PLY header"},
+      {"binary.pcd", pcd10 + "DATA binary\n", gib3, cloud, "more than its header's points take (219 and 1048576 to spare)"},
+      {"ascii.pcd", pcd10 + "DATA ascii\n", gib3, cloud, "more than its header's points take"},
+      {"ascii.ply", ply10, gib3, cloud, "more than its header's points take"},
+      {"short.pcd", pcd10 + "DATA binary\n" + std::string(20, '\0'), 0, cloud, "binary data holds 20 bytes, 120 needed"},
+      {"comments.pcd", comments, gib3, cloud, "the header does not end within the first 65536 bytes"},
+      {"poses.txt", "", gib3, [](const std::string& p) { read_kitti_poses(p); }, "line 1 is longer than 65536 bytes"},
+      {"tum.txt", "1 0 0 0 0 0 0 1\n", gib3, [](const std::string& p) { read_pose_file(p); }, "byte 16 is a NUL"},
+  };
+  for (const Row& r : rows) {
+    SCOPED_TRACE(r.name);
+    const std::string path = dir.file(r.name);
+    test::write_text(path, r.head);
+    if (r.size > 0) std::filesystem::resize_file(path, r.size);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      const rlimit limit{200u << 20, 200u << 20};
+      ::setrlimit(RLIMIT_AS, &limit);
+      int code = 1;
+      try {
+        r.read(path);
+      } catch (const Error& e) {
+        code = std::string(e.what()).find(r.says) != std::string::npos ? 0 : 2;
+        if (code) std::fprintf(stderr, "%s\n", e.what());
+      } catch (...) {
+        code = 3;
+      }
+      ::_exit(code);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "1: read, 2: another error, 3: out of memory";
+  }
 }
 
 TEST(CloudIo, ReadsTheSharedKittiFrames) {

@@ -127,22 +127,59 @@ std::string lzf_decompress(std::string_view in, std::size_t size, const std::str
   return out;
 }
 
-PointCloudFile parse_pcd(std::string_view bytes, const std::string& path) {
+namespace {
+
+// What a PCD header says: the fields, the points and where the data starts.
+struct PcdHeader {
   std::vector<std::string> fields;
   std::vector<std::size_t> sizes, counts;
   std::string types;
+  std::size_t n = 0;                       // points
+  std::string data;                        // ascii, binary or binary_compressed
+  std::array<int, 3> field_of{-1, -1, -1};  // x, y, z: field index ...
+  std::array<std::size_t, 3> offset_of{}, value_of{};  // ... byte offset in a record, value index in a line
+  std::size_t record = 0, values = 0;      // bytes of a binary record, values of an ascii line
+  std::size_t body = 0;                    // where the data starts
+  int line_no = 0;                         // the DATA line
+};
+
+// `bytes` holds the header (the whole file, or its head: `head` true, so that a header running
+// past it is said to); Error naming the line and field otherwise.
+PcdHeader parse_pcd_header(std::string_view bytes, const std::string& path, bool head) {
+  PcdHeader h;
+  std::vector<std::string>& fields = h.fields;
+  std::vector<std::size_t>& sizes = h.sizes;
+  std::vector<std::size_t>& counts = h.counts;
+  std::string& types = h.types;
   std::optional<std::size_t> width, height, points;
-  std::string data;
+  std::string& data = h.data;
   std::size_t pos = 0;
   int line_no = 0;
   std::string_view line;
+  const auto cut_short = [&] {
+    fail(path, line_no, "DATA", "the header does not end within the first " + std::to_string(bytes.size()) + " bytes");
+  };
   while (data.empty()) {
-    if (!next_header_line(bytes, pos, line)) fail(path, line_no, "DATA", "the header ends without a DATA line");
+    if (!next_header_line(bytes, pos, line)) {
+      if (head) cut_short();
+      fail(path, line_no, "DATA", "the header ends without a DATA line");
+    }
     ++line_no;
-    if (line.empty() || line.front() == '#') continue;
+    // A head's last line may be cut: judged only by its first word.
+    const bool cut = head && pos == bytes.size() && bytes.back() != '\n';
+    if (line.empty() || line.front() == '#') {
+      if (cut) cut_short();
+      continue;
+    }
     const std::vector<std::string_view> t = split_fields(line);
-    if (t.empty()) continue;
+    if (t.empty()) {
+      if (cut) cut_short();
+      continue;
+    }
     const std::string key(t[0]);
+    if (cut && (key == "VERSION" || key == "VIEWPOINT" || key == "FIELDS" || key == "SIZE" || key == "COUNT" || key == "TYPE" ||
+                key == "WIDTH" || key == "HEIGHT" || key == "POINTS" || key == "DATA"))
+      cut_short();
     auto counts_of = [&](std::vector<std::size_t>& out) {
       out.clear();
       for (std::size_t k = 1; k < t.size(); ++k) {
@@ -186,12 +223,15 @@ PointCloudFile parse_pcd(std::string_view bytes, const std::string& path) {
   if (!height) height = 1;
   if (*height != 0 && *width > kMaxCloudPoints / *height) check_point_count(kMaxCloudPoints + 1, path, line_no, "WIDTH");
   const std::size_t n = points ? *points : *width * *height;
+  h.n = n;
   check_point_count(n, path, line_no, "POINTS");
   if (n != *width * *height) fail(path, line_no, "POINTS", "differs from WIDTH x HEIGHT");
   // Where x, y and z sit: field index and the byte offset in a record.
-  std::array<int, 3> field_of{-1, -1, -1};
-  std::array<std::size_t, 3> offset_of{}, value_of{};
-  std::size_t record = 0, values = 0;
+  std::array<int, 3>& field_of = h.field_of;
+  std::array<std::size_t, 3>& offset_of = h.offset_of;
+  std::array<std::size_t, 3>& value_of = h.value_of;
+  std::size_t& record = h.record;
+  std::size_t& values = h.values;
   for (std::size_t k = 0; k < fields.size(); ++k) {
     const ScalarType st{types[k], sizes[k]};
     if (!valid_scalar(st)) fail(path, line_no, "TYPE", "field '" + printable(fields[k], 30) + "' has an unsupported type/size");
@@ -208,6 +248,25 @@ PointCloudFile parse_pcd(std::string_view bytes, const std::string& path) {
     values += counts[k];
   }
   if (field_of[0] < 0 || field_of[1] < 0 || field_of[2] < 0) fail(path, line_no, "FIELDS", "needs x, y and z");
+  h.body = pos;
+  h.line_no = line_no;
+  return h;
+}
+
+}  // namespace
+
+PointCloudFile parse_pcd(std::string_view bytes, const std::string& path) {
+  const PcdHeader h = parse_pcd_header(bytes, path, false);
+  const std::vector<std::size_t>& sizes = h.sizes;
+  const std::string& types = h.types;
+  const std::size_t n = h.n;
+  const std::string& data = h.data;
+  const std::array<int, 3>& field_of = h.field_of;
+  const std::array<std::size_t, 3>& offset_of = h.offset_of;
+  const std::array<std::size_t, 3>& value_of = h.value_of;
+  const std::size_t record = h.record, values = h.values;
+  const std::size_t pos = h.body;
+  const int line_no = h.line_no;
   PointCloudFile f;
   const std::string_view body = bytes.substr(pos);
   if (data == "ascii") {
@@ -258,18 +317,41 @@ PointCloudFile parse_pcd(std::string_view bytes, const std::string& path) {
   return f;
 }
 
-PointCloudFile parse_ply(std::string_view bytes, const std::string& path) {
+namespace {
+
+enum class PlyEncoding { Ascii, Little, Big };
+
+// What a PLY header says of its vertices, and where the data starts.
+struct PlyHeader {
+  PlyEncoding enc = PlyEncoding::Ascii;
+  std::size_t n = 0;  // vertices
+  std::vector<std::pair<std::string, ScalarType>> props;
+  std::array<int, 3> prop_of{-1, -1, -1};  // x, y, z: property index and byte offset in a record
+  std::array<std::size_t, 3> offset_of{};
+  std::size_t record = 0;
+  bool later_elements = false;  // elements after the vertices (faces): the file's size is not the vertices'
+  std::size_t body = 0;
+  int line_no = 0;              // end_header's
+};
+
+// As parse_pcd_header.
+PlyHeader parse_ply_header(std::string_view bytes, const std::string& path, bool head) {
+  PlyHeader h;
   std::size_t pos = 0;
   std::string_view line;
   int line_no = 0;
   if (!next_header_line(bytes, pos, line) || line != "ply") fail(path, 1, "ply", "does not start with the line 'ply'");
   line_no = 1;
-  enum class Enc { Ascii, Little, Big } enc = Enc::Ascii;
+  using Enc = PlyEncoding;
+  Enc& enc = h.enc;
   bool have_format = false, in_vertex = false, vertex_done = false;
-  std::size_t n = 0;
-  std::vector<std::pair<std::string, ScalarType>> props;
+  std::size_t& n = h.n;
+  std::vector<std::pair<std::string, ScalarType>>& props = h.props;
   for (;;) {
-    if (!next_header_line(bytes, pos, line)) fail(path, line_no, "end_header", "missing");
+    if (!next_header_line(bytes, pos, line) || (head && pos == bytes.size() && bytes.back() != '\n')) {
+      if (head) fail(path, line_no, "end_header", "the header does not end within the first " + std::to_string(bytes.size()) + " bytes");
+      fail(path, line_no, "end_header", "missing");
+    }
     ++line_no;
     const std::vector<std::string_view> t = split_fields(line);
     if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
@@ -284,6 +366,7 @@ PointCloudFile parse_ply(std::string_view bytes, const std::string& path) {
     } else if (t[0] == "element") {
       if (t.size() != 3) fail(path, line_no, "element", "needs a name and a count");
       if (in_vertex) vertex_done = true;
+      if (vertex_done) h.later_elements = true;
       if (t[1] == "vertex") {
         if (in_vertex || vertex_done) fail(path, line_no, "element vertex", "appears twice");
         if (!parse_count(t[2], n)) fail(path, line_no, "element vertex", "'" + printable(t[2], 20) + "' is not a count");
@@ -311,9 +394,9 @@ PointCloudFile parse_ply(std::string_view bytes, const std::string& path) {
   }
   if (!have_format) fail(path, line_no, "format", "missing");
   if (!in_vertex) fail(path, line_no, "element vertex", "missing");
-  std::array<int, 3> prop_of{-1, -1, -1};
-  std::array<std::size_t, 3> offset_of{};
-  std::size_t record = 0;
+  std::array<int, 3>& prop_of = h.prop_of;
+  std::array<std::size_t, 3>& offset_of = h.offset_of;
+  std::size_t& record = h.record;
   for (std::size_t k = 0; k < props.size(); ++k) {
     for (int a = 0; a < 3; ++a)
       if (props[k].first == std::string(1, "xyz"[a])) {
@@ -323,6 +406,24 @@ PointCloudFile parse_ply(std::string_view bytes, const std::string& path) {
     record += props[k].second.size;
   }
   if (prop_of[0] < 0 || prop_of[1] < 0 || prop_of[2] < 0) fail(path, line_no, "property", "the vertex needs x, y and z");
+  h.body = pos;
+  h.line_no = line_no;
+  return h;
+}
+
+}  // namespace
+
+PointCloudFile parse_ply(std::string_view bytes, const std::string& path) {
+  const PlyHeader h = parse_ply_header(bytes, path, false);
+  using Enc = PlyEncoding;
+  const Enc enc = h.enc;
+  const std::size_t n = h.n;
+  const std::vector<std::pair<std::string, ScalarType>>& props = h.props;
+  const std::array<int, 3>& prop_of = h.prop_of;
+  const std::array<std::size_t, 3>& offset_of = h.offset_of;
+  const std::size_t record = h.record;
+  const std::size_t pos = h.body;
+  const int line_no = h.line_no;
   PointCloudFile f;
   const std::string_view body = bytes.substr(pos);
   if (enc == Enc::Ascii) {
@@ -375,20 +476,51 @@ PointCloudFile parse_kitti_bin(std::string_view bytes, const std::string& path) 
 
 PointCloudFile read_point_cloud(const std::string& path) {
   const InputFileScope reading_path(path);
-  // A KITTI frame's size is its point count: refused from the size before the file is read.
+  const std::string ext = lower_extension(path);
+  // The head decides before the rest is read: a PCD or PLY header, or a KITTI frame's size, and
+  // the file's size against what they promise (a binary body exactly; text at most kMaxValueChars
+  // a value; a PLY with elements after its vertices only from below).
+  constexpr std::uint64_t kMaxValueChars = 64, kTrailingBytes = std::uint64_t{1} << 20;
+  const auto check_size = [&](std::uint64_t size, std::uint64_t body, std::uint64_t least, std::optional<std::uint64_t> most,
+                              const char* field) {
+    if (size - body < least)
+      fail(path, 0, field, "binary data holds " + std::to_string(size - body) + " bytes, " + std::to_string(least) + " needed");
+    if (most && size - body > *most + kTrailingBytes)
+      fail(path, 0, field, "is " + std::to_string(size) + " bytes, more than its header's points take (" +
+                               std::to_string(body + *most) + " and " + std::to_string(kTrailingBytes) + " to spare)");
+  };
   const auto check_head = [&](std::string_view head, std::uint64_t size) {
-    if (is_gzip(head) || head.substr(0, 3) == "ply" || head.substr(0, 1) == "#" || head.substr(0, 7) == "VERSION") return;
-    const std::string ext = lower_extension(path);
-    if (ext != ".bin") return;
+    if (is_gzip(head)) return;
+    const bool cut = head.size() < size;
+    if (head.substr(0, 4) == "ply\n" || head.substr(0, 5) == "ply\r\n" || ext == ".ply") {
+      const PlyHeader h = parse_ply_header(head, path, cut);
+      const std::uint64_t n = h.n;
+      if (h.enc == PlyEncoding::Ascii)
+        check_size(size, h.body, 0, h.later_elements ? std::nullopt : std::optional<std::uint64_t>(n * (h.props.size() * kMaxValueChars + 2)),
+                   "element vertex");
+      else
+        check_size(size, h.body, n * h.record, h.later_elements ? std::nullopt : std::optional<std::uint64_t>(n * h.record),
+                   "element vertex");
+      return;
+    }
+    if (ext == ".pcd" || head.substr(0, 6) == "# .PCD" || head.substr(0, 7) == "VERSION") {
+      const PcdHeader h = parse_pcd_header(head, path, cut);
+      const std::uint64_t n = h.n, bytes = n * h.record;
+      if (h.data == "ascii") check_size(size, h.body, 0, n * (h.values * kMaxValueChars + 2), "POINTS");
+      else if (h.data == "binary") check_size(size, h.body, bytes, bytes, "DATA");
+      else check_size(size, h.body, 8, 8 + bytes + bytes / 32 + 1, "DATA");  // LZF: a control byte per 32 literals at worst
+      return;
+    }
+    if (ext != ".bin") throw Error("not a point cloud: expected a PCD or PLY header, or a KITTI .bin frame", path);
+    // A KITTI frame's size is its point count.
     if (size % 16 != 0)
       fail(path, 0, "size", std::to_string(size) + " bytes is not a whole number of 16-byte (x, y, z, reflectance) records");
     check_point_count(static_cast<std::size_t>(size / 16), path, 0, "size");
   };
-  std::string bytes = read_input_file(path, kMaxInputFileBytes, 16, check_head);
+  std::string bytes = read_input_file(path, kMaxInputFileBytes, kTextHeadBytes, check_head);
   if (is_gzip(bytes)) bytes = gunzip(bytes, path);
   const std::string_view v = bytes;
   if (v.substr(0, 4) == "ply\n" || v.substr(0, 5) == "ply\r\n") return parse_ply(v, path);
-  const std::string ext = lower_extension(path);
   std::string stem_ext = ext;
   if (ext == ".gz") stem_ext = lower_extension(path.substr(0, path.size() - 3));
   if (stem_ext == ".pcd" || v.substr(0, 6) == "# .PCD" || v.substr(0, 7) == "VERSION") return parse_pcd(v, path);

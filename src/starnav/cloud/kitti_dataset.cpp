@@ -6,7 +6,6 @@
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
-#include "starnav/io/file_bytes.hpp"
 #include "starnav/logs/decompress.hpp"
 
 namespace starnav {
@@ -22,9 +21,10 @@ Rigid3 rigid_from_kitti_3x4(const double (&m)[12], const std::string& path, int 
   return t;
 }
 
-std::vector<Rigid3> read_kitti_poses(const std::string& path, bool time_column) {
-  const InputFileScope reading_path(path);
-  const std::string text = read_file_bytes(path);
+namespace {
+
+// The poses of `text`'s lines; `whole`: the whole file (not only its head), which must hold one.
+std::vector<Rigid3> parse_kitti_poses(std::string_view text, const std::string& path, bool time_column, bool whole) {
   std::vector<Rigid3> poses;
   const std::size_t expected = time_column ? 13 : 12;
   for_each_line(text, [&](std::string_view line, int line_no) {
@@ -38,8 +38,18 @@ std::vector<Rigid3> read_kitti_poses(const std::string& path, bool time_column) 
         throw Error("'" + printable(f[k + expected - 12], 30) + "' is not a finite number", path, line_no, "pose");
     poses.push_back(rigid_from_kitti_3x4(v, path, line_no, "pose"));
   });
-  if (poses.empty()) throw Error("no poses", path, 0, "pose");
+  if (whole && poses.empty()) throw Error("no poses", path, 0, "pose");
   return poses;
+}
+
+}  // namespace
+
+std::vector<Rigid3> read_kitti_poses(const std::string& path, bool time_column) {
+  const InputFileScope reading_path(path);
+  const std::string text = read_text_lines_file(path, kMaxInputFileBytes, "a KITTI pose file (12 values a line)", [&](std::string_view head) {
+    parse_kitti_poses(head, path, time_column, false);
+  });
+  return parse_kitti_poses(text, path, time_column, true);
 }
 
 Rigid3 kitti_velodyne_to_camera(const std::string& sequence) {

@@ -6,9 +6,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/text_lines.hpp"
-#include "starnav/io/file_bytes.hpp"
 #include "starnav/io/yaml_document.hpp"
 
 namespace starnav {
@@ -95,7 +95,7 @@ LidarFrameFolder read_lidar_frame_folder(const std::string& dir) {
                                 number(m, "pitch_deg") * kPi / 180, number(m, "yaw_deg") * kPi / 180);
   }
   const std::string csv = (fs::path(dir) / "frames.csv").string();
-  const std::string text = read_file_bytes(csv);
+  const std::string text = read_text_lines_file(csv, kMaxInputFileBytes, "a frames.csv", [](std::string_view) {});
   bool header = true;
   for_each_line(text, [&](std::string_view line, int line_no) {
     if (line.empty()) return;

@@ -14,7 +14,6 @@
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
 #include "starnav/core/text_lines.hpp"
-#include "starnav/io/file_bytes.hpp"
 #include "starnav/logs/log_file.hpp"
 
 namespace starnav {
@@ -26,9 +25,10 @@ void LidarRecordingOptions::validate() const {
   if (mount) require(mount->position.allFinite() && mount->orientation.coeffs().allFinite(), "mount", "must be finite");
 }
 
-std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
-  const InputFileScope reading_path(path);
-  const std::string text = read_file_bytes(path);
+namespace {
+
+// The poses of `text`'s lines; `whole`: the whole file (not only its head), which must hold one.
+std::vector<PoseFileEntry> parse_pose_file(std::string_view text, const std::string& path, bool whole) {
   std::vector<PoseFileEntry> out;
   std::size_t columns = 0;
   for_each_line(text, [&](std::string_view line, int line_no) {
@@ -65,8 +65,17 @@ std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
       throw Error("times must increase", path, line_no, "t");
     out.push_back(e);
   });
-  if (out.empty()) throw Error("no poses", path, 0, "pose");
+  if (whole && out.empty()) throw Error("no poses", path, 0, "pose");
   return out;
+}
+
+}  // namespace
+
+std::vector<PoseFileEntry> read_pose_file(const std::string& path) {
+  const InputFileScope reading_path(path);
+  const std::string text = read_text_lines_file(path, kMaxInputFileBytes, "a pose file (KITTI or TUM lines)",
+                                                [&](std::string_view head) { parse_pose_file(head, path, false); });
+  return parse_pose_file(text, path, true);
 }
 
 namespace {
@@ -89,7 +98,7 @@ std::optional<std::size_t> frame_number(const std::string& name) {
 
 // KITTI's calib.txt "Tr:" line (p_cam0 = Tr p_velo), when present.
 std::optional<Rigid3> calib_tr(const std::string& path) {
-  const std::string text = read_file_bytes(path);
+  const std::string text = read_text_lines_file(path, kMaxInputFileBytes, "a KITTI calib.txt", [](std::string_view) {});
   std::optional<Rigid3> tr;
   for_each_line(text, [&](std::string_view line, int line_no) {
     if (!line.starts_with("Tr:")) return;
@@ -173,7 +182,7 @@ LidarRecording open_cloud_files(const std::string& input, const LidarRecordingOp
   std::vector<double> times;
   const fs::path times_file = fs::path(sequence) / "times.txt";
   if (fs::exists(times_file)) {
-    const std::string text = read_file_bytes(times_file.string());
+    const std::string text = read_text_lines_file(times_file.string(), kMaxInputFileBytes, "a KITTI times.txt", [](std::string_view) {});
     for_each_line(text, [&](std::string_view line, int line_no) {
       const std::vector<std::string_view> v = split_fields(line);
       if (v.empty()) return;

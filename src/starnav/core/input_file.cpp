@@ -95,4 +95,17 @@ std::string read_input_file(const std::string& path, std::uint64_t max_bytes, st
   return bytes;
 }
 
+std::string read_text_lines_file(const std::string& path, std::uint64_t max_bytes, const std::string& what,
+                                 const std::function<void(std::string_view whole_lines)>& check_lines) {
+  return read_input_file(path, max_bytes, kTextHeadBytes, [&](std::string_view head, std::uint64_t size) {
+    if (head.size() == size) return;  // the whole file: its parser judges it
+    const std::size_t last = head.rfind('\n');
+    if (last == std::string_view::npos)
+      throw Error("line 1 is longer than " + std::to_string(kTextHeadBytes) + " bytes: not " + what, path, 1);
+    check_lines(head.substr(0, last + 1));
+    const std::size_t nul = head.find('\0');
+    if (nul != std::string_view::npos) throw Error("byte " + std::to_string(nul) + " is a NUL: binary data, not " + what, path);
+  });
+}
+
 }  // namespace starnav

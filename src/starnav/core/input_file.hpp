@@ -30,6 +30,16 @@ using InputFileHeadCheck = std::function<void(std::string_view head, std::uint64
 std::string read_input_file(const std::string& path, std::uint64_t max_bytes, std::size_t head_bytes,
                             const InputFileHeadCheck& check);
 
+// How much of a line-oriented text file is judged before the rest is read.
+inline constexpr std::size_t kTextHeadBytes = 64 * 1024;
+// Reads a line-oriented text file (poses, relations, frame lists), judged by its head before the
+// rest is read: `check_lines` (the reader's own parser, without its end-of-file checks) on the
+// head's whole lines, then no NUL byte in the head (binary data, a sparse file). A file that goes
+// on beyond a head without a whole line is refused: "line 1 is longer than 65536 bytes: not
+// `what`" (these formats' lines are short). A file of at most kTextHeadBytes is read at once.
+std::string read_text_lines_file(const std::string& path, std::uint64_t max_bytes, const std::string& what,
+                                 const std::function<void(std::string_view whole_lines)>& check_lines);
+
 // Names the file a reader is working on while it lives (nested scopes restore the outer name), so
 // that an allocation failure deep in a parser can still be reported against its file.
 class InputFileScope {

@@ -77,7 +77,7 @@ std::vector<AblationQuery> read_ablation_queries(const std::string& path, int ma
   }
   std::istringstream in([&] {
     try {
-      return read_input_file(path);
+      return read_text_lines_file(path, kMaxInputFileBytes, "a query file (start_x,start_y,goal_x,goal_y)", [](std::string_view) {});
     } catch (const Error& e) {
       throw Error(e.message(), path, 0, "--queries");
     }

@@ -61,8 +61,12 @@ std::string limits_markdown() {
             "their readings, odometry, ground truth, IMU, transforms",
             "judged from the lines or each topic's message count before any record is stored, then charged as records are stored; "
             "a log for `slam`, `localize` or `map build` without any scan is refused there"},
-           {"a file's head", "its format's header", "MovingAI maps and scenarios, ESRI ASCII grids, PNG and PGM images, KITTI .bin clouds",
-            "read and checked before the rest of the file: a file of another kind, or larger than its header says, costs its first bytes"},
+           {"a file's head", "its format's header, in the first " + std::to_string(kTextHeadBytes / 1024) + " KiB",
+            "MovingAI maps and scenarios, ESRI ASCII grids, PNG and PGM images, PCD, PLY and KITTI .bin clouds, elevation CSV, "
+            "robot logs; the line formats (trajectory CSV, relations, pose files, frames.csv, KITTI times and calibration, "
+            "query files): their whole lines there, no NUL byte, a first line that ends there",
+            "read and checked before the rest of the file: a file of another kind, or larger than its header says (a cloud's "
+            "points: binary exactly, text at most 64 characters a value, 1 MiB to spare), costs its first bytes"},
            {"cells of a grid", count(static_cast<double>(kMaxGridCells)), "every map format's width x height",
             "cell indices are 32-bit; checked from the header before the body is read"},
            {"points of a cloud file", count(static_cast<double>(kMaxCloudPoints)), "PCD, PLY and KITTI .bin clouds, PointCloud2 messages of bags",

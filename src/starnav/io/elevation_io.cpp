@@ -707,69 +707,125 @@ void write_asc(const ElevationMap& map, const std::string& path) {
 
 // ---- CSV -------------------------------------------------------------------------------------
 
+namespace {
+
+// One field of an elevation CSV: its height, or nothing for an empty field (an unobserved cell);
+// Error naming the line and column.
+std::optional<double> csv_height(std::string_view field, const std::string& source, int line, int ix) {
+  field = trim(field);
+  if (field.empty()) return std::nullopt;
+  double v = 0;
+  const std::string col = "column " + std::to_string(ix + 1);
+  switch (parse_number(field, v)) {
+    case NumParse::Ok: return v;
+    case NumParse::NotFinite:
+      throw Error("value " + quote(field) + " is not finite (leave the field empty for an unobserved cell)", source, line, col);
+    case NumParse::OutOfRange: throw Error("value " + quote(field) + " is out of range", source, line, col);
+    case NumParse::NotNumber: break;
+  }
+  throw Error("value " + quote(field) + " is not a number", source, line, col);
+}
+
+}  // namespace
+
 ElevationMap parse_elevation_csv(std::string_view text, const std::string& source, double resolution, Pose2 origin) {
-  struct Row {
-    std::string_view text;
-    int line;
-  };
-  std::vector<Row> rows;
-  LineReader lines(text);
-  std::string_view line;
-  while (lines.next(line)) rows.push_back({line, lines.number()});
-  if (rows.empty()) throw Error("empty CSV: no rows", source);
-  const std::size_t width = static_cast<std::size_t>(std::count(rows[0].text.begin(), rows[0].text.end(), ',')) + 1;
-  // Trailing blank lines end the file (for one column a blank line is an unobserved cell).
-  if (width > 1)
-    while (!rows.empty() && trim(rows.back().text).empty()) rows.pop_back();
-  if (rows.empty()) throw Error("empty CSV: no rows", source);
-  if (width > static_cast<std::size_t>(std::numeric_limits<int>::max()) ||
-      rows.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw Error("grid too large", source);
+  text = without_utf8_bom(text);
+  // The rows are counted before anything is stored: every line (the last may lack its '\n'), and
+  // with several columns trailing blank lines end the file (for one column a blank line is an
+  // unobserved cell).
+  std::uint64_t lines = 0, last_filled = 0;
+  for (std::size_t pos = 0; pos < text.size();) {
+    const std::size_t nl = text.find('\n', pos);
+    const std::size_t end = nl == std::string_view::npos ? text.size() : nl;
+    ++lines;
+    if (!trim(text.substr(pos, end - pos)).empty()) last_filled = lines;
+    pos = end + 1;
+  }
+  if (lines == 0) throw Error("empty CSV: no rows", source);
+  const std::string_view first = text.substr(0, text.find('\n'));
+  const std::uint64_t width = static_cast<std::uint64_t>(std::count(first.begin(), first.end(), ',')) + 1;
+  const std::uint64_t rows = width > 1 ? last_filled : lines;
+  if (rows == 0) throw Error("empty CSV: no rows", source);
+  if (width > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) || rows > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ||
+      width * rows > kMaxGridCells)
+    throw Error("grid too large: " + std::to_string(width) + " x " + std::to_string(rows) + " cells, more than " +
+                    std::to_string(kMaxGridCells),
+                source);
   GridGeometry geometry;
   geometry.width = static_cast<int>(width);
-  geometry.height = static_cast<int>(rows.size());
+  geometry.height = static_cast<int>(rows);
   geometry.resolution = resolution;
   geometry.origin = origin;
   ElevationMap map = attributed(source, [&] { return ElevationMap(geometry); });
   const int height = geometry.height;
-  for (int r = 0; r < height; ++r) {
-    const Row& row = rows[static_cast<std::size_t>(r)];
+  LineReader reader(text);
+  std::string_view line;
+  for (int r = 0; r < height && reader.next(line); ++r) {
     const int iy = height - 1 - r;
     std::size_t pos = 0;
     int ix = 0;
     while (true) {
-      const std::size_t comma = row.text.find(',', pos);
-      const std::string_view field =
-          trim(row.text.substr(pos, comma == std::string_view::npos ? std::string_view::npos : comma - pos));
-      if (static_cast<std::size_t>(ix) >= width)
-        throw Error("row has more fields than the first row (" + std::to_string(width) + ")", source, row.line);
-      if (!field.empty()) {
-        double v = 0;
-        const std::string col = "column " + std::to_string(ix + 1);
-        switch (parse_number(field, v)) {
-          case NumParse::Ok: break;
-          case NumParse::NotFinite:
-            throw Error("value " + quote(field) + " is not finite (leave the field empty for an unobserved cell)", source,
-                        row.line, col);
-          case NumParse::OutOfRange: throw Error("value " + quote(field) + " is out of range", source, row.line, col);
-          case NumParse::NotNumber: throw Error("value " + quote(field) + " is not a number", source, row.line, col);
-        }
-        map.set_height(ix, iy, v);
-      }
+      const std::size_t comma = line.find(',', pos);
+      if (static_cast<std::uint64_t>(ix) >= width)
+        throw Error("row has more fields than the first row (" + std::to_string(width) + ")", source, reader.number());
+      const auto v = csv_height(line.substr(pos, comma == std::string_view::npos ? std::string_view::npos : comma - pos), source,
+                                reader.number(), ix);
+      if (v) map.set_height(ix, iy, *v);
       ++ix;
       if (comma == std::string_view::npos) break;
       pos = comma + 1;
     }
-    if (static_cast<std::size_t>(ix) != width)
-      throw Error("row has " + std::to_string(ix) + " fields, the first row has " + std::to_string(width), source,
-                  row.line);
+    if (static_cast<std::uint64_t>(ix) != width)
+      throw Error("row has " + std::to_string(ix) + " fields, the first row has " + std::to_string(width), source, reader.number());
   }
   return map;
 }
 
 ElevationMap read_elevation_csv(const std::string& path, double resolution, Pose2 origin) {
   const InputFileScope reading_path(path);
-  const std::string text = read_input_file(path);
+  // The rows in the head are judged before the rest is read (their whole fields heights or empty,
+  // as many as the first row's, no NUL byte): a file of another kind costs its head.
+  const auto check_head = [&](std::string_view head, std::uint64_t size) {
+    head = without_utf8_bom(head);
+    const bool cut = head.size() < size;
+    std::size_t width = 0;
+    int line_no = 0;
+    for (std::size_t pos = 0; pos < head.size();) {
+      const std::size_t nl = head.find('\n', pos);
+      std::string_view row = head.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
+      ++line_no;
+      const bool whole = nl != std::string_view::npos || !cut;
+      if (!whole) {
+        const std::size_t last_comma = row.rfind(',');
+        // The cut field is left out, unless it is the first row's only one: no height is that long.
+        if (last_comma == std::string_view::npos && line_no == 1)
+          throw Error("value " + quote(row) + " is not a number (a field longer than " + std::to_string(kTextHeadBytes) + " bytes)", path,
+                      1, "column 1");
+        row = last_comma == std::string_view::npos ? std::string_view() : row.substr(0, last_comma);
+      }
+      if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
+      // A blank line may end a file of several columns.
+      if (!(line_no > 1 && width > 1 && trim(row).empty())) {
+        std::size_t fields = 0;
+        for (std::size_t at = 0;; at = row.find(',', at) + 1) {
+          if (line_no > 1 && fields == width)
+            throw Error("row has more fields than the first row (" + std::to_string(width) + ")", path, line_no);
+          const std::size_t comma = row.find(',', at);
+          csv_height(row.substr(at, comma == std::string_view::npos ? std::string_view::npos : comma - at), path, line_no,
+                     static_cast<int>(fields++));
+          if (comma == std::string_view::npos) break;
+        }
+        if (line_no == 1) width = fields;
+        else if (whole && fields != width)
+          throw Error("row has " + std::to_string(fields) + " fields, the first row has " + std::to_string(width), path, line_no);
+      }
+      if (nl == std::string_view::npos) break;
+      pos = nl + 1;
+    }
+    const std::size_t nul = head.find('\0');
+    if (nul != std::string_view::npos) throw Error("byte " + std::to_string(nul) + " is a NUL: binary data, not an elevation CSV", path);
+  };
+  const std::string text = read_input_file(path, kMaxInputFileBytes, kTextHeadBytes, check_head);
   return parse_elevation_csv(text, path, resolution, origin);
 }
 

@@ -6,7 +6,6 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
-#include "starnav/io/file_bytes.hpp"
 #include "starnav/logs/decompress.hpp"
 #include "starnav/logs/ros2_bag.hpp"
 #include "starnav/logs/ros_bag.hpp"
@@ -33,10 +32,16 @@ RobotLog read_robot_log(const std::string& path, const LogReadOptions& options) 
   // Devices and pipes could feed bytes without end.
   if (!fs::is_regular_file(st))
     throw Error(fs::is_directory(st) ? "is a directory without metadata.yaml, not a log or a rosbag2 folder" : "is not a regular file", path);
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw Error("cannot read its size", path);
-  if (size > kMaxLogFileBytes) throw Error("is larger than the limit of " + std::to_string(kMaxLogFileBytes) + " bytes", path);
-  std::string bytes = read_file_bytes(path);
+  // A log's head says its kind before the rest is read: a compressed stream, a bag or recording by
+  // its magic, else text, which holds no NUL byte (a binary or sparse file costs its head).
+  std::string bytes = read_input_file(path, kMaxLogFileBytes, kTextHeadBytes, [&](std::string_view head, std::uint64_t) {
+    if (is_gzip(head) || is_ros1_bag(head) || is_ros2_bag_bytes(head)) return;
+    const std::size_t nul = head.find('\0');
+    if (nul != std::string_view::npos)
+      throw Error("byte " + std::to_string(nul) +
+                      " is a NUL: not a CARMEN log or text extract (text), a ROS 1 bag, an MCAP or SQLite3 recording, or gzip",
+                  path);
+  });
   if (is_gzip(bytes)) bytes = gunzip(bytes, path);
   if (is_ros1_bag(bytes)) return print_warnings(read_ros1_bag(bytes, path, options));
   if (is_ros2_bag_bytes(bytes)) return print_warnings(read_ros2_bag_bytes(bytes, path, options));

@@ -7,9 +7,9 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/text_lines.hpp"
-#include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
 
@@ -88,8 +88,10 @@ LogMapResult map_log(const RobotLog& log, const std::vector<TrajectoryPose>& tra
   }, observer);
 }
 
-std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
-  const std::string text = read_file_bytes(path);
+namespace {
+
+// The poses of `text`'s lines; `whole`: the whole file (not only its head), which must hold one.
+std::vector<TrajectoryPose> parse_trajectory_csv(std::string_view text, const std::string& path, bool whole) {
   std::vector<TrajectoryPose> out;
   for_each_line(text, [&](std::string_view line, int line_no) {
     if (line.empty()) return;
@@ -119,8 +121,16 @@ std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
     p.pose = Pose2(v[0], v[1], wrap_angle(v[2]));
     out.push_back(p);
   });
-  if (out.empty()) throw Error("holds no pose", path);
+  if (whole && out.empty()) throw Error("holds no pose", path);
   return out;
+}
+
+}  // namespace
+
+std::vector<TrajectoryPose> read_trajectory_csv(const std::string& path) {
+  const std::string text = read_text_lines_file(path, kMaxInputFileBytes, "a trajectory CSV (t_s,x_m,y_m,yaw_rad)",
+                                                [&](std::string_view head) { parse_trajectory_csv(head, path, false); });
+  return parse_trajectory_csv(text, path, true);
 }
 
 std::string trajectory_csv(const std::vector<TrajectoryPose>& poses) {

@@ -8,9 +8,9 @@
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/input_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/text_lines.hpp"
-#include "starnav/io/file_bytes.hpp"
 
 namespace starnav {
 
@@ -39,7 +39,7 @@ const TrajectoryPose* nearest(const std::vector<TrajectoryPose>& sorted, std::in
 
 }  // namespace
 
-std::vector<PoseRelation> parse_relations(std::string_view text, const std::string& path) {
+std::vector<PoseRelation> parse_relations(std::string_view text, const std::string& path, bool whole) {
   std::vector<PoseRelation> out;
   static const char* kColumns[8] = {"t_i", "t_j", "dx", "dy", "dz", "droll", "dpitch", "dyaw"};
   for_each_line(text, [&](std::string_view line, int line_no) {
@@ -60,11 +60,15 @@ std::vector<PoseRelation> parse_relations(std::string_view text, const std::stri
     r.delta = Pose2(v[0], v[1], wrap_angle(v[5]));
     out.push_back(r);
   });
-  if (out.empty()) throw Error("holds no relation", path);
+  if (whole && out.empty()) throw Error("holds no relation", path);
   return out;
 }
 
-std::vector<PoseRelation> read_relations(const std::string& path) { return parse_relations(read_file_bytes(path), path); }
+std::vector<PoseRelation> read_relations(const std::string& path) {
+  const std::string text = read_text_lines_file(path, kMaxInputFileBytes, "a relation file (t_i t_j dx dy dz droll dpitch dyaw)",
+                                                [&](std::string_view head) { parse_relations(head, path, false); });
+  return parse_relations(text, path);
+}
 
 RelativePoseError relative_pose_error(const std::vector<TrajectoryPose>& trajectory, const std::vector<PoseRelation>& relations,
                                       const Pose2& offset) {

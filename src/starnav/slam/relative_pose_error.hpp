@@ -28,8 +28,9 @@ struct PoseRelation {
   int line = 0;
 };
 
-// Throws Error naming the file, line and column.
-std::vector<PoseRelation> parse_relations(std::string_view text, const std::string& path);
+// Throws Error naming the file, line and column; `whole` false: the head of a file (a file
+// without a relation is refused only whole).
+std::vector<PoseRelation> parse_relations(std::string_view text, const std::string& path, bool whole = true);
 std::vector<PoseRelation> read_relations(const std::string& path);
 
 struct RelativePoseError {
