@@ -13,6 +13,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/core/text_lines.hpp"
 #include "starnav/logs/log_file.hpp"
 
