@@ -423,6 +423,14 @@ TEST(RosBag, MalformedBagsNameTheByteAndField) {
   }
 }
 
+// geometry_msgs/PoseStamped (ROS 1) at (x, 0).
+std::string pose_stamped_at(double x) {
+  test::Bytes b;
+  test::ros_header(b, 1, 0, "map");
+  b.put(x).put(0.0).put(0.0).put(0.0).put(0.0).put(0.0).put(1.0);
+  return b.s;
+}
+
 TEST(RosBag, PositionsFartherThanTheCoordinateLimitAreRefused) {
   struct Row {
     std::string message;
@@ -432,6 +440,7 @@ TEST(RosBag, PositionsFartherThanTheCoordinateLimitAreRefused) {
       {test::odometry(1, 0, "base_link", 1e19, 0.0, 0.0, 0.0, 0.0), "/odom", "nav_msgs/Odometry", "pose.position"},
       {test::odometry(1, 0, "base_link", 0.0, -2e9, 0.0, 0.0, 0.0), "/odom", "nav_msgs/Odometry", "pose.position"},
       {test::tf_message({{"base_link", "laser", 1e12, 0.0, 0.0}}), "/tf_static", "tf2_msgs/TFMessage", "transforms"},
+      {pose_stamped_at(3e9), "/truth", "geometry_msgs/PoseStamped", "pose.position"},
   };
   for (const Row& r : rows) {
     test::BagWriter w;
@@ -439,8 +448,10 @@ TEST(RosBag, PositionsFartherThanTheCoordinateLimitAreRefused) {
     w.connection({1, r.topic, r.type});
     w.message(0, 1, 0, test::laser_scan(1, 0, "laser", 0.0f, 0.1f, 10.0f, {1.0f, 2.0f}));
     w.message(1, 1, 0, r.message);
+    LogReadOptions o;
+    if (r.topic == "/truth") o.truth_topic = "/truth";
     try {
-      read_ros1_bag(w.bytes(), "far.bag");
+      read_ros1_bag(w.bytes(), "far.bag", o);
       ADD_FAILURE() << "accepted a position beyond 1e9 m on " << r.topic;
     } catch (const Error& e) {
       EXPECT_EQ(e.field(), r.field) << e.what();

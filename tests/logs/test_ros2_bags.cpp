@@ -734,6 +734,26 @@ TEST(BagRecords, AMessageIndexedTwiceIsReadOnce) {
   EXPECT_EQ(log.scans[0].ranges_m, std::vector<float>{1.0f});
 }
 
+// Positions beyond kMaxCoordinateM are refused by the ROS 2 decoders as by every other reader.
+TEST(Ros2Cdr, PositionsFartherThanTheCoordinateLimitAreRefused) {
+  test::CdrBytes pose(false);
+  pose.header(1, 0, "map").put(0.0).put(-2e9).put(0.0).put(0.0).put(0.0).put(0.0).put(1.0);
+  struct Row {
+    std::string type, bytes, field;
+  };
+  for (const Row& r : {Row{"nav_msgs/msg/Odometry", cdr_odometry(1, 1e19), "pose.pose.position"},
+                       Row{"tf2_msgs/msg/TFMessage", cdr_tf(false, "base_link", "laser", 1e12, 0.0), "transforms"},
+                       Row{"geometry_msgs/msg/PoseStamped", pose.bytes, "pose.position"}}) {
+    try {
+      decode_ros2_message(r.type, r.bytes, "far.mcap", "message 1,");
+      ADD_FAILURE() << r.type << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.field(), r.field) << e.what();
+      EXPECT_NE(std::string(e.what()).find("farther than 1000000000 m"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Zstd, DecompressionIsBoundedBeforeItAllocates) {
   const std::string zeros(1 << 20, '\0');
   const std::string z = zstd_compress(zeros);

@@ -72,7 +72,8 @@ std::string limits_markdown() {
            {"points of a cloud file", count(static_cast<double>(kMaxCloudPoints)), "PCD, PLY and KITTI .bin clouds, PointCloud2 messages of bags",
             "checked from the header (or the file size) before reading"},
            {"a position read from a file", format_number(kMaxCoordinateM) + " m from the origin",
-            "poses of robot logs (CARMEN, text extracts, bags' odometry and transforms), trajectory and pose files, frames.csv",
+            "poses of robot logs (CARMEN, text extracts, ROS 1 and ROS 2 bags' odometry, transforms and truth), trajectory and pose files, "
+            "frames.csv",
             "beyond any site; a farther value is corrupt (grids and pictures index what lies within it)"},
            {"a YAML document", bytes_mib(static_cast<double>(kMaxYamlBytes)) + " and " + count(static_cast<double>(kMaxYamlNodes)) + " nodes",
             "scenarios, `--set` values, map_server and elevation YAML, RAW sidecars, slam3d's sensor.yaml",

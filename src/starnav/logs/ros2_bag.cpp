@@ -13,6 +13,7 @@
 
 #include "starnav/core/error.hpp"
 #include "starnav/core/input_file.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/logs/bag_log.hpp"
 #include "starnav/logs/cdr.hpp"
 #include "starnav/logs/decompress.hpp"
@@ -45,6 +46,10 @@ CdrHeader read_cdr_header(CdrReader& r) {
   h.frame_id = printable(r.string("header.frame_id"), 200);
   return h;
 }
+
+// Positions as every reader bounds them (kMaxCoordinateM).
+bool plausible_position(const Vec3& p) { return plausible_coordinate(p.x()) && plausible_coordinate(p.y()) && plausible_coordinate(p.z()); }
+std::string far_position() { return "lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position"; }
 
 struct CdrQuaternion {
   double x, y, z, w;
@@ -125,6 +130,7 @@ CdrOdometry cdr_odometry(CdrReader& r) {
   r.skip<double>(36, "twist.covariance");
   d.odometry.pose = Pose2(p.x(), p.y(), yaw_of_quaternion(q.x, q.y, q.z, q.w));
   if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(d.odometry.pose.yaw)) r.fail("pose", "not finite");
+  if (!plausible_position(p)) r.fail("pose.pose.position", far_position());
   d.pose3 = pose3_of(p.x(), p.y(), p.z(), q.x, q.y, q.z, q.w);
   return d;
 }
@@ -158,6 +164,7 @@ void cdr_tf(CdrReader& r, std::vector<FrameTransform>& out) {
     t.pose = Pose2(p.x(), p.y(), yaw_of_quaternion(q.x, q.y, q.z, q.w));
     t.pose3 = pose3_of(p.x(), p.y(), p.z(), q.x, q.y, q.z, q.w);
     if (!p.allFinite() || !std::isfinite(t.pose.yaw)) r.fail("transforms", "not finite");
+    if (!plausible_position(p)) r.fail("transforms", "a translation " + far_position());
     out.push_back(std::move(t));
   }
 }
@@ -169,6 +176,7 @@ std::pair<std::int64_t, Pose2> cdr_pose_stamped(CdrReader& r, bool with_covarian
   if (with_covariance) r.skip<double>(36, "pose.covariance");
   const Pose2 pose(p.x(), p.y(), yaw_of_quaternion(q.x, q.y, q.z, q.w));
   if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(pose.yaw)) r.fail("pose", "not finite");
+  if (!plausible_position(p)) r.fail("pose.position", far_position());
   return {stamp, pose};
 }
 

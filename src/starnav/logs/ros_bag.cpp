@@ -355,6 +355,8 @@ std::pair<std::int64_t, Pose2> decode_pose_stamped(ByteReader& r, bool with_cova
   if (with_covariance) r.take(36 * 8, "pose.covariance");
   const Pose2 pose(x, y, yaw_of_quaternion(qx, qy, qz, qw));
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(pose.yaw)) r.fail("pose", "not finite");
+  if (!plausible_coordinate(x) || !plausible_coordinate(y))
+    r.fail("pose.position", "lies farther than " + format_number(kMaxCoordinateM) + " m from the origin: not a position");
   return {stamp, pose};
 }
 
