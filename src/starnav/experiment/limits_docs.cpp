@@ -8,6 +8,7 @@
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/grid_geometry.hpp"
 #include "starnav/core/input_file.hpp"
+#include "starnav/core/params.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/run_limits.hpp"
 #include "starnav/harness/navigation_run.hpp"
@@ -78,6 +79,9 @@ std::string limits_markdown() {
            {"a YAML document", bytes_mib(static_cast<double>(kMaxYamlBytes)) + " and " + count(static_cast<double>(kMaxYamlNodes)) + " nodes",
             "scenarios, `--set` values, map_server and elevation YAML, RAW sidecars, slam3d's sensor.yaml",
             "nodes counted with their aliases expanded, in one pass over the text before the document is built"},
+           {"points of a polygons parameter", count(static_cast<double>(kMaxParamPolygonVertices)),
+            "`navigation.keepout.zones` (YAML or `--set`)", "counted while the text is read, before a point is stored"},
+           {"more LiDARs", count(static_cast<double>(kMaxOtherLidars)), "`sensors.lidars`", "each scans every period it is due"},
        }},
       {"Simulation",
        {
