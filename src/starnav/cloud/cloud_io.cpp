@@ -65,6 +65,13 @@ bool parse_any_number(std::string_view text, double& out) {
   return r.ec == std::errc() && r.ptr == text.data() + text.size();
 }
 
+// 0, 1 or 2 for a field or property named x, y or z; -1 for any other.
+int xyz_axis(std::string_view name) {
+  if (name.size() != 1) return -1;
+  const std::size_t a = std::string_view("xyz").find(name[0]);
+  return a == std::string_view::npos ? -1 : static_cast<int>(a);
+}
+
 void keep_point(PointCloudFile& f, double x, double y, double z) {
   if (std::isfinite(x) && std::isfinite(y) && std::isfinite(z)) {
     f.points.emplace_back(x, y, z);
@@ -236,13 +243,11 @@ PcdHeader parse_pcd_header(std::string_view bytes, const std::string& path, bool
     const ScalarType st{types[k], sizes[k]};
     if (!valid_scalar(st)) fail(path, line_no, "TYPE", "field '" + printable(fields[k], 30) + "' has an unsupported type/size");
     if (counts[k] == 0 || counts[k] > 10000) fail(path, line_no, "COUNT", "must be in [1, 10000]");
-    for (int a = 0; a < 3; ++a) {
-      if (fields[k] == std::string(1, "xyz"[a])) {
-        if (counts[k] != 1) fail(path, line_no, "COUNT", "x, y and z must have COUNT 1");
-        field_of[a] = static_cast<int>(k);
-        offset_of[a] = record;
-        value_of[a] = values;
-      }
+    if (const int a = xyz_axis(fields[k]); a >= 0) {
+      if (counts[k] != 1) fail(path, line_no, "COUNT", "x, y and z must have COUNT 1");
+      field_of[a] = static_cast<int>(k);
+      offset_of[a] = record;
+      value_of[a] = values;
     }
     record += sizes[k] * counts[k];
     values += counts[k];
@@ -398,11 +403,10 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& path, bool
   std::array<std::size_t, 3>& offset_of = h.offset_of;
   std::size_t& record = h.record;
   for (std::size_t k = 0; k < props.size(); ++k) {
-    for (int a = 0; a < 3; ++a)
-      if (props[k].first == std::string(1, "xyz"[a])) {
-        prop_of[a] = static_cast<int>(k);
-        offset_of[a] = record;
-      }
+    if (const int a = xyz_axis(props[k].first); a >= 0) {
+      prop_of[a] = static_cast<int>(k);
+      offset_of[a] = record;
+    }
     record += props[k].second.size;
   }
   if (prop_of[0] < 0 || prop_of[1] < 0 || prop_of[2] < 0) fail(path, line_no, "property", "the vertex needs x, y and z");

@@ -56,6 +56,18 @@ class CostmapLayer {
   virtual void recompute() {}
 };
 
+// ORs a fixed row-major mask (one byte per cell of `geometry`, non-zero = obstacle) over `rect`
+// into the master's obstacles: the contribution of every layer whose obstacles do not change.
+inline void or_mask_over(const GridGeometry& geometry, std::span<const std::uint8_t> mask, const CellRect& rect,
+                         std::span<std::uint8_t> obstacles) {
+  if (mask.empty()) return;
+  for (int y = rect.y0; y < rect.y1; ++y)
+    for (int x = rect.x0; x < rect.x1; ++x) {
+      const std::size_t i = geometry.index(x, y);
+      if (mask[i]) obstacles[i] = 1;
+    }
+}
+
 enum class NodeMapMode : std::uint8_t {
   Nodes3D,  // min/max height per cell, Li 2019 criteria (3D LiDAR)
   Lidar2D,  // each return marks its cell occupied (2D LiDAR, paper Fig. 13)

@@ -143,11 +143,7 @@ KeepoutLayer::KeepoutLayer(const GridGeometry& geometry, const std::vector<Param
 }
 
 void KeepoutLayer::contribute(const CellRect& rect, std::span<std::uint8_t> obstacles, std::span<std::uint8_t>) const {
-  for (int y = rect.y0; y < rect.y1; ++y)
-    for (int x = rect.x0; x < rect.x1; ++x) {
-      const std::size_t i = geometry_.index(x, y);
-      if (mask_[i]) obstacles[i] = 1;
-    }
+  or_mask_over(geometry_, mask_, rect, obstacles);
 }
 
 CostmapLayerDef keepout_layer() {

@@ -19,12 +19,7 @@ void StaticMapLayer::set_obstacles(std::vector<std::uint8_t> mask) {
 }
 
 void StaticMapLayer::contribute(const CellRect& rect, std::span<std::uint8_t> obstacles, std::span<std::uint8_t>) const {
-  if (mask_.empty()) return;
-  for (int y = rect.y0; y < rect.y1; ++y)
-    for (int x = rect.x0; x < rect.x1; ++x) {
-      const std::size_t i = geometry_.index(x, y);
-      if (mask_[i]) obstacles[i] = 1;
-    }
+  or_mask_over(geometry_, mask_, rect, obstacles);
 }
 
 CostmapLayerDef static_map_layer() {
