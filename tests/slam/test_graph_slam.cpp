@@ -23,6 +23,30 @@
 namespace starnav {
 namespace {
 
+// The field cache's rule against every prefix tried: the longest prefix of at most max_fields
+// fields whose bytes fit max_bytes, and never fewer than the newest one.
+TEST(FieldCache, KeepsTheLongestPrefixWithinTheCountAndTheBytesAndAlwaysTheNewest) {
+  Rng rng(11);
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::vector<std::size_t> sizes(static_cast<std::size_t>(rng.uniform_int(0, 8)));
+    for (std::size_t& b : sizes) b = static_cast<std::size_t>(rng.uniform_int(1, 100));
+    const auto max_fields = static_cast<std::size_t>(rng.uniform_int(1, 9));
+    const auto max_bytes = static_cast<std::size_t>(rng.uniform_int(1, 400));
+    std::size_t expected = 0;
+    for (std::size_t k = 1; k <= sizes.size(); ++k) {
+      std::size_t sum = 0;
+      for (std::size_t i = 0; i < k; ++i) sum += sizes[i];
+      if (k <= max_fields && (k == 1 || sum <= max_bytes)) expected = k;
+    }
+    ASSERT_EQ(cached_fields_kept(sizes, max_fields, max_bytes), expected) << "trial " << trial;
+  }
+  // A single field larger than the cap stays (it is being searched).
+  const std::vector<std::size_t> huge{kMaxFieldCacheBytes + 1, 1};
+  EXPECT_EQ(cached_fields_kept(huge, 48, kMaxFieldCacheBytes), 1U);
+  const std::vector<std::size_t> halves{kMaxFieldCacheBytes / 2, kMaxFieldCacheBytes / 2, 1};
+  EXPECT_EQ(cached_fields_kept(halves, 48, kMaxFieldCacheBytes), 2U);
+}
+
 TEST(BranchAndBound, FindsTheBestLatticePoseAnExhaustiveSearchFinds) {
   Rng rng(5);
   for (int trial = 0; trial < 4; ++trial) {

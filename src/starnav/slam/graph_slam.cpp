@@ -234,6 +234,15 @@ bool GraphSlam::search_submap(std::size_t n, std::size_t s, bool global) {
   return true;
 }
 
+std::size_t cached_fields_kept(std::span<const std::size_t> bytes_newest_first, std::size_t max_fields, std::size_t max_bytes) {
+  std::size_t bytes = 0, kept = 0;
+  for (; kept < bytes_newest_first.size() && kept < max_fields; ++kept) {
+    if (kept > 0 && bytes + bytes_newest_first[kept] > max_bytes) break;
+    bytes += bytes_newest_first[kept];
+  }
+  return kept;
+}
+
 const ScanReference& GraphSlam::submap_field(std::size_t s) {
   for (auto it = cache_.begin(); it != cache_.end(); ++it)
     if (it->submap == s) {
@@ -243,14 +252,13 @@ const ScanReference& GraphSlam::submap_field(std::size_t s) {
   cache_.push_front({s, matcher_->prepare(submaps_[s].points, 0.0, c_.search_depth)});
   // At most field_cache fields and kMaxFieldCacheBytes of them (the newest always): an evicted
   // field is built again when asked for, the same.
-  std::size_t bytes = 0, kept = 0;
-  for (auto it = cache_.begin(); it != cache_.end(); ++it, ++kept) {
-    if (kept == static_cast<std::size_t>(c_.field_cache) || (kept > 0 && bytes + it->field->bytes() > kMaxFieldCacheBytes)) {
-      cache_.erase(it, cache_.end());
-      break;
-    }
-    bytes += it->field->bytes();
-  }
+  std::vector<std::size_t> sizes;
+  sizes.reserve(cache_.size());
+  for (const CachedField& f : cache_) sizes.push_back(f.field->bytes());
+  const std::size_t kept = cached_fields_kept(sizes, static_cast<std::size_t>(c_.field_cache), kMaxFieldCacheBytes);
+  cache_.erase(std::next(cache_.begin(), static_cast<std::ptrdiff_t>(kept)), cache_.end());
+  std::size_t bytes = 0;
+  for (std::size_t i = 0; i < kept; ++i) bytes += sizes[i];
   stats_.peak_field_bytes = std::max(stats_.peak_field_bytes, bytes);
   return *cache_.front().field;
 }

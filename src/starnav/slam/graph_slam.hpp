@@ -19,6 +19,7 @@
 #include <list>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "starnav/core/params.hpp"
@@ -32,6 +33,10 @@ namespace starnav {
 // newest field always is): a fine resolution's fields are built again when searched instead of
 // filling the memory.
 inline constexpr std::size_t kMaxFieldCacheBytes = std::size_t{1} << 30;
+
+// How many of the cached fields, newest first with these sizes, stay built: at most `max_fields`,
+// and no more bytes than `max_bytes` except that the newest always stays.
+std::size_t cached_fields_kept(std::span<const std::size_t> bytes_newest_first, std::size_t max_fields, std::size_t max_bytes);
 
 struct GraphSlamConfig {
   LocalSlamConfig local;
