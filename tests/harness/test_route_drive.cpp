@@ -42,9 +42,9 @@ TEST(RouteDrive, KidnapCarriesTheRobotAheadAndTurnsIt) {
   const auto drive = make_route_drive(sim);
   drive->kidnap_at(4.0, 5.0, kPi / 2);
   Pose2 before;
-  sim.on_encoders = [&](const EncoderSample& e) {
+  sim.encoder_feed.subscribe(SampleStage::Record, [&](const EncoderSample& e) {
     if (e.t_s < 4.0) before = sim.vehicle().state().pose.to_pose2();
-  };
+  });
   sim.run();
   ASSERT_GE(drive->kidnap_time(), 4.0);
   EXPECT_GE((drive->kidnap_pose().translation() - before.translation()).norm(), 5.0);

@@ -91,9 +91,9 @@ commands:
   EXPECT_DOUBLE_EQ(spec.occupancy_map->wall_height_m, 2.0);
   Simulation sim(spec);
   std::optional<LidarScan> first;
-  sim.on_scan = [&](const LidarScan& s) {
+  sim.lidar_feed("lidar").subscribe(SampleStage::Record, [&](const LidarScan& s) {
     if (!first) first = s;
-  };
+  });
   sim.run();
   ASSERT_TRUE(first.has_value());
   // Straight ahead (+x) the east wall's face at x = 5.9: 3.9 m; behind, the west face at 0.1: 1.9 m;

@@ -168,12 +168,12 @@ TEST(Simulation, ObstacleAppearingIsSeenByTheLidarOnlyWhileItExists) {
   ScenarioSpec spec = parse_scenario(yaml, "appear.yaml");
   Simulation sim(spec);
   std::vector<std::pair<double, int>> seen;  // scan time, returns on the box
-  sim.on_scan = [&](const LidarScan& scan) {
+  sim.lidar_feed("lidar").subscribe(SampleStage::Record, [&](const LidarScan& scan) {
     int n = 0;
     for (const Vec3& p : scan.points_world)
       if (std::abs(p.x() - 3.5) < 0.02 && std::abs(p.y() - 3.0) < 0.5) ++n;  // the box's near face
     seen.emplace_back(scan.time, n);
-  };
+  });
   sim.run();
   ASSERT_EQ(seen.size(), 21u);  // t = 0, 0.1, ..., 2.0
   for (const auto& [t, n] : seen) {

@@ -186,8 +186,7 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
     std::vector<Rigid3> truth;
     std::vector<double> times;
     const Simulation* s = &sim;
-    sim.on_scan = [before = sim.on_scan, &slots, &odometry, &truth, &times, s, mount](const LidarScan& scan) {
-      if (before) before(scan);
+    sim.lidar_feed("lidar").subscribe(SampleStage::Estimate, [&slots, &odometry, &truth, &times, s, mount](const LidarScan& scan) {
       // What the robot's drivers would publish: the wheel odometry at the scan, then the cloud.
       OdometryMessage odom;
       if (odometry) odom = {{scan.time, "odom"}, odometry->pose(), {}};
@@ -208,7 +207,7 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
       }
       truth.push_back(to_rigid(s->vehicle().state().pose) * to_rigid(mount));
       times.push_back(scan.time);
-    };
+    });
     sim.run();
     for (std::size_t vi = 0; vi < slots.size(); ++vi) {
       Mapping3dSlot& slot = slots[vi];

@@ -20,11 +20,10 @@ std::shared_ptr<const WheelOdometry> attach_encoder_odometry(Simulation& sim, En
   auto owner = std::make_shared<ModelAndOdometry>();
   owner->model = make_robot_model(spec.vehicle.robot);
   owner->odometry = std::make_unique<WheelOdometry>(*owner->model, spec.encoders->config.ticks_per_rev, spec.start);
-  sim.on_encoders = [before = sim.on_encoders, owner, after = std::move(after)](const EncoderSample& e) {
-    if (before) before(e);
+  sim.encoder_feed.subscribe(SampleStage::Estimate, [owner, after = std::move(after)](const EncoderSample& e) {
     owner->odometry->add_ticks(e.ticks);
     if (after) after(e, owner->odometry->pose());
-  };
+  });
   return std::shared_ptr<const WheelOdometry>(owner, owner->odometry.get());
 }
 

@@ -10,8 +10,8 @@
 
 namespace starnav {
 
-// Chains a hook onto sim.on_encoders (the hook before it runs first) that integrates each sample
-// into the returned odometry, then calls `after` with the sample and the new pose. Null when the
+// Subscribes to the simulation's encoder samples as an estimator (SampleStage::Estimate): each
+// sample is integrated into the returned odometry, then calls `after` with the sample and the new pose. Null when the
 // scenario has no encoders. The odometry starts at the scenario's start pose.
 using EncoderOdometryHook = std::function<void(const EncoderSample&, const Pose2&)>;
 std::shared_ptr<const WheelOdometry> attach_encoder_odometry(Simulation& sim, EncoderOdometryHook after = {});

@@ -36,13 +36,9 @@ LidarFrameRecorder::LidarFrameRecorder(Simulation& sim, const std::string& dir, 
                    lidar_sensor_yaml(lidar.model, lidar.lines(), lidar.beams, lidar.rate_hz, lidar.range_min, lidar.range_max,
                                      lidar.mount));
   state_->odometry = attach_encoder_odometry(sim);
-  sim.on_imu = [before = sim.on_imu, st = state_](const ImuModel::ImuReading& r) {
-    if (before) before(r);
-    st->imu_yaw_rate = r.yaw_rate_radps;
-  };
+  sim.imu_feed.subscribe(SampleStage::Record, [st = state_](const ImuModel::ImuReading& r) { st->imu_yaw_rate = r.yaw_rate_radps; });
   const Simulation* s = &sim;
-  sim.on_scan = [before = sim.on_scan, st = state_, s](const LidarScan& scan) {
-    if (before) before(scan);
+  sim.lidar_feed("lidar").subscribe(SampleStage::Record, [st = state_, s](const LidarScan& scan) {
     if (st->scans++ % st->every != 0) return;
     LidarFrameRecord r;
     r.frame = static_cast<int>(st->rows.size());
@@ -55,7 +51,7 @@ LidarFrameRecorder::LidarFrameRecorder(Simulation& sim, const std::string& dir, 
     r.truth = s->vehicle().state().pose;
     write_point_cloud((fs::path(st->dir) / name).string(), scan.points_sensor, PointCloudFormat::Pcd, PointCloudEncoding::Binary);
     st->rows.push_back(r);
-  };
+  });
 }
 
 void LidarFrameRecorder::finish() const {

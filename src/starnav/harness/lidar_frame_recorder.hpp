@@ -14,8 +14,8 @@ namespace starnav {
 
 class LidarFrameRecorder {
  public:
-  // Chains onto sim.on_scan, on_encoders and on_imu (after what they already do) and writes
-  // DIR/sensor.yaml. `sim` must outlive the hooks; the recorder must outlive the run. Throws
+  // Subscribes to the first LiDAR's scans and the IMU (a recorder) and the encoders (their
+  // odometry), and writes DIR/sensor.yaml. `sim` must outlive the subscriptions; the recorder must outlive the run. Throws
   // Error when the scenario has no LiDAR or DIR cannot be created.
   LidarFrameRecorder(Simulation& sim, const std::string& dir, int every_n_scans);
   // Writes DIR/frames.csv (after the run).

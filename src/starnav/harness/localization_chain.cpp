@@ -117,8 +117,7 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
     odometry_model_ = make_robot_model(spec.vehicle.robot);
     odometry_ = std::make_unique<WheelOdometry>(*odometry_model_, spec.encoders->config.ticks_per_rev, spec.start);
     last_odometry_.pose = spec.start;
-    sim.on_encoders = [this, before = sim.on_encoders](const EncoderSample& e) {
-      if (before) before(e);
+    sim.encoder_feed.subscribe(SampleStage::Estimate, [this](const EncoderSample& e) {
       odometry_->add_ticks(e.ticks);
       OdometrySample o;
       o.t_s = e.t_s;
@@ -136,35 +135,29 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
       }
       for (auto& l : localizers_) l->on_odometry(o);
       record(e.t_s, false);
-    };
+    });
   }
-  sim.on_imu = [this, before = sim.on_imu](const ImuModel::ImuReading& r) {
-    if (before) before(r);
+  sim.imu_feed.subscribe(SampleStage::Estimate, [this](const ImuModel::ImuReading& r) {
     if (filter_) filter_->on_imu(r);
     for (auto& l : localizers_) l->on_imu(r);
-  };
-  // The localizers take planar scans as a robot's driver publishes them (a 3D LiDAR's go to none).
-  std::optional<LidarConfig> planar_lidar;
-  if (spec.lidar && spec.lidar->config.lines() == 1) planar_lidar = spec.lidar->config;
-  std::vector<std::pair<std::string, LidarConfig>> other_planar;
-  for (const ScenarioLidar& l : spec.other_lidars)
-    if (l.config.lines() == 1) other_planar.emplace_back(l.stream, l.config);
-  sim.on_other_scan = [this, before = sim.on_other_scan, other_planar](const std::string& stream, const LidarScan& scan) {
-    for (const auto& [name, config] : other_planar)
-      if (name == stream) {
-        const ScanMessage message = planar_scan_message(scan, config, stream);
+  });
+  // The localizers take planar scans as a robot's driver publishes them (a 3D LiDAR's go to none);
+  // the first LiDAR's scans also close a record of the estimate.
+  if (spec.lidar)
+    sim.lidar_feed("lidar").subscribe(SampleStage::Estimate, [this, planar = spec.lidar->config.lines() == 1,
+                                                              config = spec.lidar->config](const LidarScan& scan) {
+      if (planar) {
+        const ScanMessage message = planar_scan_message(scan, config, "lidar");
         for (auto& l : localizers_) l->on_scan(message);
       }
-    if (before) before(stream, scan);
-  };
-  sim.on_scan = [this, before = sim.on_scan, planar_lidar](const LidarScan& scan) {
-    if (planar_lidar) {
-      const ScanMessage message = planar_scan_message(scan, *planar_lidar, "lidar");
-      for (auto& l : localizers_) l->on_scan(message);
-    }
-    record(scan.time, true);
-    if (before) before(scan);
-  };
+      record(scan.time, true);
+    });
+  for (const ScenarioLidar& other : spec.other_lidars)
+    if (other.config.lines() == 1)
+      sim.lidar_feed(other.stream).subscribe(SampleStage::Estimate, [this, config = other.config, stream = other.stream](const LidarScan& scan) {
+        const ScanMessage message = planar_scan_message(scan, config, stream);
+        for (auto& l : localizers_) l->on_scan(message);
+      });
 }
 
 LocalizationChain::~LocalizationChain() = default;

@@ -2,7 +2,7 @@
 // The localization chain of a simulated run (scenario section `localization`): wheel odometry
 // from the encoders, optionally fused with the IMU by the EKF (`odometry: ekf`), feeding the
 // localizer the run reads its pose from (ground_truth, ekf, amcl, ...), which also gets the IMU and
-// the scans. It chains onto the simulation's hooks (after what they already do) and records the
+// the scans. It subscribes to the simulation's sensor feeds as an estimator and records the
 // estimate beside the truth at every odometry sample and every scan (estimate.csv).
 //
 //   Simulation sim(spec);
@@ -51,9 +51,10 @@ struct EstimateRecord {
 
 class LocalizationChain {
  public:
-  // Builds the odometry, the filter and the localizer and chains onto sim.on_encoders, on_imu and
-  // on_scan (hooks set later replace the chain's: set the run's own hooks first). `sim` must
-  // outlive the chain and the chain the run. Throws Error naming the scenario file and field.
+  // Builds the odometry, the filter and the localizer and subscribes them to the simulation's
+  // encoders, IMU and planar LiDARs as estimators (SampleStage::Estimate: whatever navigates or
+  // records sees a sample after them, whenever it subscribed). `sim` must outlive the chain and
+  // the chain the run. Throws Error naming the scenario file and field.
   LocalizationChain(Simulation& sim, const LocalizationConfig& config);
   ~LocalizationChain();
   LocalizationChain(const LocalizationChain&) = delete;

@@ -542,14 +542,18 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   // The pose the navigator uses: the localizer's, after it has seen the truth (simulation only).
   const auto localized = [this](double t) { return chain_->pose(t); };
 
-  // More LiDARs (a rear one) feed the map; the first one's scans drive the cycle.
-  sim_->on_other_scan = [this, localized](const std::string&, const LidarScan& truth_scan) {
-    const Pose2 pose = localized(sim_->time());
-    const Pose2 truth = sim_->vehicle().state().pose.to_pose2();
-    if (pose.x != truth.x || pose.y != truth.y || pose.yaw != truth.yaw) nav_->add_scan(scan_placed_at(truth_scan, truth, pose));
-    else nav_->add_scan(truth_scan);
-  };
-  sim_->on_scan = [this, localized](const LidarScan& truth_scan) {
+  // More LiDARs (a rear one) feed the map; the first one's scans drive the cycle. Both after the
+  // localization chain's estimators (SampleStage::Estimate) have seen the scan.
+  for (const std::string& stream : sim_->lidar_streams()) {
+    if (stream == "lidar") continue;
+    sim_->lidar_feed(stream).subscribe(SampleStage::Navigate, [this, localized](const LidarScan& truth_scan) {
+      const Pose2 pose = localized(sim_->time());
+      const Pose2 truth = sim_->vehicle().state().pose.to_pose2();
+      if (pose.x != truth.x || pose.y != truth.y || pose.yaw != truth.yaw) nav_->add_scan(scan_placed_at(truth_scan, truth, pose));
+      else nav_->add_scan(truth_scan);
+    });
+  }
+  sim_->lidar_feed("lidar").subscribe(SampleStage::Navigate, [this, localized](const LidarScan& truth_scan) {
     const Pose3 pose3 = sim_->vehicle().state().pose;
     const double t = sim_->time();
     const Pose2 pose = localized(t);
@@ -597,7 +601,7 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
       if (options_.on_step_line) options_.on_step_line(step_json_line(*this, steps_.back()));
     }
     if (nav_->status() == NavStatus::NoPath) sim_->stop();
-  };
+  });
   // Several goals, laps or a goal heading: each arrival is measured once the robot is at rest.
   const ScenarioNavigation& n = *spec_.navigation;
   const bool measured = n.goals.size() > 1 || n.laps > 1 ||
@@ -680,7 +684,7 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
                   "--controller-pictures");
     std::sort(options_.controller_snapshot_times_s.begin(), options_.controller_snapshot_times_s.end());
   }
-  // After the run's own scan hook: the chain's hook feeds the localizer first, then calls it.
+  // Its estimators see each sample before the navigation does (SampleStage::Estimate).
   chain_ = std::make_unique<LocalizationChain>(*sim_, localization_);
   setup_s_ = seconds_since(t0);
 }

@@ -1,7 +1,7 @@
 #pragma once
 // A navigation scenario run: the simulator drives the localization chain (wheel odometry from the
 // encoders, the localizer fed by odometry, IMU, scans and, in simulation, ground truth) and a
-// Navigator (map, planner, controller) through Simulation's sensor hooks; the navigator reads its
+// Navigator (map, planner, controller) through Simulation's sensor feeds; the navigator reads its
 // pose from the localizer. The recorder writes what the run did (docs/navigation.md, "Running
 // navigation scenarios").
 //

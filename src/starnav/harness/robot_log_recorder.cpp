@@ -47,8 +47,7 @@ RobotLogRecorder::RobotLogRecorder(Simulation& sim) : log_(std::make_shared<Robo
     log->odometry.push_back(o);
   });
   const Simulation* s = &sim;
-  sim.on_scan = [before = sim.on_scan, log = log_, s, lidar, last](const LidarScan& scan) {
-    if (before) before(scan);
+  sim.lidar_feed("lidar").subscribe(SampleStage::Record, [log = log_, s, lidar, last](const LidarScan& scan) {
     LogScan out;
     out.stamp_us = stamp_us(scan.time);
     // Beam i points at +fov/2 - i delta: reversed, the angles increase from -fov/2.
@@ -68,7 +67,7 @@ RobotLogRecorder::RobotLogRecorder(Simulation& sim) : log_(std::make_shared<Robo
     t.pose = s->vehicle().state().pose.to_pose2();
     t.odometry = last->pose;
     log->truth.push_back(t);
-  };
+  });
 }
 
 }  // namespace starnav

@@ -16,8 +16,8 @@ class RobotLogRecorder {
  public:
   // True when the scenario can be recorded: a one-line (2D) LiDAR and wheel encoders.
   static bool can_record(const ScenarioSpec& spec);
-  // Chains onto sim.on_scan and sim.on_encoders (after what they already do). `sim` must outlive
-  // the recorder's hooks; the recorder must outlive the run. Throws Error when !can_record.
+  // Subscribes to the first LiDAR's scans (a recorder) and the encoders (their odometry). `sim`
+  // must outlive the subscriptions; the recorder must outlive the run. Throws Error when !can_record.
   explicit RobotLogRecorder(Simulation& sim);
   const RobotLog& log() const { return *log_; }
 

@@ -222,8 +222,8 @@ std::string pose_step_json_line(double t_s, const Pose3& pose) {
 }
 
 ScanStepRecorder::ScanStepRecorder(Simulation& sim, const LocalizationChain* chain, std::size_t max_particles) {
-  sim.on_scan = [this, before = sim.on_scan, &sim, chain, max_particles](const LidarScan& scan) {
-    if (before) before(scan);  // the localizer sees the scan first: its estimate includes it
+  // A record: the localizer (SampleStage::Estimate) has seen the scan, its estimate includes it.
+  sim.lidar_feed("lidar").subscribe(SampleStage::Record, [this, &sim, chain, max_particles](const LidarScan& scan) {
     NavStepRecord r;
     r.t_s = scan.time;
     r.pose = sim.vehicle().state().pose;
@@ -236,7 +236,7 @@ ScanStepRecorder::ScanStepRecorder(Simulation& sim, const LocalizationChain* cha
     }
     lines_.push_back(step_record_json(r));
     if (on_line) on_line(lines_.back());
-  };
+  });
 }
 
 std::string ScanStepRecorder::steps_jsonl() const {

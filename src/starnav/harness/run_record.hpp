@@ -51,8 +51,8 @@ std::string pose_step_json_line(double t_s, const Pose3& pose);
 
 // The steps.jsonl of a scripted run with a LiDAR (docs/run-records.md): per scan the true pose,
 // the returns (at most kStepHits, every k-th) and, with a localization chain, its estimate
-// and at most `max_particles` of its belief. Chains onto sim.on_scan: make it after the chain
-// and the other recorders, and keep it alive while the simulation runs.
+// and at most `max_particles` of its belief. A recorder of the first LiDAR's scans: the
+// chain's estimators see each scan before it does. Keep it alive while the simulation runs.
 // The most returns a step carries in runs that keep no obstacle cells (scripted runs, logs).
 inline constexpr std::size_t kStepHits = 180;
 class ScanStepRecorder {

@@ -97,15 +97,14 @@ void add_cloud_writer(Simulation& sim, const ScenarioSpec& spec, const std::stri
   const int every = spec.outputs.clouds_every_n_scans;
   const bool ply = cloud_format == ScenarioOutputs::CloudFormat::Ply;
   auto scan_index = std::make_shared<std::int64_t>(0);
-  sim.on_scan = [before = sim.on_scan, clouds, every, ply, scan_index](const LidarScan& scan) {
-    if (before) before(scan);
+  sim.lidar_feed("lidar").subscribe(SampleStage::Record, [clouds, every, ply, scan_index](const LidarScan& scan) {
     if (*scan_index % every == 0) {
       char name[64];
       std::snprintf(name, sizeof name, "scan_%06lld.%s", static_cast<long long>(*scan_index), ply ? "ply" : "pcd");
       write_point_cloud((clouds / name).string(), scan.points_world, ply ? PointCloudFormat::Ply : PointCloudFormat::Pcd);
     }
     ++*scan_index;
-  };
+  });
 }
 
 }  // namespace starnav

@@ -13,8 +13,8 @@ void write_scene_svg(const Simulation& sim, const std::string& path);
 void write_height_trace(const Simulation& sim, const std::string& path);
 void write_track(const Simulation& sim, const std::string& path);
 
-// Point clouds of every n-th scan (scenario outputs.point_clouds) into OUT/clouds/, after whatever
-// the simulation's on_scan did; nothing when the scenario asks for none. Throws Error naming the
+// Point clouds of every n-th scan (scenario outputs.point_clouds) into OUT/clouds/ (a recorder of the
+// first LiDAR's scans); nothing when the scenario asks for none. Throws Error naming the
 // folder when it cannot be created.
 void add_cloud_writer(Simulation& sim, const ScenarioSpec& spec, const std::string& out);
 

@@ -70,11 +70,13 @@ void Simulation::init() {
     if (field.rfind("robot.", 0) != 0 && field.rfind("vehicle.", 0) != 0) field = "robot." + field;
     throw Error(e.message(), spec_.file, field == "robot.start" ? spec_.start_source.line : spec_.robot_source.line, field);
   }
-  if (spec_.lidar) lidar_.emplace(spec_.lidar->config, root.fork(2));
+  if (spec_.lidar) {
+    lidars_.push_back({"lidar", Lidar(spec_.lidar->config, root.fork(2)), {}, 0, {}});
+    first_lidar_ = true;
+  }
   // Streams 20, 21, ... for more LiDARs: the first LiDAR's draws stay as they were.
   for (std::size_t i = 0; i < spec_.other_lidars.size(); ++i)
-    other_lidars_.emplace_back(spec_.other_lidars[i].config, root.fork(20 + i));
-  next_other_scan_.assign(other_lidars_.size(), 0);
+    lidars_.push_back({spec_.other_lidars[i].stream, Lidar(spec_.other_lidars[i].config, root.fork(20 + i)), {}, 0, {}});
   if (spec_.imu) imu_model_.emplace(spec_.imu->config, root.fork(3), spec_.start.yaw);
   if (spec_.encoders) encoders_.emplace(vehicle_->model().actuator_count(), spec_.encoders->config, root.fork(4));
 
@@ -89,7 +91,7 @@ void Simulation::init() {
     deviation_n_ = 1;
   }
   trajectory_.push_back(last_);
-  // The sensors' samples at t = 0 are taken by the first step(), once on_scan can be set.
+  // The sensors' samples at t = 0 are taken by the first step(), once the feeds have subscribers.
 }
 
 TrajectorySample Simulation::sample_now() const {
@@ -106,22 +108,43 @@ void Simulation::add_event(double t, std::string kind, std::string detail, const
   events_.push_back({t, std::move(kind), std::move(detail), where});
 }
 
-void Simulation::scan_lidar() {
-  lidar_->scan(world_, vehicle_->state().pose, time(), scan_);
-  LidarScanSummary s;
-  s.t_s = time();
-  s.sensor_position = scan_.sensor_pose.position;
-  s.rays = scan_.ranges.size();
-  s.returns = scan_.points_world.size();
-  s.dropped = scan_.dropped;
-  s.self_filtered = scan_.self_filtered;
-  s.min_range_m = kInfinity;
-  for (const double r : scan_.ranges)
-    if (r < s.min_range_m) s.min_range_m = r;
-  rays_ += static_cast<std::int64_t>(s.rays);
-  returns_ += static_cast<std::int64_t>(s.returns);
-  scans_.push_back(s);
-  if (on_scan) on_scan(scan_);
+SampleFeed<LidarScan>& Simulation::lidar_feed(const std::string& stream) {
+  for (LidarSlot& slot : lidars_)
+    if (slot.stream == stream) return slot.feed;
+  throw Error("the scenario has no LiDAR on stream '" + stream + "'", spec_.file, 0, "sensors");
+}
+
+std::vector<std::string> Simulation::lidar_streams() const {
+  std::vector<std::string> streams;
+  for (const LidarSlot& slot : lidars_) streams.push_back(slot.stream);
+  return streams;
+}
+
+void Simulation::scan_lidars(double t) {
+  for (std::size_t i = 0; i < lidars_.size(); ++i) {
+    LidarSlot& slot = lidars_[i];
+    if (!due(slot.next, slot.lidar.config().rate_hz, t)) continue;
+    slot.lidar.scan(world_, vehicle_->state().pose, t, slot.scan);
+    if (i == 0 && first_lidar_) {
+      const LidarScan& scan = slot.scan;
+      LidarScanSummary s;
+      s.t_s = t;
+      s.sensor_position = scan.sensor_pose.position;
+      s.rays = scan.ranges.size();
+      s.returns = scan.points_world.size();
+      s.dropped = scan.dropped;
+      s.self_filtered = scan.self_filtered;
+      s.min_range_m = kInfinity;
+      for (const double r : scan.ranges)
+        if (r < s.min_range_m) s.min_range_m = r;
+      rays_ += static_cast<std::int64_t>(s.rays);
+      returns_ += static_cast<std::int64_t>(s.returns);
+      scans_.push_back(s);
+    }
+    slot.feed.publish(slot.scan);
+    // One scan per step at most: a rate above 1/dt is capped to the step rate.
+    while (due(slot.next, slot.lidar.config().rate_hz, t)) ++slot.next;
+  }
 }
 
 void Simulation::sample_sensors(bool initial) {
@@ -129,27 +152,16 @@ void Simulation::sample_sensors(bool initial) {
   if (imu_model_ && !initial && due(next_imu_, imu_model_->config().rate_hz, t)) {
     imu_.push_back(imu_model_->sample(t, vehicle_->state().twist.wz, t - last_imu_t_));
     last_imu_t_ = t;
-    if (on_imu) on_imu(imu_.back());
+    imu_feed.publish(imu_.back());
     while (due(next_imu_, imu_model_->config().rate_hz, t)) ++next_imu_;
   }
   if (encoders_ && due(next_encoder_, spec_.encoders->rate_hz, t)) {
     encoder_samples_.push_back({t, encoders_->sample(vehicle_->state().wheel_angle_rad)});
-    if (on_encoders) on_encoders(encoder_samples_.back());
+    encoder_feed.publish(encoder_samples_.back());
     while (due(next_encoder_, spec_.encoders->rate_hz, t)) ++next_encoder_;
   }
-  // The scan last: a localizer matching it then has the odometry of the same instant.
-  if (lidar_ && due(next_scan_, lidar_->config().rate_hz, t)) {
-    scan_lidar();
-    // One scan per step at most: a rate above 1/dt is capped to the step rate.
-    while (due(next_scan_, lidar_->config().rate_hz, t)) ++next_scan_;
-  }
-  for (std::size_t i = 0; i < other_lidars_.size(); ++i) {
-    Lidar& lidar = other_lidars_[i];
-    if (!due(next_other_scan_[i], lidar.config().rate_hz, t)) continue;
-    lidar.scan(world_, vehicle_->state().pose, t, other_scan_);
-    if (on_other_scan) on_other_scan(spec_.other_lidars[i].stream, other_scan_);
-    while (due(next_other_scan_[i], lidar.config().rate_hz, t)) ++next_other_scan_[i];
-  }
+  // The scans last: a localizer matching one then has the odometry of the same instant.
+  scan_lidars(t);
 }
 
 void Simulation::step() {
@@ -196,7 +208,7 @@ void Simulation::step() {
     bumper_ = vehicle_->bumper_contact();
     add_event(t1, "bumper", bumper_ ? "contact" : "released", vehicle_->state().pose.position.head<2>());
   }
-  if (spec_.bumper && on_bumper) on_bumper(BumperReading{t1, bumper_});
+  if (spec_.bumper) bumper_feed.publish(BumperReading{t1, bumper_});
 
   sample_sensors(false);
   track_step();

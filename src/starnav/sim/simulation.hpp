@@ -12,7 +12,7 @@
 //      due at n / rate_hz, so scans fall on steps when the period is a multiple of dt);
 //   5. the trajectory is recorded every `trajectory_every_n_steps` steps and at the end.
 // At t = 0 the initial state is recorded; the first step() first lets the LiDAR scan at t = 0 and
-// the encoders take their zero (so an on_scan set after construction sees that scan too).
+// the encoders take their zero (so a feed subscribed after construction sees that scan too).
 // All randomness flows from the scenario seed: Rng(seed).fork(1) for the vehicle's slip, 2 for
 // the LiDAR, 3 for the IMU, 4 for the encoders.
 #include <cstdint>
@@ -28,6 +28,7 @@
 #include "starnav/sense/imu.hpp"
 #include "starnav/sense/lidar.hpp"
 #include "starnav/sense/wheel_encoders.hpp"
+#include "starnav/sim/sample_feed.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "starnav/sim/vehicle.hpp"
 #include "starnav/sim/world.hpp"
@@ -88,16 +89,16 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // Sensor hooks, called with every sample as it is taken, at each sensor's own rate (what a
-  // real robot's drivers publish): LiDAR scans, IMU readings, cumulative encoder ticks, and the
-  // bumper's state after every step (with a bumper). Set before run.
-  std::function<void(const LidarScan&)> on_scan;
-  std::function<void(const ImuModel::ImuReading&)> on_imu;
-  std::function<void(const EncoderSample&)> on_encoders;
-  std::function<void(const BumperReading&)> on_bumper;
-  // The scans of sensors.lidars (a rear LiDAR), each with its stream ("lidar/rear"), after the
-  // first LiDAR's scan of the same step.
-  std::function<void(const std::string& stream, const LidarScan&)> on_other_scan;
+  // The samples of each sensor as they are taken, at the sensor's own rate (what a real robot's
+  // drivers publish): LiDAR scans per stream ("lidar" for sensors.lidar, "lidar/NAME" for
+  // sensors.lidars.NAME; in that order within a step), IMU readings, cumulative encoder ticks, and
+  // the bumper's state after every step (with a bumper). Subscribe before run.
+  SampleFeed<LidarScan>& lidar_feed(const std::string& stream);
+  // The LiDAR streams this scenario has, first LiDAR first.
+  std::vector<std::string> lidar_streams() const;
+  SampleFeed<ImuModel::ImuReading> imu_feed;
+  SampleFeed<EncoderSample> encoder_feed;
+  SampleFeed<BumperReading> bumper_feed;
   // When set, replaces the command script: called at every step with t_k and the vehicle in its
   // state at t_k; returns the body twist to apply over the step (navigation drives through it).
   std::function<BodyTwist(double t)> command_source;
@@ -114,7 +115,7 @@ class Simulation {
   std::int64_t total_steps() const { return total_steps_; }
   bool finished() const { return stopped_ || step_ >= total_steps_; }
   // Ends the run now (navigation: goal reached, or no path); the current state is recorded as the
-  // trajectory's last sample. May be called from on_scan or command_source.
+  // trajectory's last sample. May be called from a sample's subscriber or command_source.
   void stop();
   // Moves the robot to `to` now without its wheels turning (the kidnapped robot; also what the
   // scenario's teleport events do), with an event. Throws Error (field "teleport") where it cannot stand.
@@ -136,7 +137,7 @@ class Simulation {
   void init();
   TrajectorySample sample_now() const;
   void sample_sensors(bool initial);
-  void scan_lidar();
+  void scan_lidars(double t);
   void add_event(double t, std::string kind, std::string detail, const Vec2& where);
   void track_step();
 
@@ -144,16 +145,22 @@ class Simulation {
   World world_;
   std::optional<ElevationMap> terrain_map_;
   std::unique_ptr<Vehicle> vehicle_;
-  std::optional<Lidar> lidar_;
-  std::vector<Lidar> other_lidars_;
-  std::vector<std::int64_t> next_other_scan_;
-  LidarScan other_scan_;
+  // Every LiDAR with its stream, its feed, its next sample index and its scan's buffer (first
+  // LiDAR first).
+  struct LidarSlot {
+    std::string stream;
+    Lidar lidar;
+    SampleFeed<LidarScan> feed;
+    std::int64_t next = 0;
+    LidarScan scan;
+  };
+  std::vector<LidarSlot> lidars_;
+  bool first_lidar_ = false;  // lidars_[0] is sensors.lidar (its scans are summarised in lidar.csv)
   std::optional<ImuModel> imu_model_;
   std::optional<WheelEncoders> encoders_;
-  LidarScan scan_;
   std::int64_t step_ = 0;
   std::int64_t total_steps_ = 0;
-  std::int64_t next_scan_ = 0, next_imu_ = 1, next_encoder_ = 0;  // sample indices n (time n / rate)
+  std::int64_t next_imu_ = 1, next_encoder_ = 0;  // sample indices n (time n / rate)
   double last_imu_t_ = 0.0;
   int segment_ = -1;
   std::size_t next_teleport_ = 0;
