@@ -165,6 +165,35 @@ TEST(Nav2Params, EachConversionOnAHandWrittenFile) {
   EXPECT_EQ(r["controller_server.FollowPath.desired_linear_vel"], V("navigation.follower.cruise_speed_mps", "0.5"));
   EXPECT_EQ(r["controller_server.FollowPath.lookahead_dist"], V("navigation.follower.pursuit_look_ahead_m", "0.6"));
   EXPECT_EQ(rpp.ignored.size(), 2u);  // the plugin line and use_collision_detection
+
+  // The same file on the regulated_pure_pursuit component: every key is its own (unit suffixes,
+  // radians to degrees), use_collision_detection included.
+  const Nav2Params regulated = read_nav2_params(dir.file("rpp.yaml"), scenario("", "regulated_pure_pursuit"));
+  r.clear();
+  for (const Nav2Key& k : regulated.mapped) r[k.nav2] = {k.starnav, k.converted};
+  EXPECT_EQ(r["controller_server.FollowPath.desired_linear_vel"], V("navigation.rpp.desired_linear_vel_mps", "0.5"));
+  EXPECT_EQ(r["controller_server.FollowPath.lookahead_dist"], V("navigation.rpp.lookahead_dist_m", "0.6"));
+  EXPECT_EQ(r["controller_server.FollowPath.use_collision_detection"], V("navigation.rpp.use_collision_detection", "true"));
+  const auto& [degps_key, degps] = r["controller_server.FollowPath.rotate_to_heading_angular_vel"];
+  EXPECT_EQ(degps_key, "navigation.rpp.rotate_to_heading_angular_vel_degps");
+  EXPECT_NEAR(std::stod(degps), 1.8 * 180.0 / 3.14159265358979323846, 1e-9);
+  EXPECT_EQ(regulated.ignored.size(), 1u);  // the plugin line
+  std::size_t rpp_settings = 0;
+  for (const ParamSetting& s : regulated.settings()) rpp_settings += s.key.rfind("navigation.rpp.", 0) == 0 ? 1 : 0;
+  EXPECT_EQ(rpp_settings, 4u);
+
+  // A key the component does not declare is ignored with its reason; a controller that does not
+  // stand for pure pursuit takes none.
+  test::write_text(dir.file("rpp2.yaml"),
+                   "controller_server:\n  ros__parameters:\n    FollowPath:\n"
+                   "      plugin: \"nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController\"\n"
+                   "      inflation_cost_scaling_factor: 3.0\n      max_angular_accel: 3.2\n");
+  const Nav2Params second = read_nav2_params(dir.file("rpp2.yaml"), scenario("", "regulated_pure_pursuit"));
+  ASSERT_EQ(second.mapped.size(), 1u);
+  EXPECT_EQ(second.mapped[0].starnav, "navigation.rpp.max_angular_accel_degps2");
+  EXPECT_NEAR(std::stod(second.mapped[0].converted), 3.2 * 180.0 / 3.14159265358979323846, 1e-9);
+  const Nav2Params on_dwa = read_nav2_params(dir.file("rpp2.yaml"), scenario("", "dwa"));
+  EXPECT_TRUE(on_dwa.mapped.empty());
 }
 
 TEST(Nav2Params, ValuesOutOfRangeNameTheFileLineAndBothKeys) {

@@ -306,6 +306,8 @@ LocalControllerDef regulated_pure_pursuit_controller() {
                    "rotates to heading; checks its arc on the costmap";
   d.info.capabilities = {Capability::GoalHeading, Capability::ChecksFootprint};
   d.info.params = regulated_pure_pursuit_params().specs();
+  // Its keys are Nav2's with their units' suffixes: a Nav2 parameter file maps onto them (docs/ros2.md).
+  d.info.nav2_counterpart = "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController";
   d.make = [](const LocalControllerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<LocalController> {
     const RegulatedPurePursuitConfig c = configured(regulated_pure_pursuit_params(), settings, ctx.file);
     if (c.min_lookahead_dist_m > c.max_lookahead_dist_m)

@@ -142,7 +142,8 @@ const std::map<std::string, Rule>& dwb_rules() {
   return r;
 }
 
-const std::map<std::string, Rule>& rpp_rules() {
+// Nav2's pure pursuit keys under the path follower's names (its pure_pursuit mode).
+const std::map<std::string, Rule>& follower_pursuit_rules() {
   static const std::map<std::string, Rule> r = {
       {"desired_linear_vel", {"cruise_speed_mps"}},
       {"lookahead_dist", {"pursuit_look_ahead_m"}},
@@ -159,6 +160,27 @@ bool is_plumbing(const std::string& key) {
   for (const char* w : words)
     if (key.find(w) != std::string::npos) return true;
   return false;
+}
+
+// The rule for a Nav2 key of a controller that stands for Nav2's Regulated Pure Pursuit, from the
+// keys the controller declares: its key of the same name, bare or with its unit's suffix (an angle
+// given in degrees converted from Nav2's radians), else the path follower's name for it when the
+// controller declares that. Nothing when the controller has no such key.
+std::optional<Rule> pursuit_rule(const std::string& nav2_key, const std::vector<ParamSpec>& specs) {
+  for (const ParamSpec& s : specs) {
+    if (s.key == nav2_key) return Rule(s.key);
+    if (s.key.size() <= nav2_key.size() + 1 || s.key.compare(0, nav2_key.size(), nav2_key) != 0 || s.key[nav2_key.size()] != '_') continue;
+    const std::string suffix = s.key.substr(nav2_key.size() + 1);
+    if (suffix == "m" || suffix == "mps" || suffix == "mps2" || suffix == "s" || suffix == "radps") return Rule(s.key);
+    if (suffix == "deg" && s.unit == "deg") return Rule(s.key, kDeg, "rad -> deg");
+    if (suffix == "degps" && s.unit == "deg/s") return Rule(s.key, kDeg, "rad/s -> deg/s");
+    if (suffix == "degps2" && s.unit == "deg/s^2") return Rule(s.key, kDeg, "rad/s^2 -> deg/s^2");
+  }
+  const auto follower = follower_pursuit_rules().find(nav2_key);
+  if (follower == follower_pursuit_rules().end()) return std::nullopt;
+  for (const ParamSpec& s : specs)
+    if (s.key == follower->second.starnav) return follower->second;
+  return std::nullopt;
 }
 
 // The Nav2 plugins whose keys map onto the starnav component that declares it stands for them.
@@ -215,15 +237,23 @@ class Mapper {
 
   // The section of the scenario's component of `role` when it stands for Nav2's `plugin` (its
   // declared counterpart), else nothing: Nav2's keys for that plugin map onto it.
-  std::optional<std::string> section_standing_for(Role role, const std::string& name, std::string_view plugin) const {
+  std::optional<ComponentInfo> component_standing_for(Role role, const std::string& name, std::string_view plugin) const {
     if (name.empty()) return std::nullopt;
-    const ComponentInfo info = find_component(role, name, role == Role::Localizer ? "localization.localizer" : "navigation.controller");
+    ComponentInfo info = find_component(role, name, role == Role::Localizer ? "localization.localizer" : "navigation.controller");
     if (info.nav2_counterpart != plugin) return std::nullopt;
-    return info.section;
+    return info;
+  }
+  std::optional<std::string> section_standing_for(Role role, const std::string& name, std::string_view plugin) const {
+    const auto info = component_standing_for(role, name, plugin);
+    return info ? std::optional<std::string>(info->section) : std::nullopt;
+  }
+  std::optional<ComponentInfo> controller_info_standing_for(std::string_view plugin) const {
+    if (!target_.navigation) return std::nullopt;
+    return component_standing_for(Role::LocalController, target_.controller, plugin);
   }
   std::optional<std::string> controller_standing_for(std::string_view plugin) const {
-    if (!target_.navigation) return std::nullopt;
-    return section_standing_for(Role::LocalController, target_.controller, plugin);
+    const auto info = controller_info_standing_for(plugin);
+    return info ? std::optional<std::string>(info->section) : std::nullopt;
   }
 
   // "amcl." + key for localize (AMCL itself); "localization.SECTION." for a scenario whose
@@ -307,11 +337,15 @@ class Mapper {
           ignore(node, l, "the scenario's controller is " + target_.controller + ", not one that stands for Nav2's DWB (dwa)");
         else map(node, l, "navigation." + *dwb + "." + rule->second.starnav, rule->second);
       } else if (plugin.find("RegulatedPurePursuit") != std::string::npos) {
-        const auto rule = rpp_rules().find(rest);
-        if (rule == rpp_rules().end()) ignore(node, l, "no equivalent in starnav's path follower");
-        else if (const auto rpp = controller_standing_for(kNav2Rpp); !rpp)
-          ignore(node, l, "the scenario's controller is " + target_.controller + ", not one that stands for Nav2's pure pursuit (path_follower)");
-        else map(node, l, "navigation." + *rpp + "." + rule->second.starnav, rule->second);
+        const auto rpp = controller_info_standing_for(kNav2Rpp);
+        if (!rpp) {
+          ignore(node, l, "the scenario's controller is " + target_.controller +
+                              ", not one that stands for Nav2's pure pursuit (regulated_pure_pursuit, or path_follower's pure_pursuit mode)");
+        } else if (const auto rule = pursuit_rule(rest, rpp->params); !rule) {
+          ignore(node, l, "no equivalent in starnav's " + rpp->name);
+        } else {
+          map(node, l, "navigation." + rpp->section + "." + rule->starnav, *rule);
+        }
       } else if (plugin.find("MPPI") != std::string::npos) {
         ignore(node, l, "starnav has no MPPI controller");
       } else if (plugin.find("GoalChecker") != std::string::npos) {
