@@ -10,6 +10,8 @@
 #include "starnav/experiment/limits_docs.hpp"
 #include "starnav/experiment/metrics.hpp"
 #include "starnav/harness/parameter_docs.hpp"
+#include "starnav/sim/scenario_keys.hpp"
+#include "starnav/core/input_file.hpp"
 
 namespace starnav::cli {
 
@@ -24,6 +26,52 @@ void add_page_command(CLI::App& app, Context& ctx, const char* name, const char*
   cmd->add_flag("--markdown", *markdown, "print " + page + " (the default output too)");
   cmd->callback([&ctx, markdown, generate] {
     std::cout << generate();
+    ctx.exit_code = 0;
+  });
+}
+
+// starnav scenario-keys: every mapping of a scenario and its declared keys; --fill regenerates
+// the marked tables of a page (docs/scenarios.md).
+void register_scenario_keys_command(CLI::App& app, Context& ctx) {
+  struct Options {
+    bool markdown = false;
+    std::string section, fill;
+  };
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("scenario-keys", "list every key of a scenario file with its type, default, range and unit");
+  cmd->add_flag("--markdown", o->markdown, "print every section's table as Markdown (the default output too)");
+  cmd->add_option("--section", o->section, "only this section's table (an id: robot, sensors.lidar, world.obstacles.box, ...)");
+  cmd->add_option("--fill", o->fill,
+                  "print this page with its generated blocks (<!-- BEGIN scenario-keys ID ... --> ... <!-- END scenario-keys ID -->)\n"
+                  "regenerated: `starnav scenario-keys --fill docs/scenarios.md`");
+  cmd->callback([o, &ctx] {
+    if (!o->fill.empty()) {
+      if (!o->section.empty()) throw Error("--fill regenerates every block of the page; --section prints one table", {}, 0, "--section");
+      std::string page;
+      try {
+        page = read_input_file(o->fill);
+      } catch (const Error& e) {
+        throw Error(e.message(), o->fill, e.line(), e.field());
+      }
+      try {
+        std::cout << scenario_page_with_keys(page);
+      } catch (const Error& e) {
+        throw Error(e.message(), o->fill, e.line(), e.field());
+      }
+    } else if (!o->section.empty()) {
+      std::string ids;
+      for (const ScenarioKeySection& s : scenario_key_sections()) {
+        if (s.id == o->section) {
+          std::cout << scenario_keys_table(s);
+          ctx.exit_code = 0;
+          return;
+        }
+        ids += (ids.empty() ? "" : ", ") + s.id;
+      }
+      throw Error("unknown section '" + o->section + "' (" + ids + ")", {}, 0, "--section");
+    } else {
+      std::cout << scenario_keys_markdown();
+    }
     ctx.exit_code = 0;
   });
 }
@@ -76,6 +124,7 @@ void register_params_command(CLI::App& app, Context& ctx) {
 
   add_page_command(app, ctx, "limits", "list every bound on an input or on the work a command plans (docs/limits.md)",
                    "docs/limits.md", limits_markdown);
+  register_scenario_keys_command(app, ctx);
   add_page_command(app, ctx, "metrics", "list every metric the bench commands report, with its unit and meaning",
                    "docs/metrics.md", metrics_markdown);
 }

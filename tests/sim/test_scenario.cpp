@@ -236,7 +236,7 @@ TEST(Scenario, OutOfRangeValuesAreNamedWithTheirLine) {
   expect_error(replace_line(kBase, 9, "      size_m: [0.4, -0.6, 0.5]"), "world.obstacles[0].size_m", 9, "> 0");
   expect_error(replace_line(kBase, 11, "    - {kind: cylinder, position_m: [7, 1], radius_m: 0, height_m: 1}"),
                "world.obstacles[1].radius_m", 11, "> 0");
-  expect_error(replace_line(kBase, 14, "sim: {dt_s: -0.01}"), "sim.dt_s", 14, "> 0");
+  expect_error(replace_line(kBase, 14, "sim: {dt_s: -0.01}"), "sim.dt_s", 14, "must be in (0, 1], found '-0.01'");
   expect_error(replace_line(kBase, 4, "    generate: {kind: flat, size_m: [10, -6]}"), "world.terrain.generate.size_m", 4);
   expect_error(replace_line(kBase, 4, "    generate: {kind: flat, size_m: [10, 6], resolution_m: 0}"),
                "world.terrain.generate.resolution_m", 4);
@@ -257,16 +257,16 @@ TEST(Scenario, MissingRequiredKeysAreNamed) {
 }
 
 TEST(Scenario, ConflictsAndBadNamesAreNamed) {
-  expect_error(replace_line(kBase, 7, "      kind: pyramid"), "world.obstacles[0].kind", 7, "unknown obstacle kind");
+  expect_error(replace_line(kBase, 7, "      kind: pyramid"), "world.obstacles[0].kind", 7, "unknown value 'pyramid' (box, cylinder,");
   expect_error(replace_line(kBase, 11, "    - {name: crate, kind: sphere, position_m: [7, 1], radius_m: 0.2}"),
                "world.obstacles[1].name", 11, "duplicate");
   expect_error(replace_line(replace_line(kBase, 4, ""), 3, "  terrain: {file: a.asc, generate: {kind: flat, size_m: [1, 1]}}"),
                "world.terrain", 3, "exactly one");
   expect_error(replace_line(kBase, 16, "  - {duration_s: 2, until_s: 3}"), "commands[0]", 16, "exactly one");
   expect_error(replace_line(kBase, 14, "sim: {dt_s: 0.02, dt_s: 0.01}"), "sim.dt_s", 14, "duplicate");
-  expect_error(replace_line(kBase, 12, "motion_mode: sideways\nrobot:"), "motion_mode", 12, "unknown motion mode");
+  expect_error(replace_line(kBase, 12, "motion_mode: sideways\nrobot:"), "motion_mode", 12, "unknown value 'sideways' (auto, turn_then_drive");
   const std::string moving = std::string(kBase) + "outputs: {point_clouds: {format: las}}\n";
-  expect_error(moving, "outputs.point_clouds.format", 18, "unknown point cloud format");
+  expect_error(moving, "outputs.point_clouds.format", 18, "unknown value 'las' (ply, pcd, none)");
   expect_error(std::string(kBase) + "outputs: {point_clouds: {format: ply}}\n", "outputs.point_clouds", 18, "lidar");
   expect_error(std::string(kBase) + "sensors: {lidar: {preset: vlp99}}\n", "sensors.lidar.preset", 18, "unknown LiDAR");
   expect_error(std::string(kBase) + "sensors: {lidar: {preset: vlp16, range_max_m: 0.1}}\n", "sensors.lidar.range_max_m", 18);

@@ -22,6 +22,7 @@ const char* param_type_name(ParamType t) {
     case ParamType::Choice: return "choice";
     case ParamType::NameList: return "names";
     case ParamType::Polygons: return "polygons";
+    case ParamType::Text: return "text";
   }
   return "unknown";
 }
@@ -204,6 +205,7 @@ std::string ParamSpec::range_text() const {
       return "a list of: " + s;
     }
     case ParamType::Polygons: return "lists of >= 3 points [x, y]";
+    case ParamType::Text: return "any";
     default: return range.text();
   }
 }

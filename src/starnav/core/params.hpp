@@ -26,8 +26,8 @@
 
 namespace starnav {
 
-enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice, NameList, Polygons };
-// "real", "integer", "boolean", "choice", "names", "polygons"
+enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice, NameList, Polygons, Text };
+// "real", "integer", "boolean", "choice", "names", "polygons", "text"
 const char* param_type_name(ParamType t);
 
 // An interval for numbers; open or closed at each end, either end may be unbounded.
@@ -164,6 +164,15 @@ class ParamTable {
           set(c, names);
         },
         [get](const Config& c) { return format_param_name_list(get(c)); });
+    return *this;
+  }
+
+  // Free text (a name, a path), stored as written.
+  template <class Access>
+  ParamTable& text(std::string key, Access access, std::string doc) {
+    ParamSpec s{std::move(key), ParamType::Text, {}, {}, {}, "", std::move(doc)};
+    add(std::move(s), [access](Config& c, const ParamSetting& v) { ref(c, access) = v.value; },
+        [access](const Config& c) { return std::string(cref(c, access)); });
     return *this;
   }
 
