@@ -53,6 +53,7 @@ void BM_DwaStep(benchmark::State& state) {
   const std::vector<Vec2> path{{5.0, 6.0}, {7.0, 6.0}, {9.5, 6.5}};
   dwa.set_path(path);
   ControlInput in;
+  in.limits = velocity_limits_of(robot);
   in.pose = Pose2(5.0, 6.0, 0.1);
   in.velocity = {0.3, 0.05, 0.2};
   in.local_map = &map;

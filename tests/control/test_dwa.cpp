@@ -316,6 +316,7 @@ TEST(DwaController, NeverChoosesAMotionThatTouchesAnObstacle) {
     const std::vector<Vec2> path{start.translation(), goal};
     dwa.set_path(path);
     ControlInput in;
+    in.limits = velocity_limits_of(dwa.robot());
     in.pose = start;
     in.velocity = {rng.uniform(-0.05, 0.4), holonomic ? rng.uniform(-0.2, 0.2) : 0.0, rng.uniform(-0.8, 0.8)};
     in.local_map = &m;
@@ -354,6 +355,7 @@ TEST(DwaController, TestingInOrderOfCostChoosesWhatTestingEverySampleChooses) {
     pruned.set_path(path);
     exhaustive.set_path(path);
     ControlInput in;
+    in.limits = velocity_limits_of(mecanum());
     in.pose = Pose2(3.0, 3.0, rng.uniform(-kPi, kPi));
     in.velocity = {rng.uniform(0.0, 0.4), rng.uniform(-0.2, 0.2), rng.uniform(-0.8, 0.8)};
     in.local_map = &m;
@@ -377,6 +379,7 @@ TEST(DwaController, SaysBlockedWhenItCannotStopInTime) {
   dwa.set_path(path);
   dwa.keep_samples(true);
   ControlInput in;
+  in.limits = velocity_limits_of(dwa.robot());
   in.pose = Pose2(2.0, 2.0, 0.0);
   in.local_map = &m;
   // At rest it may stand (or creep): something is valid.
@@ -605,6 +608,7 @@ LoopResult drive(DwaController& dwa, const OccupancyGrid& m, const Pose2& start,
   const double dt = dwa.config().control_period_s;
   for (double t = 0.0; t < max_s; t += dt) {
     ControlInput in;
+    in.limits = velocity_limits_of(dwa.robot());
     in.t_s = t;
     in.pose = robot.pose;
     in.velocity = robot.v;

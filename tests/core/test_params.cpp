@@ -188,6 +188,77 @@ TEST(ParamPolygons, ATableDeclaresAndAppliesThem) {
   EXPECT_STREQ(param_type_name(specs[0].type), "polygons");
 }
 
+TEST(ParamReals, ReadsAListAndWritesItBackTheSame) {
+  const ParamSetting v{"limits_mps", "[0.3, 1e-1 ,2.5,0]", "s.yaml", 4, "nav.limits_mps"};
+  const std::vector<double> x = parse_param_reals(v);
+  ASSERT_EQ(x.size(), 4u);
+  EXPECT_EQ(x[0], 0.3);
+  EXPECT_EQ(x[1], 0.1);
+  EXPECT_EQ(x[2], 2.5);
+  EXPECT_EQ(x[3], 0.0);
+  const std::string text = format_param_reals(x);
+  EXPECT_EQ(text, "[0.3, 0.1, 2.5, 0]");
+  EXPECT_EQ(parse_param_reals({"l", text, "", 0, "l"}), x);
+  // A scenario's empty list arrives as "" (an empty list of names); "[]" on the command line.
+  for (const char* none : {"", " ", "[]", " [ ] "}) EXPECT_TRUE(parse_param_reals({"l", none, "", 0, "l"}).empty()) << none;
+}
+
+TEST(ParamReals, RefusesEveryOtherShapeNamingTheSetting) {
+  for (const char* bad : {"[", "]", "0.3", "0.3, 0.5", "[0.3,]", "[,0.3]", "[0.3 0.5]", "[[0.3]]", "[0.3]]", "[nan]", "[inf]",
+                          "[1e400]", "[0x10]", "[a]", "[0.3, 0.5", "[0.3] x", "[0.3,, 0.5]"}) {
+    try {
+      parse_param_reals({"limits_mps", bad, "s.yaml", 9, "navigation.zone.limits_mps"});
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.file(), "s.yaml") << bad;
+      EXPECT_EQ(e.line(), 9) << bad;
+      EXPECT_EQ(e.field(), "navigation.zone.limits_mps") << bad;
+    }
+  }
+}
+
+TEST(ParamReals, BoundsTheNumbersBeforeStoringThem) {
+  std::string text = "[";
+  for (std::size_t i = 0; i <= kMaxParamListNumbers; ++i) text += i ? ", 1" : "1";
+  text += "]";
+  try {
+    parse_param_reals({"l", text, "", 0, "l"});
+    FAIL() << "accepted " << kMaxParamListNumbers + 1 << " numbers";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("more than 100000 numbers"), std::string::npos) << e.what();
+  }
+  text.erase(text.size() - 4);  // exactly the bound
+  text += "]";
+  EXPECT_EQ(parse_param_reals({"l", text, "", 0, "l"}).size(), kMaxParamListNumbers);
+}
+
+TEST(ParamReals, ATableChecksEachNumberAndScales) {
+  struct Limits {
+    std::vector<double> speeds;
+  };
+  ParamTable<Limits> t;
+  t.reals("speeds_cmps", &Limits::speeds, positive(), "cm/s", "speeds", 0.01);
+  Limits l;
+  t.apply(l, ParamSetting{"speeds_cmps", "[30, 50]", "", 0, "speeds_cmps"});
+  ASSERT_EQ(l.speeds.size(), 2u);
+  EXPECT_DOUBLE_EQ(l.speeds[0], 0.3);
+  EXPECT_DOUBLE_EQ(l.speeds[1], 0.5);
+  const std::vector<ParamSpec> specs = t.specs(l);
+  ASSERT_EQ(specs.size(), 1u);
+  EXPECT_EQ(specs[0].type, ParamType::Reals);
+  EXPECT_EQ(specs[0].default_value, "[30, 50]");
+  EXPECT_EQ(specs[0].range_text(), "a list of numbers, each > 0");
+  EXPECT_STREQ(param_type_name(specs[0].type), "reals");
+  try {
+    t.apply(l, ParamSetting{"speeds_cmps", "[30, 0, 5]", "s.yaml", 3, "navigation.z.speeds_cmps"});
+    FAIL() << "accepted a zero";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "navigation.z.speeds_cmps");
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("number 2 must be > 0, found 0"), std::string::npos) << e.what();
+  }
+}
+
 // A custom entry checks its own rule; nest("") puts a table's keys beside the outer ones.
 struct Outer {
   Config inner;

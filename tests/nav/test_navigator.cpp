@@ -6,7 +6,11 @@
 //   - the start inside the band leaves it by escape_cell; no path is reported once, not looped on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "starnav/core/error.hpp"
@@ -367,6 +371,109 @@ TEST(Navigator, TakesAPlannerAndAControllerItWasGivenWithoutTheRegistry) {
   // Near the goal the fake goal checker still says no: the navigator asks it, not a rule of its own.
   nav.command(Pose2(kGoal.x(), kGoal.y(), 0.0), 0.2);
   EXPECT_EQ(nav.status(), NavStatus::Navigating);
+}
+
+// A band of limited speed across the map, 4 m <= x <= 5 m: what a speed-limit layer answers, in
+// the simplest form (the area meets the band when its x extent does).
+class SlowBand final : public CostmapLayer {
+ public:
+  std::string_view name() const override { return "slow_band"; }
+  void contribute(const CellRect&, std::span<std::uint8_t>, std::span<std::uint8_t>) const override {}
+  std::optional<double> speed_limit_mps(std::span<const Vec2> area) const override {
+    double lo = 1e300, hi = -1e300;
+    for (const Vec2& p : area) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
+    if (hi >= 4.0 && lo <= 5.0) return 0.1;
+    return std::nullopt;
+  }
+};
+
+class RecordingController final : public LocalController {
+ public:
+  std::string_view name() const override { return "recording"; }
+  void set_path(std::span<const Vec2> points) override { path_.assign(points.begin(), points.end()); }
+  void clear() override { path_.clear(); }
+  bool has_path() const override { return !path_.empty(); }
+  const std::vector<Vec2>& path() const override { return path_; }
+  ControlOutput compute(const ControlInput& in) override {
+    limits = in.limits;
+    return {{std::min(0.4, in.limits.max_vx_mps), 0.0, 0.0}, ControlStatus::Tracking};
+  }
+  std::vector<Vec2> path_;
+  VelocityLimits limits;
+};
+
+TEST(Navigator, ASpeedLimitLayerLowersTheControllersLimitsWhereTheFootprintMeetsIt) {
+  const RobotConfig robot;  // 0.55 m long: the body meets the band from x = 4 - 0.275
+  NavigatorParts p;
+  p.planner = std::make_unique<StraightLinePlanner>();
+  auto controller = std::make_unique<RecordingController>();
+  RecordingController* seen = controller.get();
+  p.controller = std::move(controller);
+  p.goal_checker = std::make_unique<NeverReached>();
+  p.progress_checker = std::make_unique<AlwaysProgressing>();
+  p.layers.push_back(std::make_unique<SlowBand>());
+  Navigator nav(config_2d(), robot, std::move(p), kGoal);
+  nav.on_points(origin_of(kStart), {}, kStart, 0.0);
+  const VelocityLimits own = velocity_limits_of(robot);
+  ASSERT_GT(own.max_vx_mps, 0.3);
+  ASSERT_GT(own.max_vy_mps, 0.3);  // mecanum: the lateral limit is lowered too
+  double t = 0.0;
+  for (const double x : {2.0, 3.70, 3.73, 4.5, 5.2, 5.3, 6.0}) {
+    SCOPED_TRACE(x);
+    const BodyTwist twist = nav.command(Pose2(x, 3.05, 0.0), t += 0.1);
+    const bool meets = x + 0.275 >= 4.0 && x - 0.275 <= 5.0;
+    EXPECT_EQ(nav.speed_limit_at(Pose2(x, 3.05, 0.0)).has_value(), meets);
+    ASSERT_EQ(nav.speed_limit().has_value(), meets);
+    EXPECT_EQ(seen->limits.max_vx_mps, meets ? 0.1 : own.max_vx_mps);
+    EXPECT_EQ(seen->limits.max_vy_mps, meets ? 0.1 : own.max_vy_mps);
+    EXPECT_EQ(seen->limits.max_speed_mps, meets ? 0.1 : own.max_speed_mps);
+    EXPECT_EQ(seen->limits.max_yaw_rate_radps, own.max_yaw_rate_radps);  // turning is not limited
+    EXPECT_DOUBLE_EQ(twist.vx, meets ? 0.1 : 0.4);
+  }
+  // Turned across the band's edge, the body's corners count, not its centre.
+  EXPECT_FALSE(nav.speed_limit_at(Pose2(3.70, 3.05, 0.0)));
+  EXPECT_TRUE(nav.speed_limit_at(Pose2(3.70, 3.05, 0.7)));
+  // Each change of the limit is an event: entering, leaving.
+  std::vector<std::string> changes;
+  for (const NavEvent& e : nav.events())
+    if (e.kind == "speed_limit") changes.push_back(e.detail);
+  EXPECT_EQ(changes, (std::vector<std::string>{"0.1", "none"}));
+}
+
+// The registry's controllers keep their commands within a lowered limit: the navigator's step in
+// the band commands no more than the band's speed, outside it more.
+TEST(Navigator, EveryRegisteredControllerKeepsToTheLoweredLimit) {
+  for (const char* name : {"path_follower", "dwa", "regulated_pure_pursuit", "straight_to_goal"}) {
+    SCOPED_TRACE(name);
+    NavigationComponents c;
+    c.planner = {"astar", {}, "navigation.planner", 0, {}};
+    std::vector<ParamSetting> fast;
+    if (std::string(name) == "path_follower") fast = {{"cruise_speed_mps", "0.5", "", 0, "cruise_speed_mps"}};
+    if (std::string(name) == "straight_to_goal") fast = {{"speed_mps", "0.5", "", 0, "speed_mps"}};
+    if (std::string(name) == "regulated_pure_pursuit") fast = {{"desired_linear_vel_mps", "0.5", "", 0, "desired_linear_vel_mps"}};
+    c.controller = {name, fast, "navigation.controller", 0, {}};
+    c.goal_checker = {"latching", {}, "navigation.goal_checker", 0, {}};
+    c.progress_checker = {"simple_progress", {}, "navigation.progress_checker", 0, {}};
+    c.layers = {{"static_map", {}, "navigation.layers", 0, {}}};
+    NavigatorParts p = make_navigator_parts(c, config_2d(), RobotConfig{});
+    p.layers.push_back(std::make_unique<SlowBand>());
+    Navigator nav(config_2d(), RobotConfig{}, std::move(p), kGoal);
+    // Moving at 0.3 m/s along the path, in the band and before it.
+    const Pose2 in_band(4.5, 3.05, 0.0), before(2.0, 3.05, 0.0);
+    nav.on_points(origin_of(before), {}, before, 0.0);
+    double fastest_before = 0.0;
+    for (int k = 0; k < 5; ++k) {
+      const BodyTwist b = nav.command(before, 0.2 * k, {0.3, 0.0, 0.0});
+      fastest_before = std::max(fastest_before, std::hypot(b.vx, b.vy));
+    }
+    nav.hold(1.0);
+    for (int k = 0; k < 5; ++k) {
+      const BodyTwist b = nav.command(in_band, 1.2 + 0.2 * k, {0.3, 0.0, 0.0});
+      EXPECT_LE(std::hypot(b.vx, b.vy), 0.1 + 1e-12) << k;
+      EXPECT_LE(std::abs(b.vx), 0.1 + 1e-12) << k;
+    }
+    EXPECT_GT(fastest_before, 0.1 + 1e-3) << "outside the band it drives faster than the band allows";
+  }
 }
 
 }  // namespace

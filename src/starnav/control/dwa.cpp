@@ -125,7 +125,7 @@ DwaLimits dwa_limits(const DwaConfig& c, const VelocityLimits& robot, bool holon
   l.min_vx = std::max(c.min_vx_mps, -robot.max_vx_mps);
   l.max_vy = holonomic ? std::min(c.max_vy_mps, robot.max_vy_mps) : 0.0;
   l.max_wz = std::min(c.max_yaw_rate_radps, robot.max_yaw_rate_radps);
-  l.max_speed_xy = c.max_speed_xy_mps;
+  l.max_speed_xy = std::min(c.max_speed_xy_mps, robot.max_speed_mps);
   l.acc_x = c.acc_x_mps2;
   l.acc_y = c.acc_y_mps2;
   l.acc_yaw = c.acc_yaw_radps2;

@@ -202,7 +202,9 @@ ControlOutput DwaController::compute(const ControlInput& in) {
     return {{}, ControlStatus::Arrived};
   }
   s.align_by_motion = config_.align == "motion" || (config_.align == "auto" && holonomic_);
-  s.limits = limits_;
+  // The step's limits (a speed-limit zone lowers them); the window's extent keeps the robot's own.
+  const DwaLimits limits = dwa_limits(config_, in.limits, holonomic_);
+  s.limits = limits;
   s.period_s = config_.control_period_s;
 
   // The window: everything a rollout, its forward point and its footprint can reach.
@@ -246,7 +248,7 @@ ControlOutput DwaController::compute(const ControlInput& in) {
   last_.margin_cut_m = margin_cut;
 
   // The samples.
-  const DynamicWindow w = dynamic_window(in.velocity, limits_, config_.control_period_s);
+  const DynamicWindow w = dynamic_window(in.velocity, limits, config_.control_period_s);
   last_.window = w;
   std::vector<double> vxs, vys;
   if (in_goal_window_) {
@@ -277,13 +279,13 @@ ControlOutput DwaController::compute(const ControlInput& in) {
         rec.twist = t;
         // Inside the wheels' speed limit and the translation's.
         model_->inverse(t, wheel_scratch_);
-        bool feasible = std::hypot(vx, vy) <= limits_.max_speed_xy * (1.0 + 1e-9);
+        bool feasible = std::hypot(vx, vy) <= limits.max_speed_xy * (1.0 + 1e-9);
         for (const double a : wheel_scratch_) feasible = feasible && std::abs(a) <= wheel_limit;
         if (!feasible) {
           if (keep_samples_) last_.samples.push_back(rec);
           continue;
         }
-        const double t_check = dwa_check_time(t, limits_, config_.sim_time_s, config_.control_period_s, robot_.actuator_lag_s);
+        const double t_check = dwa_check_time(t, limits, config_.sim_time_s, config_.control_period_s, robot_.actuator_lag_s);
         const int n_check = std::max(n_score, static_cast<int>(std::ceil(t_check / config_.sim_step_s - 1e-9)));
         dwa_rollout(in.pose, t, config_.sim_step_s, n_check, poses_, &headings_);
         rec.end = poses_[static_cast<std::size_t>(n_score - 1)];

@@ -39,7 +39,10 @@ class DwaController final : public LocalController {
   double control_period_s() const override { return config_.control_period_s; }
 
   const DwaConfig& config() const { return config_; }
+  const RobotConfig& robot() const { return robot_; }
   const FootprintChecker& footprint() const { return checker_; }
+  // The robot's own limits; a step's are those of its input (ControlInput::limits: a speed-limit
+  // zone lowers them), within the configuration's.
   const DwaLimits& limits() const { return limits_; }
   // The local window on cells of `resolution`: its half-width (window_m / 2, or what a rollout, its
   // forward point and its footprint reach) and its padding (the footprint's reach and

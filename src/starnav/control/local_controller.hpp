@@ -5,6 +5,7 @@
 // a DWA controller is another. A controller is built by name from the component registry
 // (registry/components.hpp) with its declared parameters; it knows nothing of the simulator.
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -31,15 +32,24 @@ const char* control_status_name(ControlStatus s);  // "idle", "tracking", "arriv
 
 // The robot as a controller sees it: its outline in base_link (core/plane_fit.hpp's Footprint)
 // and its limits.
+// A speed limit (a costmap layer's zone, docs/navigation.md "Speed-limit zones") lowers all three
+// translation limits for the controller's step; every controller keeps its command within them.
 struct VelocityLimits {
   double max_vx_mps = 0.5;
   double max_vy_mps = 0.0;  // 0: cannot translate sideways
   double max_yaw_rate_radps = 1.0;
+  double max_speed_mps = std::numeric_limits<double>::infinity();  // of the translation |(vx, vy)|
 };
 
 // The robot of `config`: its body box and the speeds its wheels allow.
 Footprint footprint_of(const RobotConfig& config);
 VelocityLimits velocity_limits_of(const RobotConfig& config);
+// `limits` with every translation limit lowered to `max_speed_mps` (the yaw rate unchanged).
+VelocityLimits with_speed_limit(VelocityLimits limits, double max_speed_mps);
+// The factor in [0, 1] that brings the translation (vx, vy) of `twist` within the limits of
+// `limits` (|vx| <= max_vx, |vy| <= max_vy, |(vx, vy)| <= max_speed), keeping its direction: 1 when
+// it is within them already.
+double translation_scale(const BodyTwist& twist, const VelocityLimits& limits);
 
 struct ControlInput {
   double t_s = 0.0;

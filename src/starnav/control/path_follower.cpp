@@ -348,6 +348,24 @@ VelocityLimits velocity_limits_of(const RobotConfig& config) {
   return l;
 }
 
+VelocityLimits with_speed_limit(VelocityLimits limits, double max_speed_mps) {
+  limits.max_vx_mps = std::min(limits.max_vx_mps, max_speed_mps);
+  limits.max_vy_mps = std::min(limits.max_vy_mps, max_speed_mps);
+  limits.max_speed_mps = std::min(limits.max_speed_mps, max_speed_mps);
+  return limits;
+}
+
+double translation_scale(const BodyTwist& twist, const VelocityLimits& limits) {
+  double scale = 1.0;
+  const auto bound = [&scale](double v, double limit) {
+    if (std::abs(v) > limit) scale = std::min(scale, limit / std::abs(v));
+  };
+  bound(twist.vx, limits.max_vx_mps);
+  bound(twist.vy, limits.max_vy_mps);
+  bound(std::hypot(twist.vx, twist.vy), limits.max_speed_mps);
+  return std::max(scale, 0.0);
+}
+
 const ParamTable<PathFollowerConfig>& path_follower_params() {
   static const ParamTable<PathFollowerConfig> table = [] {
     using C = PathFollowerConfig;
@@ -379,6 +397,14 @@ ControlOutput PathFollowerController::compute(const ControlInput& input) {
   const FollowOutput out = follower_.compute(input.pose);
   ControlOutput c;
   c.twist = out.command;
+  // The follower plans its speed from its own settings; the step's limits (a speed-limit zone)
+  // cap it, the direction of travel kept. Pure pursuit drives an arc: its yaw rate scales along,
+  // keeping the curvature; the other modes steer the heading by the yaw rate, which stays.
+  if (const double scale = translation_scale(c.twist, input.limits); scale < 1.0) {
+    c.twist.vx *= scale;
+    c.twist.vy *= scale;
+    if (follower_.mode() == MotionMode::PurePursuit) c.twist.wz *= scale;
+  }
   switch (out.status) {
     case FollowStatus::NoPath: c.status = ControlStatus::Idle; break;
     case FollowStatus::Turning:

@@ -23,6 +23,7 @@ const char* param_type_name(ParamType t) {
     case ParamType::NameList: return "names";
     case ParamType::Polygons: return "polygons";
     case ParamType::Text: return "text";
+    case ParamType::Reals: return "reals";
   }
   return "unknown";
 }
@@ -171,6 +172,29 @@ std::string format_param_polygons(const std::vector<ParamPolygon>& polygons) {
   return s;
 }
 
+std::vector<double> parse_param_reals(const ParamSetting& setting) {
+  std::vector<double> out;
+  // A scenario's empty YAML list arrives as the empty text of an empty list of names.
+  if (setting.value.find_first_not_of(" \t") == std::string::npos) return out;
+  NumberListText t(setting);
+  t.expect('[', "'[' opening the list of numbers");
+  if (!t.closes_now()) {
+    do {
+      if (out.size() >= kMaxParamListNumbers) t.fail("more than " + std::to_string(kMaxParamListNumbers) + " numbers");
+      out.push_back(t.number());
+    } while (t.more("',' or ']' after a number"));
+  }
+  t.finish();
+  return out;
+}
+
+std::string format_param_reals(const std::vector<double>& values) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) s.append(i ? ", " : "").append(format_param_real(values[i]));
+  s += ']';
+  return s;
+}
+
 bool ParamRange::contains(double v) const {
   if (lo_open ? !(v > lo) : !(v >= lo)) return false;
   if (hi_open ? !(v < hi) : !(v <= hi)) return false;
@@ -206,6 +230,7 @@ std::string ParamSpec::range_text() const {
     }
     case ParamType::Polygons: return "lists of >= 3 points [x, y]";
     case ParamType::Text: return "any";
+    case ParamType::Reals: return "a list of numbers, each " + range.text();
     default: return range.text();
   }
 }
@@ -268,6 +293,13 @@ std::string format_param_scaled(double stored, double scale) {
 void param_check_range(const ParamSetting& v, const ParamRange& r, double x) {
   if (!r.contains(x)) bad_value(v, "must be " + (r.text().front() == '[' || r.text().front() == '(' ? "in " + r.text() : r.text()) +
                                        ", found " + quoted(v.value));
+}
+
+void param_check_list_range(const ParamSetting& v, std::size_t index, const ParamRange& r, double x) {
+  if (!r.contains(x))
+    bad_value(v, "number " + std::to_string(index + 1) + " must be " +
+                     (r.text().front() == '[' || r.text().front() == '(' ? "in " + r.text() : r.text()) + ", found " +
+                     format_param_real(x) + " in " + quoted(v.value));
 }
 
 void param_check_choice(const ParamSetting& v, const std::vector<std::string>& choices) {

@@ -26,8 +26,8 @@
 
 namespace starnav {
 
-enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice, NameList, Polygons, Text };
-// "real", "integer", "boolean", "choice", "names", "polygons", "text"
+enum class ParamType : std::uint8_t { Real, Integer, Boolean, Choice, NameList, Polygons, Text, Reals };
+// "real", "integer", "boolean", "choice", "names", "polygons", "text", "reals"
 const char* param_type_name(ParamType t);
 
 // An interval for numbers; open or closed at each end, either end may be unbounded.
@@ -79,6 +79,13 @@ inline constexpr std::size_t kMaxParamPolygonVertices = 100000;
 std::vector<ParamPolygon> parse_param_polygons(const ParamSetting& setting);
 std::string format_param_polygons(const std::vector<ParamPolygon>& polygons);
 
+// A list of numbers as a setting holds it: "[0.3, 0.5]" (a YAML list of numbers in a scenario;
+// "[]" or "" for none, "" being how a scenario's empty list [] arrives). At most
+// kMaxParamListNumbers numbers. Error naming `setting` otherwise.
+inline constexpr std::size_t kMaxParamListNumbers = 100000;
+std::vector<double> parse_param_reals(const ParamSetting& setting);
+std::string format_param_reals(const std::vector<double>& values);  // "[0.3, 0.5]"
+
 // Strict text -> value conversions shared by every table (Errors name `setting`).
 double parse_param_real(const ParamSetting& setting);
 // A count (an integer parameter whose range starts at 0 or above) takes no sign, as on the
@@ -93,6 +100,8 @@ std::string format_param_scaled(double stored, double scale);
 
 // The checks every ParamTable applies (params.cpp); errors name the setting's file, line and key.
 void param_check_range(const ParamSetting& v, const ParamRange& r, double x);
+// The same for the number at 0-based `index` of a list (the message names it 1-based).
+void param_check_list_range(const ParamSetting& v, std::size_t index, const ParamRange& r, double x);
 void param_check_choice(const ParamSetting& v, const std::vector<std::string>& choices);
 [[noreturn]] void param_unknown_key(const ParamSetting& v, const std::vector<std::string>& known);
 
@@ -182,6 +191,28 @@ class ParamTable {
     ParamSpec s{std::move(key), ParamType::Polygons, {}, {}, {}, std::move(unit), std::move(doc)};
     add(std::move(s), [access](Config& c, const ParamSetting& v) { ref(c, access) = parse_param_polygons(v); },
         [access](const Config& c) { return format_param_polygons(cref(c, access)); });
+    return *this;
+  }
+
+  // A list of numbers (see parse_param_reals), each within `range` (an Error names the setting
+  // and the number's position), in `unit`; stored times `scale`.
+  template <class Access>
+  ParamTable& reals(std::string key, Access access, ParamRange range, std::string unit, std::string doc, double scale = 1.0) {
+    ParamSpec s{std::move(key), ParamType::Reals, {}, range, {}, std::move(unit), std::move(doc)};
+    add(std::move(s),
+        [access, range, scale](Config& c, const ParamSetting& v) {
+          std::vector<double> values = parse_param_reals(v);
+          for (std::size_t i = 0; i < values.size(); ++i) {
+            param_check_list_range(v, i, range, values[i]);
+            values[i] *= scale;
+          }
+          ref(c, access) = std::move(values);
+        },
+        [access, scale](const Config& c) {
+          std::vector<double> values = cref(c, access);
+          for (double& x : values) x /= scale;
+          return format_param_reals(values);
+        });
     return *this;
   }
 

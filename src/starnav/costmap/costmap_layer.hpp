@@ -4,10 +4,12 @@
 // keeps its layers in order; each takes the sensor data it wants and says which cells its
 // contribution changed, and over those cells every layer ORs its obstacles and the cells it has
 // observed into the master map, which the costmap then inflates and hands to the planner, the
-// controller and the recoveries. Built by name from the registry (navigation.layers) with its
+// controller and the recoveries. A layer may also limit the robot's speed where it is
+// (speed_limit_mps). Built by name from the registry (navigation.layers) with its
 // declared parameters.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -51,6 +53,11 @@ class CostmapLayer {
   virtual void contribute(const CellRect& rect, std::span<std::uint8_t> obstacles, std::span<std::uint8_t> observed) const = 0;
   // A layer that keeps heights (the 3D nodes): them, for pictures; null otherwise.
   virtual const ElevationMap* heights() const { return nullptr; }
+  // A layer that limits the robot's speed (speed-limit zones, Nav2's speed filter): the lowest
+  // limit (m/s, > 0) it sets anywhere on `area`, a polygon in the map frame (the robot's footprint
+  // at its pose; touching counts); nothing where it sets none. The navigator lowers the
+  // controller's translation limits to the lowest over the layers at every control step.
+  virtual std::optional<double> speed_limit_mps(std::span<const Vec2> /*area*/) const { return std::nullopt; }
   // Re-derives whatever the layer keeps incrementally from its raw state (a from-scratch check of
   // the incremental updates; the costmap's rebuild() calls it).
   virtual void recompute() {}

@@ -70,6 +70,13 @@ const ElevationMap* LayeredCostmap::heights() const {
 
 const ObstacleDistanceField& LayeredCostmap::clearance() const { return *clearance_; }
 
+std::optional<double> LayeredCostmap::speed_limit_mps(std::span<const Vec2> area) const {
+  std::optional<double> lowest;
+  for (const auto& l : layers_)
+    if (const std::optional<double> limit = l->speed_limit_mps(area); limit && (!lowest || *limit < *lowest)) lowest = limit;
+  return lowest;
+}
+
 void LayeredCostmap::recompose(const CellRect& rect) {
   for (int y = rect.y0; y < rect.y1; ++y)
     for (int x = rect.x0; x < rect.x1; ++x) {

@@ -85,6 +85,10 @@ class LayeredCostmap {
   // The distance field of the obstacles, brought up to date.
   const ObstacleDistanceField& clearance() const;
 
+  // The lowest speed limit (m/s) any layer sets on `area` (a polygon in the map frame: the
+  // robot's footprint); nothing when no layer limits the speed there.
+  std::optional<double> speed_limit_mps(std::span<const Vec2> area) const;
+
   // Where the robot at `start` should plan from. `start` itself when it is not blocked; when it
   // lies inside the expansion band but not in an obstacle cell, the cell outside the band reached
   // by the cheapest 8-connected path (costs 1 and sqrt 2, no corner cutting past obstacle cells)

@@ -16,6 +16,7 @@
 #include "starnav/logs/decompress.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/robot_log.hpp"
+#include "starnav/registry/components.hpp"
 #include "starnav/map/clearance_window.hpp"
 #include "starnav/sense/lidar.hpp"
 #include "starnav/sim/occupancy_world.hpp"
@@ -40,6 +41,19 @@ struct Limit {
 std::string count(double v) { return format_number(v); }
 std::string bytes(double v) { return format_number(v / (1024.0 * 1024.0 * 1024.0)) + " GiB"; }
 std::string bytes_mib(double v) { return format_number(v / (1024.0 * 1024.0)) + " MiB"; }
+
+// The navigation components' parameters of `type`, as a scenario writes them ("`navigation.keepout.zones`").
+std::string navigation_params_of_type(ParamType type) {
+  std::string s;
+  for (const ComponentInfo& c : all_components()) {
+    if (c.role == Role::Slam || c.role == Role::ScanMatcher || c.role == Role::ScanMatcher3d) continue;
+    for (const ParamSpec& p : c.params)
+      if (p.type == type)
+        s.append(s.empty() ? "" : ", ").append("`").append(c.role == Role::Localizer ? "localization." : "navigation.")
+            .append(c.section).append(".").append(p.key).append("`");
+  }
+  return s.empty() ? "none yet" : s;
+}
 
 }  // namespace
 
@@ -80,7 +94,9 @@ std::string limits_markdown() {
             "scenarios, `--set` values, map_server and elevation YAML, RAW sidecars, slam3d's sensor.yaml",
             "nodes counted with their aliases expanded, in one pass over the text before the document is built"},
            {"points of a polygons parameter", count(static_cast<double>(kMaxParamPolygonVertices)),
-            "`navigation.keepout.zones` (YAML or `--set`)", "counted while the text is read, before a point is stored"},
+            navigation_params_of_type(ParamType::Polygons) + " (YAML or `--set`)", "counted while the text is read, before a point is stored"},
+           {"numbers of a list-of-numbers parameter", count(static_cast<double>(kMaxParamListNumbers)),
+            navigation_params_of_type(ParamType::Reals) + " (YAML or `--set`)", "counted while the text is read, before a number is stored"},
            {"more LiDARs", count(static_cast<double>(kMaxOtherLidars)), "`sensors.lidars`", "each scans every period it is due"},
        }},
       {"Simulation",

@@ -1,11 +1,13 @@
 #include "starnav/nav/navigator.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/polyline.hpp"
+#include "starnav/core/record_format.hpp"
 #include "starnav/map/footprint_checker.hpp"
 #include "starnav/plan/grid_graph.hpp"
 #include "starnav/plan/path_smoothing.hpp"
@@ -385,6 +387,12 @@ BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& veloc
   if (controller_capabilities_.has(Capability::ChecksFootprint)) in.clearance = &map_.clearance();
   in.footprint = footprint_;
   in.limits = limits_;
+  const std::optional<double> speed_limit = speed_limit_at(pose);
+  if (speed_limit) in.limits = with_speed_limit(limits_, *speed_limit);
+  if (speed_limit != speed_limit_) {
+    events_.push_back({t, "speed_limit", speed_limit ? format_number(*speed_limit) : "none"});
+    speed_limit_ = speed_limit;
+  }
   in.goal = goal_;
   in.goal_yaw = goal_yaw_;
   in.goal_tolerance_m = config_.goal_tolerance_m;
@@ -413,6 +421,15 @@ BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& veloc
   blocked_since_ = -1.0;
   held_ = out.twist;
   return out.twist;
+}
+
+std::optional<double> Navigator::speed_limit_at(const Pose2& pose) const {
+  // The body's rectangle (centred on base_link) in the map frame: a zone limits the robot as soon
+  // as any part of it is inside, so that the whole body, not only its centre, keeps to the limit.
+  const double hl = 0.5 * footprint_.length_m, hw = 0.5 * footprint_.width_m;
+  const std::array<Vec2, 4> corners{pose.transform(Vec2(hl, hw)), pose.transform(Vec2(-hl, hw)), pose.transform(Vec2(-hl, -hw)),
+                                    pose.transform(Vec2(hl, -hw))};
+  return map_.speed_limit_mps(corners);
 }
 
 void Navigator::hold(double t) {

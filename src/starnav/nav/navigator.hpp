@@ -14,7 +14,9 @@
 //      cells are free. No path (goal blocked, start raw blocked, goal enclosed) -> status NoPath,
 //      reported once; the caller stops.
 // Per control step (command): arrived when within goal_tolerance of the goal (status Arrived,
-// zero twist); otherwise the PathFollower's twist for the current path.
+// zero twist); otherwise the PathFollower's twist for the current path. A layer of the map that
+// limits the speed (speed-limit zones) lowers the controller's translation limits to the lowest
+// limit over the robot's footprint at its pose, at every step the controller is asked.
 //
 // The parts play roles and are given to the navigator by whoever builds it (NavigatorParts; the
 // harness builds them by name from the registry, a test may hand in its own): the global planner
@@ -112,8 +114,8 @@ struct NavPlan {
 // Something the navigator did besides planning (recoveries, giving up).
 struct NavEvent {
   double t_s = 0.0;
-  std::string kind;    // recovery, stuck, no_path_wait
-  std::string detail;  // controller_blocked | no_progress; rotate | back_up | replan
+  std::string kind;    // recovery, stuck, no_path_wait, speed_limit
+  std::string detail;  // controller_blocked | no_progress; rotate | back_up | replan; the limit in m/s or "none"
 };
 
 // What one sensor cycle did.
@@ -172,6 +174,11 @@ class Navigator {
   const std::vector<NavEvent>& events() const { return events_; }
   // The controller's status at its last compute().
   ControlStatus control_status() const { return control_status_; }
+  // The speed limit (m/s) the map's layers set at the robot's footprint at the controller's last
+  // compute(); nothing when none did. Each change is an event ("speed_limit").
+  const std::optional<double>& speed_limit() const { return speed_limit_; }
+  // The lowest speed limit the map's layers set on the footprint of a robot at `pose`.
+  std::optional<double> speed_limit_at(const Pose2& pose) const;
   const std::vector<NavPlan>& plans() const { return plans_; }
   // The index of the remaining path's first cell in plans().back().cells.
   std::size_t progress() const { return progress_; }
@@ -215,6 +222,7 @@ class Navigator {
   std::optional<double> goal_yaw_;
   std::vector<NavEvent> events_;
   ControlStatus control_status_ = ControlStatus::Idle;
+  std::optional<double> speed_limit_;
   BodyTwist held_;
   double next_control_t_ = -1.0;
   // Recovery state: the index of the running recovery (none: size of the list).

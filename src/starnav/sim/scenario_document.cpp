@@ -168,6 +168,7 @@ std::string expected_value(const ParamSpec& spec) {
     case ParamType::Text: return "expected text";
     case ParamType::NameList: return "expected a list of names";
     case ParamType::Polygons: return "expected polygons";
+    case ParamType::Reals: return "expected a list of numbers";
   }
   return "expected a value";
 }
