@@ -54,7 +54,8 @@ namespace starnav {
 #define STARNAV_COSTMAP_LAYERS(X)                                \
   X(static_map_layer)  /* costmap/static_map_layer.cpp */       \
   X(node_height_layer) /* costmap/node_height_layer.cpp */ \
-  X(keepout_layer)     /* costmap/keepout_layer.cpp */
+  X(keepout_layer)     /* costmap/keepout_layer.cpp */ \
+  X(speed_limit_layer) /* costmap/speed_limit_layer.cpp */
 
 #define STARNAV_DECLARE_CONTROLLER(f) LocalControllerDef f();
 #define STARNAV_DECLARE_COSTMAP_LAYER(f) CostmapLayerDef f();
