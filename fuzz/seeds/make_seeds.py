@@ -302,6 +302,13 @@ def scenario_files():
     return out
 
 
+def speed_nav(limits):
+    """A navigation section with two overlapping speed-limit zones and `limits` as their limits."""
+    return (b"navigation:\n  goal: {x_m: 3.5, y_m: 1.5}\n  layers: [static_map, node_height, speed_limit]\n"
+            b"  speed_limit:\n    zones:\n      - [[1, 0.5], [2, 0.5], [2, 2.5], [1, 2.5]]\n"
+            b"      - [[1.5, 1], [3, 1], [2.2, 2]]\n    limits_mps: " + limits + b"\n")
+
+
 def scenarios():
     world = b"world:\n  terrain:\n    generate: {kind: flat, size_m: [4, 3], resolution_m: 0.1}\n"
     sim = b"sim: {dt_s: 0.01, duration_s: 2.0, seed: 3}\n"
@@ -399,6 +406,13 @@ def scenarios():
         "deep_nesting.yaml": b"world: " + b"[" * 3000 + b"\n",
         "alias_bomb.yaml": alias_bomb() + sim,
         "alias_cycle.yaml": b"world:\n  obstacles: &o [*o]\n" + sim,
+        # Speed-limit zones: a list of numbers beside the polygons; then each way it can be wrong.
+        "speed_zones.yaml": world + sim + speed_nav(b"[0.3, 0.1]"),
+        "speed_zones_mismatch.yaml": world + sim + speed_nav(b"[0.3]"),
+        "speed_zones_zero.yaml": world + sim + speed_nav(b"[0.3, 0]"),
+        "speed_zones_nested.yaml": world + sim + speed_nav(b"[0.3, [0.1]]"),
+        "speed_zones_scalar.yaml": world + sim + speed_nav(b"0.3"),
+        "speed_zones_empty.yaml": world + sim + speed_nav(b"[]"),
     }
     out.update(scenario_files())
     return out
