@@ -18,6 +18,7 @@
 #include "starnav/costmap/layered_costmap.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/registry/components.hpp"
+#include "support/polygon_clip.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -32,28 +33,6 @@ GridGeometry grid(int w, int h, double res, double ox, double oy, double yaw = 0
   return g;
 }
 
-// The part of `subject` inside the half-plane left of a -> b (Sutherland-Hodgman, one edge).
-std::vector<Vec2> clip_left_of(const std::vector<Vec2>& subject, const Vec2& a, const Vec2& b) {
-  const auto side = [&](const Vec2& p) { return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()); };
-  std::vector<Vec2> out;
-  for (std::size_t i = 0; i < subject.size(); ++i) {
-    const Vec2 p = subject[i], q = subject[(i + 1) % subject.size()];
-    const double sp = side(p), sq = side(q);
-    if (sp >= 0) out.push_back(p);
-    if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
-  }
-  return out;
-}
-
-double area(const std::vector<Vec2>& poly) {
-  double a = 0.0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 p = poly[i], q = poly[(i + 1) % poly.size()];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return std::abs(a) / 2.0;
-}
-
 // Every cell's square (in world coordinates, rotated with the grid) clipped by the polygon.
 std::vector<std::uint8_t> reference_cells(const GridGeometry& g, const std::vector<Vec2>& polygon) {
   std::vector<std::uint8_t> mask(g.cell_count(), 0);
@@ -64,25 +43,10 @@ std::vector<std::uint8_t> reference_cells(const GridGeometry& g, const std::vect
                                   g.grid_to_world({(x + 1) * g.resolution, (y + 1) * g.resolution}),
                                   g.grid_to_world({x * g.resolution, (y + 1) * g.resolution})};
       // The square is convex and counter-clockwise: clip the polygon by its four edges.
-      std::vector<Vec2> part = polygon;
-      for (int k = 0; k < 4 && !part.empty(); ++k) part = clip_left_of(part, square[k], square[(k + 1) % 4]);
-      if (part.size() >= 3 && area(part) > 1e-12) mask[g.index(x, y)] = 1;
+      const std::vector<Vec2> part = test::clip_by_convex(polygon, square);
+      if (part.size() >= 3 && test::shoelace_area(part) > 1e-12) mask[g.index(x, y)] = 1;
     }
   return mask;
-}
-
-// A simple polygon: vertices at increasing angles round a centre, at random radii.
-std::vector<Vec2> star_polygon(Rng& rng, const Vec2& centre, double r_max) {
-  const int n = 3 + static_cast<int>(rng.uniform(0.0, 9.0));
-  std::vector<double> angles;
-  for (int i = 0; i < n; ++i) angles.push_back(rng.uniform(0.0, 2.0 * M_PI));
-  std::sort(angles.begin(), angles.end());
-  std::vector<Vec2> poly;
-  for (const double a : angles) {
-    const double r = rng.uniform(0.1 * r_max, r_max);
-    poly.push_back(centre + r * Vec2(std::cos(a), std::sin(a)));
-  }
-  return poly;
 }
 
 TEST(KeepoutLayer, CellsAreThoseTheZoneOverlapsByAnIndependentClip) {
@@ -93,7 +57,7 @@ TEST(KeepoutLayer, CellsAreThoseTheZoneOverlapsByAnIndependentClip) {
     const GridGeometry g = grid(31, 23, 0.1, rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), yaw);
     // Centres inside, near an edge and outside the grid (clipped).
     const Vec2 centre = g.grid_to_world({rng.uniform(-0.5, 3.6), rng.uniform(-0.5, 2.8)});
-    const std::vector<Vec2> poly = star_polygon(rng, centre, trial % 5 == 0 ? 0.07 : 1.2);
+    const std::vector<Vec2> poly = test::random_star_polygon(rng, centre, trial % 5 == 0 ? 0.07 : 1.2);
     ASSERT_EQ(rasterize_polygon_cells(g, poly), reference_cells(g, poly));
   }
 }

@@ -22,6 +22,7 @@
 #include "starnav/costmap/speed_limit_layer.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/registry/components.hpp"
+#include "support/polygon_clip.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -50,46 +51,6 @@ double boundary_distance(const Vec2& p, const std::vector<Vec2>& poly) {
     best = std::min(best, (p - (a + s * d)).norm());
   }
   return best;
-}
-
-// The part of `subject` left of a -> b (one Sutherland-Hodgman step).
-std::vector<Vec2> keep_left_of(const std::vector<Vec2>& subject, const Vec2& a, const Vec2& b) {
-  const auto side = [&](const Vec2& p) { return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()); };
-  std::vector<Vec2> out;
-  for (std::size_t i = 0; i < subject.size(); ++i) {
-    const Vec2 p = subject[i], q = subject[(i + 1) % subject.size()];
-    const double sp = side(p), sq = side(q);
-    if (sp >= 0) out.push_back(p);
-    if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
-  }
-  return out;
-}
-
-double shoelace_area(const std::vector<Vec2>& poly) {
-  double a = 0.0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 p = poly[i], q = poly[(i + 1) % poly.size()];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return std::abs(a) / 2.0;
-}
-
-// The area of `zone` (simple) inside the convex counter-clockwise `box`.
-double overlap_area(const std::vector<Vec2>& zone, const std::vector<Vec2>& box) {
-  std::vector<Vec2> part = zone;
-  for (std::size_t k = 0; k < box.size() && !part.empty(); ++k) part = keep_left_of(part, box[k], box[(k + 1) % box.size()]);
-  return part.size() >= 3 ? shoelace_area(part) : 0.0;
-}
-
-// A simple polygon: vertices at increasing angles round a centre, at random radii (star-shaped, often concave).
-std::vector<Vec2> random_star(Rng& rng, const Vec2& centre, double r_max) {
-  const int n = 3 + static_cast<int>(rng.uniform(0.0, 9.0));
-  std::vector<double> angles;
-  for (int i = 0; i < n; ++i) angles.push_back(rng.uniform(0.0, 2.0 * M_PI));
-  std::sort(angles.begin(), angles.end());
-  std::vector<Vec2> poly;
-  for (const double a : angles) poly.push_back(centre + rng.uniform(0.1 * r_max, r_max) * Vec2(std::cos(a), std::sin(a)));
-  return poly;
 }
 
 // The body's rectangle (counter-clockwise) at a pose.
@@ -125,7 +86,7 @@ TEST(SpeedLimitLayer, PointsAndFootprintsGetTheLowestLimitOfTheZonesTheyMeet) {
     std::vector<double> limits;
     const int n = 1 + static_cast<int>(rng.uniform(0.0, 4.0));
     for (int i = 0; i < n; ++i) {
-      zones.push_back(random_star(rng, {rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)}, rng.uniform(0.3, 2.0)));
+      zones.push_back(test::random_star_polygon(rng, {rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)}, rng.uniform(0.3, 2.0)));
       limits.push_back(std::round(rng.uniform(0.05, 1.0) * 1000.0) / 1000.0);
     }
     std::string limits_text = "[";
@@ -153,7 +114,7 @@ TEST(SpeedLimitLayer, PointsAndFootprintsGetTheLowestLimitOfTheZonesTheyMeet) {
       std::optional<double> want;
       bool grazing = false;
       for (std::size_t i = 0; i < zones.size(); ++i) {
-        const double a = overlap_area(zones[i], box);
+        const double a = test::overlap_area(zones[i], box);
         grazing = grazing || (a > 0.0 && a < 1e-9);
         if (a >= 1e-9 && (!want || limits[i] < *want)) want = limits[i];
       }
