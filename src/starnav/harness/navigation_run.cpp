@@ -544,9 +544,8 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
 
   // More LiDARs (a rear one) feed the map; the first one's scans drive the cycle. Both after the
   // localization chain's estimators (SampleStage::Estimate) have seen the scan.
-  for (const std::string& stream : sim_->lidar_streams()) {
-    if (stream == "lidar") continue;
-    sim_->lidar_feed(stream).subscribe(SampleStage::Navigate, [this, localized](const LidarScan& truth_scan) {
+  for (const ScenarioLidar& other : spec_.other_lidars) {
+    sim_->lidar_feed(other.stream).subscribe(SampleStage::Navigate, [this, localized](const LidarScan& truth_scan) {
       const Pose2 pose = localized(sim_->time());
       const Pose2 truth = sim_->vehicle().state().pose.to_pose2();
       if (pose.x != truth.x || pose.y != truth.y || pose.yaw != truth.yaw) nav_->add_scan(scan_placed_at(truth_scan, truth, pose));

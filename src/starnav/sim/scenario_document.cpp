@@ -39,12 +39,6 @@ double Value::number() const {
   return *v;
 }
 
-double Value::positive() const {
-  const double v = number();
-  if (!(v > 0.0)) fail("must be > 0, got " + node_.Scalar());
-  return v;
-}
-
 double Value::in_range(double lo, double hi) const {
   const double v = number();
   if (v < lo || v > hi) fail("must be in [" + fmt(lo) + ", " + fmt(hi) + "], got " + node_.Scalar());

@@ -49,7 +49,6 @@ class Value {
   [[noreturn]] void fail(const std::string& message) const { throw Error(message, doc_->file, line_, field_); }
 
   double number() const;
-  double positive() const;
   double in_range(double lo, double hi) const;
   std::string string() const;
   // A list of numbers with `lo`..`hi` entries.
