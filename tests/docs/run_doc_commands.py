@@ -9,7 +9,9 @@ changes made to a command before it runs are the ones listed in docs/ci.md ("The
   /tmp/ and a leading out/ in a path                      -> a scratch folder of this test
   make demo                                                -> make demo BUILD=<the build under test>
   DATA                                                     -> ../shared/datasets (the command is
-                                                              skipped when that folder is absent)
+                                                              skipped when that folder is absent,
+                                                              and so is every later command of its
+                                                              block: they may read what it writes)
   --seeds N (N > 2) -> --seeds 2; --queries N (N > 50) -> --queries 50; bench kitti -> --frames 3;
   bench slam without --logs -> --logs aces                 (long benches, shortened)
   a server (view without --export)                         -> --port 0, the page fetched, then Ctrl-C
@@ -103,6 +105,7 @@ class Runner:
         self.env = dict(os.environ)
         self.env.pop("DATA", None)
         self.assignments = []  # VAR=value lines, run before each command
+        self.skipped_for_data = None  # the first command of the block skipped for the absent datasets
 
     def rewrite(self, cmd):
         cmd = strip_comment(cmd)
@@ -152,7 +155,10 @@ class Runner:
             self.assignments.append(cmd)
             return "ok", 0.0, "set " + cmd.split("=", 1)[0]
         if self.needs_data(cmd) and not os.path.isdir(self.shared):
+            self.skipped_for_data = self.skipped_for_data or cmd
             return "skip", 0.0, "needs the datasets (../shared/datasets is absent)"
+        if self.skipped_for_data:
+            return "skip", 0.0, "follows a command skipped for the absent datasets (it may read what that one writes)"
         env = dict(self.env)
         if os.path.isdir(self.shared):
             env["DATA"] = self.shared
