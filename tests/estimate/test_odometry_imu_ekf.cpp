@@ -238,6 +238,48 @@ TEST(OdometryImuEkf, ImpossibleParametersNameTheirField) {
   EXPECT_THROW(find_localizer("ekf").make({}, bad), Error);
 }
 
+TEST(EkfLocalizer, AGyroWithoutAHeadingIsIntegratedFromItsRatesInTheBaseFrame) {
+  // The same turn seen by three IMUs: one that gives its integrated heading, one that gives only
+  // its rate, and one mounted upside down (its z axis down: the rate's sign flips in its frame).
+  // The filter integrates the rates from the start's yaw and turns them by the mount, so all
+  // three give the same estimates.
+  const double w = 0.2, start_yaw = 0.3, dt = 0.01;
+  LocalizerContext ctx(Pose2(1.0, 2.0, start_yaw), 7, "x.yaml");
+  std::vector<std::unique_ptr<Localizer>> filters;
+  for (int i = 0; i < 3; ++i) filters.push_back(find_localizer("ekf").make(ctx, {}));
+  const Pose3 upside_down = Pose3::from_rpy(Vec3(0.1, 0.0, 0.2), kPi, 0.0, 0.0);
+  for (int k = 0; k <= 200; ++k) {
+    const double t = k * dt;
+    OdometryMessage o;
+    o.header = {t, "odom"};
+    o.pose = Pose2(1.0 + 0.1 * t, 2.0, start_yaw + 0.9 * w * t);  // the wheels under-read the turn
+    o.twist = {0.1, 0.0, 0.9 * w};
+    ImuMessage with_heading;
+    with_heading.header = {t, "imu"};
+    with_heading.angular_velocity_radps = Vec3(0.0, 0.0, w);
+    with_heading.yaw_rad = start_yaw + w * t;
+    ImuMessage rate_only = with_heading;
+    rate_only.yaw_rad.reset();
+    ImuMessage flipped = rate_only;
+    flipped.mount = upside_down;
+    flipped.angular_velocity_radps = Vec3(0.0, 0.0, -w);
+    for (auto& f : filters) f->on_odometry(o);
+    filters[0]->on_imu(with_heading);
+    filters[1]->on_imu(rate_only);
+    filters[2]->on_imu(flipped);
+  }
+  const PoseEstimate a = filters[0]->estimate();
+  // The IMU pulled the heading towards the true turn, away from the wheels' (a real test).
+  EXPECT_GT(a.pose.yaw, start_yaw + 0.9 * w * 2.0 + 0.01);
+  for (int i = 1; i < 3; ++i) {
+    const PoseEstimate b = filters[static_cast<std::size_t>(i)]->estimate();
+    EXPECT_NEAR(b.pose.x, a.pose.x, 1e-9);
+    EXPECT_NEAR(b.pose.y, a.pose.y, 1e-9);
+    EXPECT_NEAR(b.pose.yaw, a.pose.yaw, 1e-9);
+    EXPECT_NEAR(b.covariance(2, 2), a.covariance(2, 2), 1e-12);
+  }
+}
+
 TEST(LocalizationChain, RefusesTheEkfTwiceAndAnEkfWithoutImu) {
   const std::string base = read_text(scenario_path("ekf_square.yaml"));
   const auto config_of = [&](const std::string& text) { return localization_config(parse_scenario(text, scenario_path("x.yaml"))); };

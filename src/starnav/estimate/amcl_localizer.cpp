@@ -157,9 +157,9 @@ class AmclLocalizer final : public Localizer {
       amcl_->initialize(ctx.start);
   }
   std::string_view name() const override { return "amcl"; }
-  void on_odometry(const OdometrySample& o) override {
+  void on_odometry(const OdometryMessage& o) override {
     odometry_ = o.pose;
-    odometry_t_s_ = o.t_s;
+    odometry_t_s_ = o.header.t_s;
     twist_ = o.twist;
     has_odometry_ = true;
   }

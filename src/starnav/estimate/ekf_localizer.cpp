@@ -58,12 +58,19 @@ const ParamTable<EkfLocalizerConfig>& ekf_localizer_params() {
 // Its own random stream of the scenario's seed (ground_truth has 101).
 constexpr std::uint64_t kEkfStream = 103;
 
+// An IMU heading at a time: the unit's own, or integrated here from its rates.
+struct YawReading {
+  double t_s = 0.0;
+  double yaw_rad = 0.0;
+};
+
 class EkfLocalizer final : public Localizer {
  public:
   EkfLocalizer(const EkfLocalizerConfig& c, const LocalizerContext& ctx)
       : model_(make_robot_model(ctx.robot ? *ctx.robot : RobotConfig{})),
         ekf_(c.filter, *model_, ctx.start),
-        last_odometry_(ctx.start) {
+        last_odometry_(ctx.start),
+        integrated_yaw_(ctx.start.yaw) {
     if (c.sample_initial_error) {
       Rng rng = Rng(ctx.seed).fork(kEkfStream);
       const double ex = c.filter.initial_sigma_xy_m * rng.normal();
@@ -76,14 +83,14 @@ class EkfLocalizer final : public Localizer {
   // IMU readings wait for the odometry of their time: the filter predicts to each reading's time
   // (the period's increment split in proportion, as a constant twist over the period) before it
   // updates, so that a turning robot's yaw is never compared with a stale prediction.
-  void on_odometry(const OdometrySample& o) override {
+  void on_odometry(const OdometryMessage& o) override {
     const Pose2 increment = last_odometry_.inverse().compose(o.pose);
     const Eigen::Matrix3d q = ekf_.period_covariance(increment);
-    const double span = o.t_s - last_odometry_t_s_;
+    const double span = o.header.t_s - last_odometry_t_s_;
     Pose2 done;
     double f_done = 0.0;
     std::size_t used = 0;
-    for (; used < pending_.size() && pending_[used].t_s <= o.t_s; ++used) {
+    for (; used < pending_.size() && pending_[used].t_s <= o.header.t_s; ++used) {
       const double f = span > 0.0 ? std::clamp((pending_[used].t_s - last_odometry_t_s_) / span, f_done, 1.0) : 1.0;
       const Pose2 target(increment.x * f, increment.y * f, increment.yaw * f);
       ekf_.predict(done.inverse().compose(target), (f - f_done) * q);
@@ -94,15 +101,28 @@ class EkfLocalizer final : public Localizer {
     pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(used));
     ekf_.predict(done.inverse().compose(increment), (1.0 - f_done) * q);
     last_odometry_ = o.pose;
-    last_odometry_t_s_ = o.t_s;
+    last_odometry_t_s_ = o.header.t_s;
     has_odometry_ = true;
-    t_s_ = std::max(t_s_, o.t_s);
+    t_s_ = std::max(t_s_, o.header.t_s);
   }
-  void on_imu(const ImuModel::ImuReading& r) override {
+  // A unit that integrates its own heading gives yaw_rad; for one that does not, the filter
+  // integrates the yaw rate (the sensor's rates turned into the base frame by its mount) from the
+  // start's yaw.
+  void on_imu(const ImuMessage& m) override {
+    YawReading r{m.header.t_s, 0.0};
+    if (m.yaw_rad) {
+      r.yaw_rad = *m.yaw_rad;
+    } else {
+      const double rate = (m.mount.rotation() * m.angular_velocity_radps).z();
+      if (has_rate_) integrated_yaw_ += rate * std::max(0.0, r.t_s - last_rate_t_s_);
+      has_rate_ = true;
+      last_rate_t_s_ = r.t_s;
+      r.yaw_rad = integrated_yaw_;
+    }
     pending_.push_back(r);
     // Without odometry (none yet, or stalled for a while) the readings update at once.
     if (!has_odometry_ || r.t_s - last_odometry_t_s_ > kOdometryWait_s) {
-      for (const ImuModel::ImuReading& p : pending_) apply_imu(p);
+      for (const YawReading& p : pending_) apply_imu(p);
       pending_.clear();
     }
   }
@@ -116,7 +136,7 @@ class EkfLocalizer final : public Localizer {
   }
 
  private:
-  void apply_imu(const ImuModel::ImuReading& r) {
+  void apply_imu(const YawReading& r) {
     // The IMU's yaw integrates from the run's start (t = 0), where it read the start's yaw.
     const double dt = std::max(0.0, r.t_s - last_imu_t_s_);
     last_imu_t_s_ = r.t_s;
@@ -130,7 +150,10 @@ class EkfLocalizer final : public Localizer {
   Pose2 last_odometry_;
   double last_odometry_t_s_ = 0.0;
   bool has_odometry_ = false;
-  std::vector<ImuModel::ImuReading> pending_;
+  double integrated_yaw_;
+  bool has_rate_ = false;
+  double last_rate_t_s_ = 0.0;
+  std::vector<YawReading> pending_;
   double t_s_ = 0.0;
   double last_imu_t_s_ = 0.0;
 };

@@ -17,7 +17,6 @@
 #include "starnav/core/geometry.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/robot/robot_model.hpp"
-#include "starnav/sense/imu.hpp"
 #include "starnav/sense/sensor_messages.hpp"
 
 namespace starnav {
@@ -32,19 +31,14 @@ struct PoseEstimate {
   bool converged = true;    // particle filters: the best cluster is tight and holds most weight
 };
 
-// Odometry as a robot publishes it: the pose in the odom frame and the body twist.
-struct OdometrySample {
-  double t_s = 0.0;
-  Pose2 pose;
-  BodyTwist twist;
-};
-
 class Localizer {
  public:
   virtual ~Localizer() = default;
   virtual std::string_view name() const = 0;
-  virtual void on_odometry(const OdometrySample& /*odometry*/) {}
-  virtual void on_imu(const ImuModel::ImuReading& /*reading*/) {}
+  // The odom -> base pose and the body twist (a wheel odometry's, or a filter's fused one).
+  virtual void on_odometry(const OdometryMessage& /*odometry*/) {}
+  // An inertial sample in its sensor frame; its yaw_rad, when the unit integrates one.
+  virtual void on_imu(const ImuMessage& /*imu*/) {}
   // A planar scan in its sensor frame, with its mount (from a simulated LiDAR or a recording alike).
   virtual void on_scan(const ScanMessage& /*scan*/) {}
   // The simulator's truth; a real robot never calls it (a motion-capture system would).

@@ -31,12 +31,12 @@ class DeadReckoningLocalizer final : public Localizer {
         ekf_(filter_config(c), *model_, ctx.start),
         last_(ctx.start) {}
   std::string_view name() const override { return "odometry"; }
-  void on_odometry(const OdometrySample& o) override {
+  void on_odometry(const OdometryMessage& o) override {
     ekf_.predict(last_.inverse().compose(o.pose));
     // The odometry's own pose, not the re-composed one: dead reckoning is the odometry exactly.
     ekf_.set_pose(o.pose);
     last_ = o.pose;
-    t_s_ = o.t_s;
+    t_s_ = o.header.t_s;
   }
   PoseEstimate estimate() const override {
     PoseEstimate e;

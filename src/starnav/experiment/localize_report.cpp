@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <sstream>
 #include <unordered_map>
+#include <variant>
+#include <vector>
 
 #include "starnav/core/angle.hpp"
 #include "starnav/core/cpu_time.hpp"
@@ -21,6 +23,7 @@
 #include "starnav/io/file_bytes.hpp"
 #include "starnav/io/map_file.hpp"
 #include "starnav/logs/robot_log_source.hpp"
+#include "starnav/sense/sensor_bus.hpp"
 #include "starnav/registry/components.hpp"
 #include "starnav/viz/map_picture.hpp"
 
@@ -197,7 +200,7 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
     }
   }
 
-  // The Localizer role, as the simulator drives it: odometry, then the scan in its sensor frame.
+  // The localizer, built by name with its declared parameters, as a scenario builds it.
   LocalizerContext context(r.initial_pose, q.seed, q.log.empty() ? log.path : q.log);
   context.map = &map;
   context.thresholds = thresholds;
@@ -208,31 +211,15 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
   const std::size_t total = log.scans.size() - r.start_scan;
   const auto wall0 = std::chrono::steady_clock::now();
   const double cpu0 = thread_cpu_s();
-  const Pose3 mount = log_laser_mount(log);
   int updates = 0;
-  PoseEstimate a;
   r.trajectory.reserve(total);
-  for (std::size_t i = r.start_scan; i < log.scans.size(); ++i) {
-    const std::size_t done = i - r.start_scan;
-    if (progress && done % 100 == 0) progress(done, total);
-    if (!odometry[i]) {
-      ++r.scans_without_odometry;
-      continue;
-    }
+  // After a reading's delivery: the estimate, its error where the reference has the scan, a step.
+  const auto record_reading = [&](std::size_t i, double cpu_s) {
     const LogScan& s = log.scans[i];
-    const double t0 = thread_cpu_s();
-    try {
-      localizer->on_odometry({s.t_s(), *odometry[i], {}});
-      localizer->on_scan(scan_message(s, mount, "lidar"));
-    } catch (const Error& e) {
-      // A malformed scan: name the log and the scan's line or message.
-      throw Error(e.message(), q.log.empty() ? log.path : q.log, static_cast<int>(s.source_index),
-                  e.field().empty() ? "scan" : e.field());
-    }
-    a = localizer->estimate();
+    const PoseEstimate a = localizer->estimate();
     const bool updated = a.updates > updates;
     updates = a.updates;
-    if (updated) r.update_cpu_s += thread_cpu_s() - t0;
+    if (updated) r.update_cpu_s += cpu_s;
     LocalizePose p;
     p.stamp_us = s.stamp_us;
     p.scan = i;
@@ -270,7 +257,35 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
       r.step_lines.push_back(step_record_json(step));
     }
     r.trajectory.push_back(p);
-  }
+  };
+  // The Localizer role, as the simulator drives it: the log's messages on a bus, in the order the
+  // robot received them, the localizer subscribed to the odometry and the scans.
+  const RobotLogStreams streams;
+  SensorBus bus(SensorBus::Order::Receipt);
+  bus.subscribe<OdometryMessage>(streams.odometry, [&](const OdometryMessage& o) { localizer->on_odometry(o); });
+  bus.subscribe<ScanMessage>(streams.scan, [&](const ScanMessage& s) { localizer->on_scan(s); });
+  // A reading goes onto the bus whole, when it counts: from the start scan on, with its odometry.
+  std::vector<SensorMessage> reading;
+  RobotLogSource source(log, streams);
+  source.play([&](const SensorMessage& m) { reading.push_back(m); },
+              [&](std::size_t read) {
+                const std::size_t i = read - 1;
+                const bool counted = i >= r.start_scan;
+                if (progress && counted && (i - r.start_scan) % 100 == 0) progress(i - r.start_scan, total);
+                const bool odometry_given = std::any_of(reading.begin(), reading.end(), [](const SensorMessage& m) {
+                  return std::holds_alternative<OdometryMessage>(m);
+                });
+                if (counted && !odometry_given) ++r.scans_without_odometry;
+                if (!counted || !odometry_given) {
+                  reading.clear();
+                  return;
+                }
+                const double t0 = thread_cpu_s();
+                for (SensorMessage& m : reading) bus.publish(std::move(m));
+                reading.clear();
+                bus.deliver_all();
+                record_reading(i, thread_cpu_s() - t0);
+              });
   if (progress) progress(total, total);
   r.cpu_s = thread_cpu_s() - cpu0;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

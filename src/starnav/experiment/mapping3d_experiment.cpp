@@ -10,6 +10,7 @@
 #include "starnav/harness/encoder_odometry.hpp"
 #include "starnav/harness/slam3d_run.hpp"
 #include "starnav/harness/slam_run.hpp"
+#include "starnav/sense/sensor_bus.hpp"
 #include "starnav/harness/route_drive.hpp"
 #include "starnav/sim/world.hpp"
 #include "starnav/registry/components.hpp"
@@ -185,26 +186,35 @@ Mapping3dResult run_mapping3d_experiment(const Mapping3dExperimentConfig& config
     const std::shared_ptr<const WheelOdometry> odometry = attach_encoder_odometry(sim);
     std::vector<Rigid3> truth;
     std::vector<double> times;
-    const Simulation* s = &sim;
-    sim.lidar_feed("lidar").subscribe(SampleStage::Estimate, [&slots, &odometry, &truth, &times, s, mount](const LidarScan& scan) {
-      // What the robot's drivers would publish: the wheel odometry at the scan, then the cloud.
-      OdometryMessage odom;
-      if (odometry) odom = {{scan.time, "odom"}, odometry->pose(), {}};
-      CloudMessage cloud;
-      cloud.header = {scan.time, "lidar"};
-      cloud.mount = mount;
-      cloud.points = scan.points_sensor;
-      for (Mapping3dSlot& slot : slots) {
+    // Every variant subscribed to what the robot's drivers would publish: the wheel odometry at the
+    // scan, then the cloud.
+    SensorBus bus;
+    for (Mapping3dSlot& slot : slots) {
+      bus.subscribe<OdometryMessage>("odom", [&slot](const OdometryMessage& m) {
         const auto t0 = std::chrono::steady_clock::now();
-        if (odometry) slot.slam->on_odometry(odom);
-        slot.slam->on_cloud(cloud);
+        slot.slam->on_odometry(m);
+        slot.mapping_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      });
+      bus.subscribe<CloudMessage>("lidar", [&slot](const CloudMessage& m) {
+        const auto t0 = std::chrono::steady_clock::now();
+        slot.slam->on_cloud(m);
         slot.mapping_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const FrameFigures totals = frame_totals(*slot.slam);
         FrameFigures frame{};
         for (std::size_t i = 0; i < frame.size(); ++i) frame[i] = totals[i] - slot.totals[i];
         slot.frames.push_back(frame);
         slot.totals = totals;
-      }
+      });
+    }
+    const Simulation* s = &sim;
+    sim.lidar_feed("lidar").subscribe(SampleStage::Estimate, [&bus, &odometry, &truth, &times, s, mount](const LidarScan& scan) {
+      if (odometry) bus.publish(OdometryMessage{{scan.time, "odom"}, odometry->pose(), {}});
+      CloudMessage cloud;
+      cloud.header = {scan.time, "lidar"};
+      cloud.mount = mount;
+      cloud.points = scan.points_sensor;
+      bus.publish(std::move(cloud));
+      bus.deliver_all();
       truth.push_back(to_rigid(s->vehicle().state().pose) * to_rigid(mount));
       times.push_back(scan.time);
     });

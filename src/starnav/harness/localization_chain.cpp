@@ -113,33 +113,66 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
     if (!e.file().empty()) throw;
     throw Error(e.message(), spec.file, 0, "localization." + e.field());
   }
+  // The simulation's samples become the messages a robot's drivers publish, onto the chain's bus;
+  // the parts below are subscribed to streams, as on a robot: the wheel odometry integrator to the
+  // encoders, the odometry filter to the wheel odometry and the IMU, the localizers to the odometry
+  // they read, the IMU and the planar scans. Each sample is delivered at once (with whatever its
+  // delivery publishes at its time), before the navigation sees it.
+  const std::string& odometry_stream = config_.odometry_filter ? kFilteredOdometryStream : kOdometryStream;
   if (config_.odometry != "none") {
     odometry_model_ = make_robot_model(spec.vehicle.robot);
     odometry_ = std::make_unique<WheelOdometry>(*odometry_model_, spec.encoders->config.ticks_per_rev, spec.start);
     last_odometry_.pose = spec.start;
-    sim.encoder_feed.subscribe(SampleStage::Estimate, [this](const EncoderSample& e) {
+    last_odometry_.header.stream = kOdometryStream;
+    bus_.subscribe<EncoderMessage>(kEncoderStream, [this](const EncoderMessage& e) {
       odometry_->add_ticks(e.ticks);
-      OdometrySample o;
-      o.t_s = e.t_s;
+      OdometryMessage o;
+      o.header = {e.header.t_s, kOdometryStream};
       o.pose = odometry_->pose();
-      const double dt = o.t_s - last_odometry_.t_s;
+      const double dt = o.header.t_s - last_odometry_.header.t_s;
       if (dt > 0.0) {
         // The body twist over the period, in the body frame at its start.
         const Pose2 d = last_odometry_.pose.inverse().compose(o.pose);
         o.twist = {d.x / dt, d.y / dt, wrap_angle(d.yaw) / dt};
       }
       last_odometry_ = o;
-      if (filter_) {
-        filter_->on_odometry(o);
-        o.pose = filter_->estimate().pose;  // the fused odometry, as robot_pose_ekf publishes it
-      }
-      for (auto& l : localizers_) l->on_odometry(o);
-      record(e.t_s, false);
+      bus_.publish(std::move(o));
+    });
+    sim.encoder_feed.subscribe(SampleStage::Estimate, [this, ticks_per_rev = spec.encoders->config.ticks_per_rev](const EncoderSample& e) {
+      EncoderMessage m;
+      m.header = {e.t_s, kEncoderStream};
+      m.ticks = e.ticks;
+      m.ticks_per_rev = ticks_per_rev;
+      bus_.publish(std::move(m));
+      bus_.deliver_all();
     });
   }
+  if (filter_) {
+    // The filtered odometry, as robot_pose_ekf publishes it: the filter's pose with the wheels' twist.
+    bus_.subscribe<OdometryMessage>(kOdometryStream, [this](const OdometryMessage& o) {
+      filter_->on_odometry(o);
+      OdometryMessage fused = o;
+      fused.header.stream = kFilteredOdometryStream;
+      fused.pose = filter_->estimate().pose;
+      bus_.publish(std::move(fused));
+    });
+    bus_.subscribe<ImuMessage>(kImuStream, [this](const ImuMessage& m) { filter_->on_imu(m); });
+  }
+  // One subscription per input for all the localizers, so that a localizer added later is fed in
+  // the same delivery, before the record of the estimates.
+  bus_.subscribe<OdometryMessage>(odometry_stream, [this](const OdometryMessage& o) {
+    for (auto& l : localizers_) l->on_odometry(o);
+    record(o.header.t_s, false);
+  });
+  bus_.subscribe<ImuMessage>(kImuStream, [this](const ImuMessage& m) {
+    for (auto& l : localizers_) l->on_imu(m);
+  });
+  bus_.subscribe<ScanMessage>("", [this](const ScanMessage& scan) {
+    for (auto& l : localizers_) l->on_scan(scan);
+  });
   sim.imu_feed.subscribe(SampleStage::Estimate, [this](const ImuModel::ImuReading& r) {
-    if (filter_) filter_->on_imu(r);
-    for (auto& l : localizers_) l->on_imu(r);
+    bus_.publish(imu_message(r, kImuStream));
+    bus_.deliver_all();
   });
   // The localizers take planar scans as a robot's driver publishes them (a 3D LiDAR's go to none);
   // the first LiDAR's scans also close a record of the estimate.
@@ -147,16 +180,16 @@ LocalizationChain::LocalizationChain(Simulation& sim, const LocalizationConfig& 
     sim.lidar_feed("lidar").subscribe(SampleStage::Estimate, [this, planar = spec.lidar->config.lines() == 1,
                                                               config = spec.lidar->config](const LidarScan& scan) {
       if (planar) {
-        const ScanMessage message = planar_scan_message(scan, config, "lidar");
-        for (auto& l : localizers_) l->on_scan(message);
+        bus_.publish(planar_scan_message(scan, config, "lidar"));
+        bus_.deliver_all();
       }
       record(scan.time, true);
     });
   for (const ScenarioLidar& other : spec.other_lidars)
     if (other.config.lines() == 1)
       sim.lidar_feed(other.stream).subscribe(SampleStage::Estimate, [this, config = other.config, stream = other.stream](const LidarScan& scan) {
-        const ScanMessage message = planar_scan_message(scan, config, stream);
-        for (auto& l : localizers_) l->on_scan(message);
+        bus_.publish(planar_scan_message(scan, config, stream));
+        bus_.deliver_all();
       });
 }
 

@@ -2,8 +2,10 @@
 // The localization chain of a simulated run (scenario section `localization`): wheel odometry
 // from the encoders, optionally fused with the IMU by the EKF (`odometry: ekf`), feeding the
 // localizer the run reads its pose from (ground_truth, ekf, amcl, ...), which also gets the IMU and
-// the scans. It subscribes to the simulation's sensor feeds as an estimator and records the
-// estimate beside the truth at every odometry sample and every scan (estimate.csv).
+// the scans. It subscribes to the simulation's sensor feeds as an estimator, publishes their
+// samples as sensor messages on a SensorBus, to which its parts are subscribed as on a robot (a
+// recording drives the same roles from the same messages: starnav localize, slam run), and records
+// the estimate beside the truth at every odometry message and every scan (estimate.csv).
 //
 //   Simulation sim(spec);
 //   LocalizationChain chain(sim, localization_config(spec));
@@ -19,6 +21,7 @@
 #include "starnav/estimate/localizer.hpp"
 #include "starnav/estimate/wheel_odometry.hpp"
 #include "starnav/map/occupancy_grid.hpp"
+#include "starnav/sense/sensor_bus.hpp"
 #include "starnav/sim/simulation.hpp"
 
 namespace starnav {
@@ -40,6 +43,12 @@ LocalizationConfig localization_config(const ScenarioSpec& spec);
 // What a scenario tells its localizers: start, seed, file, the robot (pointing into `spec`, which
 // must outlive the context) and the 2D LiDAR's mount and ranges; no map (the chain loads it).
 LocalizerContext localizer_context(const ScenarioSpec& spec);
+
+// The streams of a simulated robot's proprioceptive messages.
+inline const std::string kEncoderStream = "encoders";
+inline const std::string kImuStream = "imu";
+inline const std::string kOdometryStream = "odom";
+inline const std::string kFilteredOdometryStream = "odom/filtered";
 
 // One row of estimate.csv.
 struct EstimateRecord {
@@ -73,10 +82,16 @@ class LocalizationChain {
   const std::vector<EstimateRecord>& records(std::size_t index = 0) const { return records_.at(index); }
   // The known map (when the localizer needs one), else null.
   const OccupancyGrid* map() const { return map_.get(); }
+  // The bus the chain's parts are subscribed to: the simulation's samples as sensor messages on
+  // kEncoderStream, kImuStream and the LiDARs' streams, the wheel odometry on kOdometryStream and
+  // the filtered one on kFilteredOdometryStream. Another consumer may subscribe (it is called after
+  // the chain's parts for the same message).
+  SensorBus& bus() { return bus_; }
+  // What the chain's localizers are built from (its map included).
+  LocalizerContext context() const;
 
  private:
   void record(double t_s, bool scan);
-  LocalizerContext context() const;
 
   Simulation* sim_;
   LocalizationConfig config_;
@@ -86,7 +101,8 @@ class LocalizationChain {
   std::vector<std::unique_ptr<Localizer>> localizers_;
   std::unique_ptr<RobotModel> odometry_model_;
   std::unique_ptr<WheelOdometry> odometry_;
-  OdometrySample last_odometry_;
+  SensorBus bus_;
+  OdometryMessage last_odometry_;
   std::vector<std::vector<EstimateRecord>> records_;
 };
 

@@ -36,26 +36,27 @@ class WallTimer {
 
 SlamDriveTimes drive_slam(Slam& slam, SensorSource& source, const SlamStreams& streams, const SlamProgress& progress) {
   SlamDriveTimes times;
-  const bool planar = slam.space() == SlamSpace::Planar;
-  // Each message to the role's call for its type, on the streams the run listens to.
-  const auto deliver = [&](const SensorMessage& message) {
-    const std::string& stream = header_of(message).stream;
-    const WallTimer timer(times.slam_wall_s);
-    if (const auto* m = std::get_if<OdometryMessage>(&message)) {
-      if (stream == streams.odometry) slam.on_odometry(*m);
-    } else if (const auto* s = std::get_if<ScanMessage>(&message)) {
-      if (planar && stream == streams.scan) slam.on_scan(*s);
-    } else if (const auto* c = std::get_if<CloudMessage>(&message)) {
-      if (!planar && stream == streams.cloud) slam.on_cloud(*c);
-    } else if (const auto* i = std::get_if<ImuMessage>(&message)) {
-      if (stream == streams.imu) slam.on_imu(*i);
-    }
+  // The Slam role, as a simulation would drive it: the recording's messages on a bus, in the order
+  // they were received, the role subscribed to the streams the run listens to (scans for a planar
+  // method, clouds for a 3D one).
+  SensorBus bus(SensorBus::Order::Receipt);
+  const auto timed = [&times](auto call) {
+    return [&times, call](const auto& message) {
+      const WallTimer timer(times.slam_wall_s);
+      call(message);
+    };
   };
+  bus.subscribe<OdometryMessage>(streams.odometry, timed([&slam](const OdometryMessage& m) { slam.on_odometry(m); }));
+  if (slam.space() == SlamSpace::Planar)
+    bus.subscribe<ScanMessage>(streams.scan, timed([&slam](const ScanMessage& m) { slam.on_scan(m); }));
+  else
+    bus.subscribe<CloudMessage>(streams.cloud, timed([&slam](const CloudMessage& m) { slam.on_cloud(m); }));
+  bus.subscribe<ImuMessage>(streams.imu, timed([&slam](const ImuMessage& m) { slam.on_imu(m); }));
   const std::size_t total = source.readings();
   const double cpu0 = thread_cpu_s();
   const auto wall0 = std::chrono::steady_clock::now();
   if (progress) progress(0, total);
-  source.play(deliver, [&](std::size_t done) {
+  play_onto_bus(source, bus, [&](std::size_t done) {
     if (progress && (done % 100 == 0 || done == total)) progress(done, total);
   });
   try {

@@ -31,4 +31,12 @@ ImuModel::ImuReading ImuModel::sample(double t_s, double true_yaw_rate, double d
   return {t_s, rate, wrap_angle(yaw)};
 }
 
+ImuMessage imu_message(const ImuModel::ImuReading& reading, const std::string& stream) {
+  ImuMessage m;
+  m.header = {reading.t_s, stream};
+  m.angular_velocity_radps = Vec3(0.0, 0.0, reading.yaw_rate_radps);
+  m.yaw_rad = reading.yaw_rad;
+  return m;
+}
+
 }  // namespace starnav

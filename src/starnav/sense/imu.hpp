@@ -7,7 +7,10 @@
 //   yaw_int += rate_meas * dt;   yaw = wrap(yaw_int + N(0, yaw_noise_sigma^2)).
 // Every draw comes from the model's own Rng: one normal per sample for the rate (when its sigma
 // is > 0), then one for the yaw (when its sigma is > 0).
+#include <string>
+
 #include "starnav/core/rng.hpp"
+#include "starnav/sense/sensor_messages.hpp"
 
 namespace starnav {
 
@@ -40,5 +43,9 @@ class ImuModel {
   Rng rng_;
   double yaw_ = 0.0;
 };
+
+// The reading as the unit's driver publishes it on `stream`: the measured rate about the sensor's z
+// (mounted level at the base's origin) and the integrated heading.
+ImuMessage imu_message(const ImuModel::ImuReading& reading, const std::string& stream);
 
 }  // namespace starnav

@@ -14,6 +14,11 @@
 // A message published while another is being delivered joins the queue: when stamped no later
 // than the bound of the running deliver_until it is delivered in the same call, after the ones
 // already queued for its time.
+//
+// Two orders. A simulation publishes in time order and its bus (Order::Time) refuses the past. A
+// recording is played in the order its messages were received (Order::Receipt), as a robot's
+// middleware delivers them: a log whose stamps go backwards now and then (a driver's clock stepping
+// back) is played as recorded, each message after the ones published before it, whatever its stamp.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -34,6 +39,9 @@ const SensorHeader& header_of(const SensorMessage& message);
 
 class SensorBus {
  public:
+  enum class Order : std::uint8_t { Time, Receipt };
+  explicit SensorBus(Order order = Order::Time) : queue_(Later{order == Order::Receipt}), order_(order) {}
+
   template <class M>
   using Handler = std::function<void(const M&)>;
 
@@ -46,14 +54,17 @@ class SensorBus {
                             [h = std::move(handler)](const SensorMessage& m) { h(std::get<M>(m)); }});
   }
 
-  // Queues `message` (Error when its time is not finite or lies before a message already delivered:
-  // the past cannot change).
+  // Queues `message`. Error when its time is not finite or, in time order, lies before a message
+  // already delivered: the past cannot change.
   void publish(SensorMessage message);
-  // Delivers every queued message stamped at or before `t`, in time order, ties in publication order.
+  // Time order: delivers every queued message stamped at or before `t`, in time order, ties in
+  // publication order. Receipt order: the queued messages in publication order up to the first
+  // stamped after `t`.
   void deliver_until(double t);
   // Delivers everything queued (and whatever that publishes).
   void deliver_all();
 
+  Order order() const { return order_; }
   std::size_t queued() const { return queue_.size(); }
   double last_delivered_t() const { return last_t_; }
   std::uint64_t delivered() const { return delivered_; }
@@ -75,14 +86,17 @@ class SensorBus {
     SensorMessage message;
   };
   struct Later {
+    bool receipt = false;
     bool operator()(const Queued& a, const Queued& b) const {
-      return a.t != b.t ? a.t > b.t : a.sequence > b.sequence;
+      if (receipt || a.t == b.t) return a.sequence > b.sequence;
+      return a.t > b.t;
     }
   };
   void deliver(const SensorMessage& m);
 
   std::vector<Subscriber> subscribers_;
   std::priority_queue<Queued, std::vector<Queued>, Later> queue_;
+  Order order_;
   std::uint64_t sequence_ = 0;
   std::uint64_t delivered_ = 0;
   double last_t_ = -1e300;
