@@ -90,9 +90,20 @@ TEST(RobotLogSource, ScansInFileOrderEvenWhenStampsGoBackAndWithoutOdometryAlone
   EXPECT_EQ(std::get<ScanMessage>(m[3]).ranges_m.size(), 1u);
   // Each reading counted once its messages were given.
   EXPECT_EQ(at, (std::vector<std::size_t>{2, 3, 4}));
-  // Played onto a bus, which keeps time order, the stamp that goes back is refused.
-  SensorBus bus;
-  EXPECT_THROW(play_onto_bus(source, bus), Error);
+  // Played onto a bus in time order (a simulation's), the stamp that goes back is refused; onto
+  // one in receipt order (a recording's) it is delivered as received.
+  SensorBus timed;
+  EXPECT_THROW(play_onto_bus(source, timed), Error);
+  SensorBus received(SensorBus::Order::Receipt);
+  std::vector<double> scans;
+  received.subscribe<ScanMessage>("lidar", [&](const ScanMessage& s) { scans.push_back(s.header.t_s); });
+  std::vector<std::size_t> after;
+  play_onto_bus(source, received, [&](std::size_t k) {
+    after.push_back(k);
+    EXPECT_EQ(received.queued(), 0u);  // each reading delivered before it is counted
+  });
+  EXPECT_EQ(scans, (std::vector<double>{3.0, 1.0, std::get<ScanMessage>(m[3]).header.t_s}));
+  EXPECT_EQ(after, (std::vector<std::size_t>{1, 2, 3}));
 }
 
 TEST(RobotLogSource, AConsumersErrorNamesTheScansLine) {

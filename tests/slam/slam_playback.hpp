@@ -8,7 +8,7 @@
 namespace starnav::test {
 
 inline void play_log(Slam& slam, const RobotLog& log) {
-  SensorBus bus;
+  SensorBus bus(SensorBus::Order::Receipt);
   bus.subscribe<OdometryMessage>("odom", [&](const OdometryMessage& m) { slam.on_odometry(m); });
   bus.subscribe<ScanMessage>("lidar", [&](const ScanMessage& m) { slam.on_scan(m); });
   RobotLogSource source(log);

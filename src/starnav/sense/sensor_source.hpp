@@ -4,9 +4,9 @@
 // gives its messages to a sink reading by reading (a scan or a cloud, with the messages that
 // belong to it) in the recording's order, and calls back after each reading. That order is the
 // order of receipt, as rosbag play keeps it: a log whose stamps go backwards now and then (intel's
-// bag has 631 such scans) is played as it was recorded, so a sink that needs time order (a
-// SensorBus, which refuses the past) gets it from recordings in time order only
-// (play_onto_bus). The roles fed by a source cannot tell a recording from a simulation.
+// bag has 631 such scans) is played as it was recorded, onto a SensorBus in receipt order
+// (play_onto_bus), as a robot's middleware delivers it. The roles fed by a source cannot tell a
+// recording from a simulation.
 //
 // Odometry at a scan: before each scan or cloud a recording's source gives an OdometryMessage
 // stamped at the scan's time (the odom -> base pose at that instant, as the recording gives it or
@@ -39,8 +39,9 @@ class SensorSource {
   virtual void play(const SensorSink& sink, const std::function<void(std::size_t)>& published) = 0;
 };
 
-// Plays `source` onto `bus`, delivering everything after each reading (then `published(k)`). The
-// bus refuses a message stamped before one it has delivered: for recordings in time order.
+// Plays `source` onto `bus`, delivering everything after each reading (then `published(k)`). A bus
+// in time order refuses a message stamped before one it has delivered; one in receipt order
+// (SensorBus::Order::Receipt) plays any recording as received.
 void play_onto_bus(SensorSource& source, SensorBus& bus, const std::function<void(std::size_t)>& published = {});
 
 }  // namespace starnav
