@@ -371,6 +371,7 @@ TEST(MppiCritics, ObstaclesCostCollisionsCriticalGapsAndRepulsionExactly) {
   b.scene.pose = Pose2(0.5, 2.0, 0.0);
   b.scene.goal = Vec2(0.5, 3.8);
   b.scene.map = &window;
+  b.scene.prepare_map();
   b.scene.footprint = &checker;
   b.scene.inscribed_radius_m = fm.inscribed_radius_m();
   b.scene.circumscribed_radius_m = fm.bounding_radius_m();

@@ -420,6 +420,7 @@ ControlOutput MppiController::compute(const ControlInput& in) {
   s.model_dt_s = config_.model_dt_s;
   s.limits = limits;
   s.map = &map_;
+  s.prepare_map();
   s.footprint = &checker_;
   s.inscribed_radius_m = fm.inscribed_radius_m();
   s.circumscribed_radius_m = fm.bounding_radius_m();

@@ -46,10 +46,20 @@ std::size_t MppiScene::furthest_reached() const {
   return furthest;
 }
 
-float MppiScene::clearance_at(float x, float y) const {
-  const Cell c = map->cell_of(Vec2(x, y));
-  if (!map->contains(c.x, c.y)) return 0.0f;
-  return static_cast<float>(map->clearance_m(map->index(c.x, c.y)));
+void MppiScene::prepare_map() {
+  const GridGeometry& g = map->geometry();
+  origin_x_ = static_cast<float>(g.origin.x);
+  origin_y_ = static_cast<float>(g.origin.y);
+  cos_ = static_cast<float>(std::cos(g.origin.yaw));
+  sin_ = static_cast<float>(std::sin(g.origin.yaw));
+  inv_resolution_ = static_cast<float>(1.0 / g.resolution);
+  width_ = static_cast<float>(g.width);
+  height_ = static_cast<float>(g.height);
+  clearance_.resize(static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height));
+  for (std::size_t i = 0; i < clearance_.size(); ++i) {
+    const double d = map->clearance_m(i);
+    clearance_[i] = std::isfinite(d) ? static_cast<float>(d) : std::numeric_limits<float>::max();
+  }
 }
 
 void MppiCritic::add(const Eigen::ArrayXf& term, MppiCosts& costs) const {
@@ -118,7 +128,7 @@ void MppiPathAlignCritic::score(const MppiScene& s, MppiCosts& costs) const {
     std::size_t j = 0;
     for (Eigen::Index p = step - 1; p < steps; p += step) {
       const float x = t.x(k, p), y = t.y(k, p);
-      travelled += std::hypot(x - px, y - py);
+      travelled += std::sqrt((x - px) * (x - px) + (y - py) * (y - py));
       px = x;
       py = y;
       // The path point as far along the path (from the robot's place on it) as the pose is along
@@ -126,7 +136,8 @@ void MppiPathAlignCritic::score(const MppiScene& s, MppiCosts& costs) const {
       while (j < reached && along[j] < travelled) ++j;
       const std::size_t at = j > 0 && travelled - along[j - 1] < along[j] - travelled ? j - 1 : j;
       if (!s.path_free[at]) continue;  // an obstacle on the path there: the obstacle critic decides
-      summed += std::hypot(static_cast<float>(s.path[at].x()) - x, static_cast<float>(s.path[at].y()) - y);
+      const float ex = static_cast<float>(s.path[at].x()) - x, ey = static_cast<float>(s.path[at].y()) - y;
+      summed += std::sqrt(ex * ex + ey * ey);
       ++samples;
     }
     term(k) = samples > 0 ? summed / static_cast<float>(samples) : 0.0f;
@@ -188,24 +199,32 @@ void MppiObstaclesCritic::score(const MppiScene& s, MppiCosts& costs) const {
   const bool near_goal = s.distance_to_goal_m() < o_.near_goal_distance_m;
   const float r_in = static_cast<float>(s.inscribed_radius_m), margin = static_cast<float>(o_.collision_margin_distance_m);
   const float inflation = static_cast<float>(o_.inflation_radius_m);
+  Eigen::ArrayXf critical = Eigen::ArrayXf::Zero(n), repulsive = Eigen::ArrayXf::Zero(n);
+  std::vector<std::uint8_t> hit(static_cast<std::size_t>(n), 0);
+  // Step by step over the whole batch (each step's poses lie together in memory); a sample stops
+  // counting at its first collision.
+  for (Eigen::Index p = 0; p < steps; ++p) {
+    const float* xs = t.x.col(p).data();
+    const float* ys = t.y.col(p).data();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      if (hit[static_cast<std::size_t>(k)]) continue;
+      const float d = s.clearance_at(xs[k], ys[k]);
+      if (d >= inflation && d - r_in >= margin) continue;  // free space
+      if (collides(s, Pose2(xs[k], ys[k], t.yaw(k, p)), d)) {
+        hit[static_cast<std::size_t>(k)] = 1;
+        continue;
+      }
+      if (d - r_in < margin) critical(k) += margin - (d - r_in);
+      if (!near_goal && d < inflation) repulsive(k) += inflation - d;
+    }
+  }
   Eigen::ArrayXf term(n);
   bool all_collide = n > 0;
   for (Eigen::Index k = 0; k < n; ++k) {
-    float critical = 0.0f, repulsive = 0.0f;
-    bool hit = false;
-    for (Eigen::Index p = 0; p < steps && !hit; ++p) {
-      const float d = s.clearance_at(t.x(k, p), t.y(k, p));
-      if (d >= inflation && d - r_in >= margin) continue;  // free space
-      if (collides(s, Pose2(t.x(k, p), t.y(k, p), t.yaw(k, p)), d)) {
-        hit = true;
-        break;
-      }
-      if (d - r_in < margin) critical += margin - (d - r_in);
-      if (!near_goal && d < inflation) repulsive += inflation - d;
-    }
-    all_collide = all_collide && hit;
-    term(k) = static_cast<float>(o_.critical_weight) * (hit ? static_cast<float>(o_.collision_cost) : critical) +
-              static_cast<float>(o_.repulsion_weight) * repulsive / static_cast<float>(steps);
+    const bool h = hit[static_cast<std::size_t>(k)] != 0;
+    all_collide = all_collide && h;
+    term(k) = static_cast<float>(o_.critical_weight) * (h ? static_cast<float>(o_.collision_cost) : critical(k)) +
+              static_cast<float>(o_.repulsion_weight) * repulsive(k) / static_cast<float>(steps);
   }
   add(term, costs);
   costs.failed = costs.failed || all_collide;

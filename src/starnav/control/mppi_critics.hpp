@@ -73,10 +73,22 @@ struct MppiScene {
   // (Nav2's furthest reached path point); computed once per batch.
   std::size_t furthest_reached() const;
   // The clearance (m) at a world point: the distance from its cell's centre to the nearest
-  // obstacle cell's centre; 0 outside the window.
-  float clearance_at(float x, float y) const;
+  // obstacle cell's centre; 0 outside the window. Valid after prepare_map().
+  float clearance_at(float x, float y) const {
+    const float dx = x - origin_x_, dy = y - origin_y_;
+    const float gx = (cos_ * dx + sin_ * dy) * inv_resolution_, gy = (-sin_ * dx + cos_ * dy) * inv_resolution_;
+    // In the window (NaN fails both tests too).
+    if (!(gx >= 0.0f && gy >= 0.0f && gx < width_ && gy < height_)) return 0.0f;
+    return clearance_[static_cast<std::size_t>(gy) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(gx)];
+  }
+  // The window's clearances in single precision for clearance_at (once `map` is set).
+  void prepare_map();
 
   mutable std::optional<std::size_t> furthest_cache;
+
+ private:
+  std::vector<float> clearance_;
+  float origin_x_ = 0.0f, origin_y_ = 0.0f, cos_ = 1.0f, sin_ = 0.0f, inv_resolution_ = 1.0f, width_ = 0.0f, height_ = 0.0f;
 };
 
 // What a batch's critics produce.

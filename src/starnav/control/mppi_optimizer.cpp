@@ -20,15 +20,32 @@ namespace {
 // One axis: the speed bounds, then step by step the acceleration bounds from `v0` (a rising
 // magnitude limited by a_max, a falling one by -a_min, as Nav2's motion models).
 void limit_axis(Eigen::ArrayXXf& v, double lo, double hi, double v0, double a_max, double a_min, double dt) {
-  v = v.cwiseMax(static_cast<float>(lo)).cwiseMin(static_cast<float>(hi));
   const float up = static_cast<float>(a_max * dt), down = static_cast<float>(-a_min * dt);  // both >= 0
+  const float flo = static_cast<float>(lo), fhi = static_cast<float>(hi);
   const Eigen::Index n = v.rows();
-  Eigen::ArrayXf last = Eigen::ArrayXf::Constant(n, static_cast<float>(v0));
-  for (Eigen::Index t = 0; t < v.cols(); ++t) {
-    const Eigen::ArrayXf lower = (last > 0.0f).select(last - down, last - up);
-    const Eigen::ArrayXf upper = (last > 0.0f).select(last + up, last + down);
-    v.col(t) = v.col(t).cwiseMax(lower).cwiseMin(upper);
-    last = v.col(t);
+  // One pass per step over the batch, branch-free on distinct columns (the compiler vectorises
+  // it): the previous step's velocity is the column before, the current one's before step 0.
+  const auto step = [&](float* __restrict col, const float* __restrict prev, float first) {
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const float last = prev ? prev[k] : first;
+      const bool forward = last > 0.0f;
+      const float lower = last - (forward ? down : up), upper = last + (forward ? up : down);
+      const float x = std::min(std::max(col[k], flo), fhi);
+      col[k] = std::min(std::max(x, lower), upper);
+    }
+  };
+  if (v.cols() == 0) return;
+  step(v.col(0).data(), nullptr, static_cast<float>(v0));
+  for (Eigen::Index t = 1; t < v.cols(); ++t) {
+    float* __restrict col = v.col(t).data();
+    const float* __restrict prev = v.col(t - 1).data();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const float last = prev[k];
+      const float forward = static_cast<float>(last > 0.0f);  // 1 or 0, no branch
+      const float lower = last - up + forward * (up - down), upper = last + down + forward * (up - down);
+      const float x = std::min(std::max(col[k], flo), fhi);
+      col[k] = std::min(std::max(x, lower), upper);
+    }
   }
 }
 
