@@ -567,6 +567,27 @@ TEST(MppiController, AMecanumRobotReachesAGoalBesideItAndItsHeading) {
   EXPECT_GT(max_vy, 0.1);  // it translated sideways
 }
 
+TEST(MppiController, AnAckermannRobotTurnsNeverTighterThanItsRadius) {
+  const OccupancyGrid m = empty_map(8.0, 8.0);
+  RobotConfig car = mecanum();
+  car.drive = DriveKind::Ackermann;
+  MppiConfig config;
+  config.batch_size = 400;
+  config.vx_min_mps = 0.0;  // forward only
+  MppiController c(config, car, 2);
+  EXPECT_TRUE(c.wants_smoothed_path());
+  const double r_min = 2.0 * car.half_wheelbase_m / std::tan(car.max_steer_rad);
+  EXPECT_NEAR(c.limits().min_turning_r, r_min, 1e-12);
+  const Pose2 start(1.0, 1.0, 0.0);
+  const std::vector<Vec2> path{start.translation(), {3.5, 1.0}, {6.5, 4.0}};  // a 45 degree turn
+  const LoopResult r = drive(c, m, car, start, path, std::nullopt, 60.0);
+  ASSERT_EQ(r.status, ControlStatus::Arrived) << r.pose.x << " " << r.pose.y;
+  for (const BodyTwist& t : r.commands) {
+    EXPECT_EQ(t.vy, 0.0);
+    EXPECT_LE(std::abs(t.wz), std::abs(t.vx) / r_min * (1.0 + 1e-5) + 1e-6);
+  }
+}
+
 TEST(MppiController, ADifferentialRobotPassesADoorWithoutTouching) {
   OccupancyGrid m = empty_map(6.0, 4.0);
   fill_box(m, 2.95, 0.0, 3.05, 1.5);  // a wall at x = 3 with a 1 m door from y = 1.5 to 2.5

@@ -80,28 +80,28 @@ const ParamTable<MppiConfig>& mppi_params() {
     t.integer("diagnostics_samples", &C::diagnostics_samples, closed(0, 100000), "",
               "sampled trajectories kept in the diagnostics (evenly over the batch; with the chosen one)");
 
-    critic_params(t, "constraint", &C::constraint, "the speed beyond the limits", false);
-    critic_params(t, "goal", &C::goal, "the distance to the goal", true, "active within this distance of the goal");
-    critic_params(t, "goal_angle", &C::goal_angle, "the heading error to the goal's heading", true,
+    critic_params(t, "constraint", &C::constraint, "speed beyond the limits", false);
+    critic_params(t, "goal", &C::goal, "distance to the goal", true, "active within this distance of the goal");
+    critic_params(t, "goal_angle", &C::goal_angle, "heading error to the goal's heading", true,
                   "active within this distance of the goal");
-    critic_params(t, "path_align", &C::path_align, "the distance from the path", true, "off within this distance of the goal");
+    critic_params(t, "path_align", &C::path_align, "distance from the path", true, "off within this distance of the goal");
     t.integer("path_align.offset_from_furthest", [](C& c) -> int& { return c.path_align.offset_from_furthest; }, closed(0, 100000), "",
               "path points the batch must reach before the alignment counts");
     t.real("path_align.max_path_occupancy_ratio", &C::path_align_max_path_occupancy_ratio, closed(0.0, 1.0), "",
            "off when more of the path up to the furthest reached point is blocked");
     t.integer("path_align.trajectory_point_step", &C::path_align_trajectory_point_step, closed(1, 1000), "",
               "every this many poses of a trajectory are compared with the path");
-    critic_params(t, "path_follow", &C::path_follow, "the distance to a path point ahead", true, "off within this distance of the goal");
+    critic_params(t, "path_follow", &C::path_follow, "distance to a path point ahead", true, "off within this distance of the goal");
     t.integer("path_follow.offset_from_furthest", [](C& c) -> int& { return c.path_follow.offset_from_furthest; }, closed(0, 100000),
               "", "path points beyond the furthest reached one to drive to");
-    critic_params(t, "path_angle", &C::path_angle, "the heading error to a path point ahead", true, "off within this distance of the goal");
+    critic_params(t, "path_angle", &C::path_angle, "heading error to a path point ahead", true, "off within this distance of the goal");
     t.integer("path_angle.offset_from_furthest", [](C& c) -> int& { return c.path_angle.offset_from_furthest; }, closed(0, 100000), "",
               "path points beyond the furthest reached one to turn toward");
     t.real("path_angle.max_angle_to_furthest_deg", &C::path_angle_max_angle_to_furthest_rad, closed(0.0, 180.0), "deg",
            "active when the robot's heading is off the direction to that point by more", deg);
     t.integer("path_angle.mode", &C::path_angle_mode, closed(0, 1), "", "0: prefer driving forward; 1: either direction");
     critic_params(t, "prefer_forward", &C::prefer_forward, "reverse motion", true, "off within this distance of the goal");
-    critic_params(t, "twirling", &C::twirling, "the yaw rate (for holonomic robots)", false);
+    critic_params(t, "twirling", &C::twirling, "yaw rate (for holonomic robots)", false);
     t.real("obstacles.critical_weight", [](C& c) -> double& { return c.obstacles.critical_weight; }, non_negative(), "",
            "weight of the collisions and of the gap within collision_margin_distance_m");
     t.real("obstacles.repulsion_weight", [](C& c) -> double& { return c.obstacles.repulsion_weight; }, non_negative(), "",

@@ -60,7 +60,7 @@ struct MppiConfig {
   int path_align_trajectory_point_step = 4;
   MppiCriticConfig path_follow{5.0, 1, 1.4, 6};
   MppiCriticConfig path_angle{2.2, 1, 0.5, 20};
-  double path_angle_max_angle_to_furthest_rad = 0.785398;
+  double path_angle_max_angle_to_furthest_rad = 0.7853981633974483;  // Nav2's 0.785398: pi / 4
   int path_angle_mode = 0;
   MppiCriticConfig prefer_forward{5.0, 1, 0.5, 0};
   MppiCriticConfig twirling{10.0, 1, 0.0, 0};
@@ -82,6 +82,8 @@ class MppiController final : public LocalController {
   const std::vector<Vec2>& path() const override { return path_; }
   ControlOutput compute(const ControlInput& input) override;
   double control_period_s() const override { return config_.control_period_s; }
+  // A car cannot turn on the spot: it follows line-of-sight paths, not grid corners.
+  bool wants_smoothed_path() const override { return model_ == MppiMotionModel::Ackermann; }
   void keep_diagnostics(bool on) override { keep_ = on; }
   std::optional<ControlDiagnostics> diagnostics() const override;
 
