@@ -10,31 +10,12 @@
 #include <vector>
 
 #include "starnav/control/mppi_controller.hpp"
-#include "starnav/core/rng.hpp"
+#include "bench_support.hpp"
 
 namespace bench_mppi {
 
 using namespace starnav;
 
-// A 12 m x 12 m room at 0.05 m with random boxes (200: cluttered; 0: open), a 1 m lane kept clear
-// along the path (as the DWA's benchmark).
-OccupancyGrid room(std::uint64_t seed, int boxes) {
-  GridGeometry g;
-  g.resolution = 0.05;
-  g.width = 240;
-  g.height = 240;
-  OccupancyGrid grid(g, kFreeOccupancy);
-  Rng rng(seed);
-  for (int k = 0; k < boxes; ++k) {
-    const int x0 = static_cast<int>(rng.uniform_int(0, 230)), y0 = static_cast<int>(rng.uniform_int(0, 230));
-    const int w = static_cast<int>(rng.uniform_int(2, 12)), h = static_cast<int>(rng.uniform_int(2, 12));
-    for (int iy = y0; iy < y0 + h; ++iy)
-      for (int ix = x0; ix < x0 + w; ++ix) grid(ix, iy) = kOccupiedOccupancy;
-  }
-  for (int iy = 110; iy < 130; ++iy)
-    for (int ix = 90; ix < 200; ++ix) grid(ix, iy) = kFreeOccupancy;
-  return grid;
-}
 
 void BM_MppiStep(benchmark::State& state) {
   const bool omni = state.range(0) != 0;
@@ -45,7 +26,7 @@ void BM_MppiStep(benchmark::State& state) {
   robot.actuator_lag_s = 0.0;
   if (!omni) robot.drive = DriveKind::Differential;
   MppiController mppi(c, robot, 1);
-  const OccupancyGrid map = room(7, boxes);
+  const OccupancyGrid map = bench::cluttered_room(7, boxes);
   const std::vector<Vec2> path{{5.0, 6.0}, {7.0, 6.0}, {9.5, 6.5}};
   mppi.set_path(path);
   ControlInput in;
