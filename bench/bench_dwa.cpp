@@ -10,31 +10,12 @@
 #include <vector>
 
 #include "starnav/control/dwa_controller.hpp"
-#include "starnav/core/rng.hpp"
+#include "bench_support.hpp"
 
 namespace bench_dwa {
 
 using namespace starnav;
 
-// A 12 m x 12 m room at 0.05 m with random boxes (200: cluttered; 0: open), a 1 m lane kept clear
-// along the path.
-OccupancyGrid cluttered_room(std::uint64_t seed, int boxes) {
-  GridGeometry g;
-  g.resolution = 0.05;
-  g.width = 240;
-  g.height = 240;
-  OccupancyGrid grid(g, kFreeOccupancy);
-  Rng rng(seed);
-  for (int k = 0; k < boxes; ++k) {
-    const int x0 = static_cast<int>(rng.uniform_int(0, 230)), y0 = static_cast<int>(rng.uniform_int(0, 230));
-    const int w = static_cast<int>(rng.uniform_int(2, 12)), h = static_cast<int>(rng.uniform_int(2, 12));
-    for (int iy = y0; iy < y0 + h; ++iy)
-      for (int ix = x0; ix < x0 + w; ++ix) grid(ix, iy) = kOccupiedOccupancy;
-  }
-  for (int iy = 110; iy < 130; ++iy)
-    for (int ix = 90; ix < 200; ++ix) grid(ix, iy) = kFreeOccupancy;
-  return grid;
-}
 
 void BM_DwaStep(benchmark::State& state) {
   const bool circle = state.range(0) != 0;
@@ -49,7 +30,7 @@ void BM_DwaStep(benchmark::State& state) {
   RobotConfig robot;  // the Mecanum robot: 0.55 m x 0.50 m
   robot.actuator_lag_s = 0.0;
   DwaController dwa(c, robot);
-  const OccupancyGrid map = cluttered_room(7, boxes);
+  const OccupancyGrid map = bench::cluttered_room(7, boxes);
   const std::vector<Vec2> path{{5.0, 6.0}, {7.0, 6.0}, {9.5, 6.5}};
   dwa.set_path(path);
   ControlInput in;

@@ -20,27 +20,14 @@
 #include "starnav/core/record_format.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/registry/components.hpp"
+#include "support/box_world.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
 namespace {
 
-OccupancyGrid empty_map(double w_m, double h_m, double res = 0.05) {
-  GridGeometry g;
-  g.resolution = res;
-  g.width = static_cast<int>(std::lround(w_m / res));
-  g.height = static_cast<int>(std::lround(h_m / res));
-  return OccupancyGrid(g, kFreeOccupancy);
-}
-
-void fill_box(OccupancyGrid& m, double x0, double y0, double x1, double y1) {
-  const GridGeometry& g = m.geometry();
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      const Vec2 c = g.cell_center(x, y);
-      if (c.x() >= x0 && c.x() <= x1 && c.y() >= y0 && c.y() <= y1) m(x, y) = kOccupiedOccupancy;
-    }
-}
+using test::empty_map;
+using test::fill_box;
 
 RobotConfig mecanum() {
   RobotConfig r;

@@ -101,6 +101,42 @@ TEST(Nav2Params, TheShippedFileLeavesNoAmclInflationOrControllerKeyUnaccountedFo
   EXPECT_NE(by_name(ekf.ignored).at("amcl.alpha1")->note.find("ekf, not amcl"), std::string::npos);
 }
 
+// With the scenario's controller mppi, the shipped file's MPPI keys map onto it by its declared
+// keys (critics' namespaces in snake_case, units' suffixes, radians to degrees), every key mapped
+// or ignored with a reason.
+TEST(Nav2Params, TheShippedMppiKeysMapOntoTheMppiController) {
+  const std::string file = test::test_data("nav2/nav2_params.yaml");
+  const YAML::Node root = YAML::LoadFile(file);
+  std::set<std::string> controller;
+  leaves(root["controller_server"]["ros__parameters"], "controller_server", controller);
+  const Nav2Params p = read_nav2_params(file, scenario("amcl", "mppi"));
+  const auto mapped = by_name(p.mapped), ignored = by_name(p.ignored);
+  for (const std::string& k : controller) {
+    EXPECT_TRUE((mapped.count(k) > 0) != (ignored.count(k) > 0)) << k;
+    if (ignored.count(k)) {
+      EXPECT_FALSE(ignored.at(k)->note.empty()) << k;
+    }
+  }
+  const auto to = [&](const std::string& k) { return mapped.at("controller_server.FollowPath." + k)->starnav; };
+  const auto value = [&](const std::string& k) { return std::stod(mapped.at("controller_server.FollowPath." + k)->converted); };
+  EXPECT_EQ(to("vx_max"), "navigation.mppi.vx_max_mps");
+  EXPECT_EQ(to("batch_size"), "navigation.mppi.batch_size");
+  EXPECT_EQ(to("wz_std"), "navigation.mppi.wz_std_degps");
+  EXPECT_NEAR(value("wz_std"), rad_to_deg(0.4), 1e-9);
+  EXPECT_EQ(to("GoalCritic.threshold_to_consider"), "navigation.mppi.goal.threshold_to_consider_m");
+  EXPECT_EQ(to("PathAngleCritic.max_angle_to_furthest"), "navigation.mppi.path_angle.max_angle_to_furthest_deg");
+  EXPECT_NEAR(value("PathAngleCritic.max_angle_to_furthest"), rad_to_deg(1.0), 1e-9);
+  EXPECT_EQ(to("PathAlignCritic.cost_weight"), "navigation.mppi.path_align.cost_weight");
+  EXPECT_EQ(to("TrajectoryValidator.collision_lookahead_time"), "navigation.mppi.trajectory_validator.collision_lookahead_time_s");
+  EXPECT_EQ(mapped.at("controller_server.FollowPath.motion_model")->converted, "diff_drive");
+  EXPECT_EQ(mapped.at("controller_server.FollowPath.critics")->converted,
+            "[constraint, obstacles, goal, goal_angle, path_align, path_follow, path_angle, prefer_forward]");
+  EXPECT_NEAR(std::stod(mapped.at("controller_server.controller_frequency")->converted), 0.05, 1e-15);
+  EXPECT_NE(ignored.at("controller_server.FollowPath.CostCritic.critical_cost")->note.find("obstacles"), std::string::npos);
+  // Every mapped value is one the controller takes: the settings build it.
+  EXPECT_FALSE(p.settings().empty());
+}
+
 TEST(Nav2Params, EachConversionOnAHandWrittenFile) {
   const test::ScratchDir dir;
   const std::string file = dir.file("dwb.yaml");

@@ -16,6 +16,25 @@ struct Box {
   double x0, y0, x1, y1;  // world, axis-aligned
 };
 
+// A free grid of w_m x h_m at `res` (cell (0, 0) at the origin): the local controllers' tests.
+inline OccupancyGrid empty_map(double w_m, double h_m, double res = 0.05) {
+  GridGeometry g;
+  g.resolution = res;
+  g.width = static_cast<int>(std::lround(w_m / res));
+  g.height = static_cast<int>(std::lround(h_m / res));
+  return OccupancyGrid(g, kFreeOccupancy);
+}
+
+// The cells of `m` whose centres lie in [x0, x1] x [y0, y1] (edges included) occupied.
+inline void fill_box(OccupancyGrid& m, double x0, double y0, double x1, double y1) {
+  const GridGeometry& g = m.geometry();
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const Vec2 c = g.cell_center(x, y);
+      if (c.x() >= x0 && c.x() <= x1 && c.y() >= y0 && c.y() <= y1) m(x, y) = kOccupiedOccupancy;
+    }
+}
+
 // The cells of `geometry` whose centres lie inside a box are occupied, the rest free.
 inline OccupancyGrid rasterise_boxes(const GridGeometry& geometry, const std::vector<Box>& boxes) {
   OccupancyGrid grid(geometry, kFreeOccupancy);

@@ -124,11 +124,13 @@ class LocalController {
   virtual std::optional<ControlDiagnostics> diagnostics() const { return std::nullopt; }
 };
 
-// What a controller is built from: the robot, and the scenario file its settings came from.
+// What a controller is built from: the robot, the scenario file its settings came from, and the
+// scenario's seed (a sampling controller's draws come from it).
 struct LocalControllerContext {
   RobotConfig robot;
   std::string file;
   double map_resolution_m = 0.0;  // of the map it will read (0: not known yet): bounds its windows in cells
+  std::uint64_t seed = 0;
 };
 using LocalControllerDef = ComponentDef<LocalController, LocalControllerContext>;
 

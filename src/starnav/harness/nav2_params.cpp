@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -52,6 +53,12 @@ void flatten(const YAML::Node& n, const std::string& prefix, std::vector<Leaf>& 
       std::string text;
       if (v.IsScalar()) {
         text = v.Scalar();
+      } else if (v.IsSequence() && std::all_of(v.begin(), v.end(), [](const YAML::Node& e) { return e.IsScalar(); })) {
+        // A list of names or numbers in full ("[a, b]"; MPPI's critics map from it).
+        text = "[";
+        for (std::size_t i = 0; i < v.size(); ++i) text += (i ? ", " : "") + v[i].Scalar();
+        text += "]";
+        if (text.size() > 4096) text = one_line(text, 80);
       } else if (v.IsSequence()) {
         std::ostringstream s;
         s << YAML::Dump(v);
@@ -187,6 +194,39 @@ std::optional<Rule> pursuit_rule(const std::string& nav2_key, const std::vector<
 constexpr std::string_view kNav2Amcl = "nav2_amcl::AmclNode";
 constexpr std::string_view kNav2Dwb = "dwb_core::DWBLocalPlanner";
 constexpr std::string_view kNav2Rpp = "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController";
+constexpr std::string_view kNav2Mppi = "nav2_mppi_controller::MPPIController";
+
+// A Nav2 MPPI name in starnav's spelling: CamelCase to snake_case, a critic's "Critic" dropped
+// (GoalCritic: goal; AckermannConstraints: ackermann_constraints; DiffDrive: diff_drive).
+std::string mppi_name(std::string name) {
+  if (name.size() > 6 && name.compare(name.size() - 6, 6, "Critic") == 0) name.resize(name.size() - 6);
+  std::string out;
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    if (c >= 'A' && c <= 'Z') {
+      if (i > 0 && name[i - 1] != '_') out += '_';
+      out += static_cast<char>(c - 'A' + 'a');
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// The names of a YAML list as flatten() wrote it ("[\"GoalCritic\", ...]" on one line).
+std::vector<std::string> list_names(const std::string& text) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (const char c : text + ",") {
+    if (c == ',' || c == '[' || c == ']') {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else if (c != ' ' && c != '"' && c != '\'' && c != '-' && c != '\n') {
+      cur += c;
+    }
+  }
+  return out;
+}
 
 class Mapper {
  public:
@@ -316,6 +356,9 @@ class Mapper {
       if (owner.empty()) {
         if (const auto dwb = controller_standing_for(kNav2Dwb); l.key == "controller_frequency" && dwb && target_.kind == Nav2Target::Kind::Scenario)
           map(node, l, "navigation." + *dwb + ".control_period_s", {"", 1.0, "Hz -> s", true});
+        else if (const auto mppi = controller_standing_for(kNav2Mppi);
+                 l.key == "controller_frequency" && mppi && target_.kind == Nav2Target::Kind::Scenario)
+          map(node, l, "navigation." + *mppi + ".control_period_s", {"", 1.0, "Hz -> s", true});
         else if (l.key == "controller_frequency")
           ignore(node, l, "the control period is the DWA's (navigation.dwa.control_period_s); the scenario's controller is " + target_.controller);
         else
@@ -347,7 +390,7 @@ class Mapper {
           map(node, l, "navigation." + rpp->section + "." + rule->starnav, *rule);
         }
       } else if (plugin.find("MPPI") != std::string::npos) {
-        ignore(node, l, "starnav has no MPPI controller");
+        mppi_key(node, l, rest, owner, leaves);
       } else if (plugin.find("GoalChecker") != std::string::npos) {
         if (rest == "xy_goal_tolerance") map(node, l, "navigation.goal_tolerance_m", {});
         else if (rest == "yaw_goal_tolerance") map(node, l, "navigation.goal_yaw_tolerance_deg", {"", kDeg, "rad -> deg"});
@@ -355,6 +398,60 @@ class Mapper {
       } else {
         ignore(node, l, "no starnav equivalent (" + (plugin.empty() ? std::string("no plugin") : printable(plugin, 60)) + ")");
       }
+    }
+  }
+
+  // One key of Nav2's MPPI controller: its own keys and its critics' (GoalCritic.cost_weight) under
+  // starnav's names (goal.cost_weight, with the unit's suffix); the critics' list with the ones
+  // disabled (X.enabled: false) left out; CostCritic stands as starnav's distance-based obstacles.
+  void mppi_key(const std::string& node, const Leaf& l, const std::string& rest, const std::string& owner, const std::vector<Leaf>& leaves) {
+    const auto mppi = controller_info_standing_for(kNav2Mppi);
+    if (!mppi) {
+      ignore(node, l, "the scenario's controller is " + target_.controller + ", not one that stands for Nav2's MPPI (mppi)");
+      return;
+    }
+    const std::string root = "navigation." + mppi->section + ".";
+    const std::size_t dot = rest.find('.');
+    const std::string space = dot == std::string::npos ? "" : rest.substr(0, dot), key = dot == std::string::npos ? rest : rest.substr(dot + 1);
+    if (rest == "critics") {
+      std::vector<std::string> names;
+      std::string dropped;
+      for (const std::string& n : list_names(l.value)) {
+        bool enabled = true;
+        for (const Leaf& e : leaves)
+          if (e.key == owner + "." + n + ".enabled" && (e.value == "false" || e.value == "False")) enabled = false;
+        std::string s = mppi_name(n);
+        if (s == "cost") s = "obstacles";
+        bool known = false;
+        for (const ParamSpec& spec : mppi->params)
+          if (spec.key == "critics") known = std::find(spec.choices.begin(), spec.choices.end(), s) != spec.choices.end();
+        if (!enabled || !known || std::find(names.begin(), names.end(), s) != names.end()) {
+          dropped += (dropped.empty() ? "" : ", ") + n + (!enabled ? " (disabled)" : (!known ? " (no such critic)" : " (twice)"));
+          continue;
+        }
+        names.push_back(s);
+      }
+      std::string value = "[";
+      for (std::size_t i = 0; i < names.size(); ++i) value += (i ? ", " : "") + names[i];
+      value += "]";
+      p_.mapped.push_back({node + "." + l.key, l.line, l.value, root + "critics", value,
+                           "CostCritic -> obstacles" + (dropped.empty() ? std::string() : "; left out: " + dropped)});
+      return;
+    }
+    if (key == "enabled") {
+      ignore(node, l, "applied to the critics' list (a disabled critic is left out of navigation." + mppi->section + ".critics)");
+    } else if (space == "CostCritic") {
+      ignore(node, l, "starnav's obstacles critic (distance-based: navigation." + mppi->section + ".obstacles.*) stands for the CostCritic");
+    } else if (rest == "motion_model") {
+      const std::string m = mppi_name(l.value);
+      if (m == "diff_drive" || m == "omni" || m == "ackermann") map_choice(node, l, root + "motion_model", m);
+      else ignore(node, l, "an unknown motion model");
+    } else if (const auto rule = pursuit_rule(space.empty() ? key : mppi_name(space) + "." + key, mppi->params)) {
+      map(node, l, root + rule->starnav, *rule);
+    } else {
+      ignore(node, l, is_plumbing(l.key) || space == "TrajectoryVisualizer" || key == "visualize" || key == "publish_optimal_trajectory"
+                          ? kPlumbing
+                          : "no equivalent in starnav's " + mppi->name);
     }
   }
 

@@ -420,7 +420,7 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
 }
 
 NavigatorParts make_navigator_parts(const NavigationComponents& components, const NavigatorConfig& config,
-                                    const RobotConfig& robot) {
+                                    const RobotConfig& robot, std::uint64_t seed) {
   // Errors of a component's own checks (its parameters, its name) point where it was chosen.
   const auto at_choice = [](const ComponentChoice& choice, auto&& build) {
     try {
@@ -441,7 +441,7 @@ NavigatorParts make_navigator_parts(const NavigationComponents& components, cons
   const ComponentChoice& c = components.controller;
   const LocalControllerDef& controller =
       at_choice(c, [&]() -> const LocalControllerDef& { return find_local_controller(c.name, c.field); });
-  parts.controller = controller.make({robot, c.file, config.geometry.resolution}, c.settings);
+  parts.controller = controller.make({robot, c.file, config.geometry.resolution, seed}, c.settings);
   parts.controller_capabilities = controller.info.capabilities;
   const ComponentChoice& g = components.goal_checker;
   parts.goal_checker = at_choice(g, [&] { return find_goal_checker(g.name, g.field).make({g.file}, g.settings); });
@@ -467,7 +467,7 @@ namespace {
 // goal's line.
 std::unique_ptr<Navigator> make_navigator(const ScenarioSpec& spec, const NavigatorConfig& config,
                                           const NavigationComponents& components) {
-  NavigatorParts parts = make_navigator_parts(components, config, spec.vehicle.robot);
+  NavigatorParts parts = make_navigator_parts(components, config, spec.vehicle.robot, spec.seed);
   const ScenarioGoal& first = spec.navigation->goals.front();
   // Every goal's heading must suit the controller, not only the first's (the first goal's is
   // checked by the navigator itself below).

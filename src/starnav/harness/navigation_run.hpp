@@ -99,9 +99,9 @@ NavigatorConfig navigator_config(const ScenarioSpec& spec, const WorldDescriptio
                                  NavigationComponents* components = nullptr);
 
 // The parts of `components` built from the registry for `robot`, the map's layers on `config`'s
-// grid (errors name where each name or setting was given).
+// grid (errors name where each name or setting was given); `seed` is the scenario's.
 NavigatorParts make_navigator_parts(const NavigationComponents& components, const NavigatorConfig& config,
-                                    const RobotConfig& robot);
+                                    const RobotConfig& robot, std::uint64_t seed = 0);
 
 // `scan` (taken at the true pose `truth`) with its world-framed points and sensor pose placed as
 // a robot that believes it is at `estimate` places them.

@@ -15,7 +15,8 @@ namespace starnav {
   X(path_follower_controller)    /* control/path_follower.cpp */ \
   X(straight_to_goal_controller) /* control/straight_to_goal.cpp */ \
   X(dwa_controller)              /* control/dwa_controller.cpp */ \
-  X(regulated_pure_pursuit_controller) /* control/regulated_pure_pursuit.cpp */
+  X(regulated_pure_pursuit_controller) /* control/regulated_pure_pursuit.cpp */ \
+  X(mppi_controller)             /* control/mppi_controller.cpp */
 
 #define STARNAV_LOCALIZERS(X) \
   X(ground_truth_localizer) /* estimate/ground_truth_localizer.cpp */ \
