@@ -133,8 +133,12 @@ void Rosbag2Sqlite::for_each_message(const std::function<bool(const Rosbag2Sqlit
                                      const std::function<void(const Rosbag2SqliteMessage&)>& visit) {
   std::map<std::int64_t, const Rosbag2SqliteTopic*> by_id;
   std::string ids;
-  for (const Rosbag2SqliteTopic& t : topics_)
-    if (wanted(t)) by_id[t.id] = &t, ids += (ids.empty() ? "" : ",") + std::to_string(t.id);
+  for (const Rosbag2SqliteTopic& t : topics_) {
+    if (!wanted(t)) continue;
+    by_id[t.id] = &t;
+    if (!ids.empty()) ids += ',';
+    ids += std::to_string(t.id);
+  }
   if (ids.empty()) return;
   Statement s(db_->db, "SELECT id, topic_id, timestamp, data FROM messages WHERE topic_id IN (" + ids + ") ORDER BY id", path_, "messages");
   while (s.step(db_->db)) {
