@@ -2,7 +2,7 @@
 
     python3 examples/python/controller_loop.py [OUT_DIR]
 
-A differential robot in a 8 m x 5 m room with two boxes, given as a dict. At every LiDAR scan
+A differential robot in a walled 8 m x 5 m room with two boxes, given as a dict. At every LiDAR scan
 (10 Hz) a small reactive controller written here reads the scan's ranges and angles and picks the
 body twist toward the next waypoint, turning away from anything nearer than 0.7 m ahead; the
 simulator holds that command in between (sim.command, sim.step). Draws the true track, the wheel
@@ -23,19 +23,20 @@ import numpy as np  # noqa: E402
 import starnav  # noqa: E402
 
 BOXES = [((3.0, 1.6), (0.6, 1.2)), ((5.5, 3.4), (0.6, 1.2))]
+WALLS = [((4.0, 0.05), (8.0, 0.1)), ((4.0, 4.95), (8.0, 0.1)), ((0.05, 2.5), (0.1, 5.0)), ((7.95, 2.5), (0.1, 5.0))]
 SCENARIO = {
     "name": "controller_loop",
     "world": {
         "terrain": {"generate": {"kind": "flat", "size_m": [8.0, 5.0], "resolution_m": 0.05}},
         "obstacles": [{"name": "box_%d" % i, "kind": "box", "position_m": list(c), "size_m": [s[0], s[1], 0.8]}
-                      for i, (c, s) in enumerate(BOXES)],
+                      for i, (c, s) in enumerate(BOXES + WALLS)],
     },
     "robot": {"drive": "differential", "body_length_m": 0.4, "body_width_m": 0.35,
               "start": {"x_m": 0.8, "y_m": 1.0, "yaw_deg": 0.0}},
     "sensors": {
         "lidar": {"preset": "hokuyo_utm30lx", "rate_hz": 10.0, "range_max_m": 10.0, "noise_sigma_m": 0.01,
                   "mount": {"x_m": 0.1, "y_m": 0.0, "z_m": 0.4}},
-        "encoders": {"rate_hz": 50.0, "ticks_per_rev": 1024},
+        "encoders": {"rate_hz": 50.0, "ticks_per_rev": 1024, "slip_sigma": 0.05},
     },
     "sim": {"dt_s": 0.01, "duration_s": 60.0, "seed": 1},
 }
@@ -91,7 +92,7 @@ def main(out_dir):
         print("did not converge: waypoints left", controller.waypoints)
 
     fig, ax = plt.subplots(figsize=(8, 5.4))
-    for (cx, cy), (sx, sy) in BOXES:
+    for (cx, cy), (sx, sy) in BOXES + WALLS:
         ax.add_patch(plt.Rectangle((cx - sx / 2, cy - sy / 2), sx, sy, color="0.3"))
     # Every tenth scan's returns, placed with the true pose at its time (the sensor is 0.1 m ahead).
     for k in range(0, len(scans["t_s"]), 10):
