@@ -109,5 +109,6 @@ void bind_maps(py::module_& m);
 void bind_terrain(py::module_& m);
 void bind_planning(py::module_& m);
 void bind_cloud(py::module_& m);
+void bind_simulation(py::module_& m);
 
 }  // namespace starnav::python

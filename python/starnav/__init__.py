@@ -1,4 +1,5 @@
-"""starnav in Python: maps, planners and 3D registration of the starnav C++ library, numpy in and out.
+"""starnav in Python: maps, planners, the simulator and 3D registration of the starnav C++ library,
+numpy in and out.
 
     import starnav
     m = starnav.load_map("scenarios/maps/office.map")
@@ -20,6 +21,7 @@ for _variable, _path in (("STARNAV_GDAL_PLUGIN", _build_config.GDAL_PLUGIN), ("S
         _os.environ.setdefault(_variable, _path)
 
 from ._starnav import (  # noqa: E402
+    ControlInput,
     ElevationMap,
     FileError,
     InputError,
@@ -33,13 +35,15 @@ from ._starnav import (  # noqa: E402
     load_map,
     load_scenarios,
 )
-from . import cloud, matchers, planners, terrain  # noqa: E402
+from . import cloud, matchers, planners, simulation, terrain  # noqa: E402
 from .cloud import Registration, register  # noqa: E402
 from .planners import plan, plan_many  # noqa: E402
+from .simulation import Navigation, Simulation, navigate, scenario_document, scenario_yaml  # noqa: E402
 from ._generate import components  # noqa: E402
 
 __all__ = [
-    "ElevationMap", "FileError", "InputError", "MissingFileError", "OccupancyMap", "PlanBatch", "PlanResult",
-    "Registration", "TerrainAnalysis", "__version__", "build_info", "cloud", "components", "load_map",
-    "load_scenarios", "matchers", "plan", "plan_many", "planners", "register", "terrain",
+    "ControlInput", "ElevationMap", "FileError", "InputError", "MissingFileError", "Navigation", "OccupancyMap",
+    "PlanBatch", "PlanResult", "Registration", "Simulation", "TerrainAnalysis", "__version__", "build_info", "cloud",
+    "components", "load_map", "load_scenarios", "matchers", "navigate", "plan", "plan_many", "planners", "register",
+    "scenario_document", "scenario_yaml", "simulation", "terrain",
 ]

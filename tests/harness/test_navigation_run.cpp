@@ -2,10 +2,13 @@
 // and E4 reach the goal without a collision; at every plan of a D* Lite run its cost equals an A*
 // search run here on the same map; E4 leaves its dead end; an enclosed goal ends the run with
 // no_path before the timeout; same seed, same bytes; the navigation section's errors name the
-// file, line and field.
+// file, line and field; a controller given in the options drives instead of the named one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "starnav/core/error.hpp"
@@ -114,6 +117,77 @@ navigation:
       for (const NavPlan& p : run.navigator().plans()) EXPECT_LE(p.points.size(), 4u) << "plan " << p.id;
     }
   }
+}
+
+// A controller handed in by whoever runs the scenario (what the Python bindings do): straight at
+// the goal, counting its calls.
+class GivenController final : public LocalController {
+ public:
+  explicit GivenController(int* calls) : calls_(calls) {}
+  std::string_view name() const override { return "given"; }
+  void set_path(std::span<const Vec2> points) override { path_.assign(points.begin(), points.end()); }
+  void clear() override { path_.clear(); }
+  bool has_path() const override { return !path_.empty(); }
+  const std::vector<Vec2>& path() const override { return path_; }
+  double control_period_s() const override { return 0.1; }
+  ControlOutput compute(const ControlInput& in) override {
+    ++*calls_;
+    const Vec2 to = in.goal - in.pose.translation();
+    const double bearing = std::atan2(std::sin(std::atan2(to.y(), to.x()) - in.pose.yaw), std::cos(std::atan2(to.y(), to.x()) - in.pose.yaw));
+    return {{std::abs(bearing) < 0.3 ? 0.3 : 0.0, 0.0, std::clamp(2.0 * bearing, -1.0, 1.0)}, ControlStatus::Tracking};
+  }
+
+ private:
+  int* calls_;
+  std::vector<Vec2> path_;
+};
+
+TEST(NavigationRun, AControllerGivenInTheOptionsDrivesInsteadOfTheNamedOne) {
+  const char* yaml = R"(
+name: given
+world:
+  terrain:
+    generate: {kind: flat, size_m: [6.0, 4.0], resolution_m: 0.05}
+robot:
+  drive: differential
+  start: {x_m: 1.0, y_m: 2.0, yaw_deg: 0.0}
+sensors:
+  lidar: {}
+sim: {dt_s: 0.02, duration_s: 30.0, seed: 1}
+navigation:
+  goal: {x_m: 4.0, y_m: 3.0}
+)";
+  int calls = 0;
+  NavigationOptions o;
+  o.record_steps = false;
+  o.make_controller = [&calls](const LocalControllerContext& ctx) -> std::unique_ptr<LocalController> {
+    EXPECT_EQ(ctx.file, "given.yaml");
+    EXPECT_EQ(ctx.map_resolution_m, 0.1);
+    return std::make_unique<GivenController>(&calls);
+  };
+  NavigationRun run(parse_scenario(yaml, "given.yaml"), o);
+  EXPECT_EQ(run.navigator().controller().name(), "given");
+  run.run();
+  const NavigationMetrics m = run.metrics();
+  EXPECT_TRUE(m.success) << m.outcome;
+  EXPECT_EQ(m.controller, "given");
+  // Asked once per its control period (0.1 s: every fifth step) while it navigated.
+  const double steps = m.duration_s / 0.02;
+  EXPECT_GT(calls, 20);
+  EXPECT_NEAR(calls, steps / 5.0, 2.0);
+  // A goal heading needs a controller that declares it can turn to one.
+  const std::string with_heading = std::string(yaml).replace(std::string(yaml).find("y_m: 3.0}"), 9, "y_m: 3.0, yaw_deg: 90.0}");
+  try {
+    NavigationRun refused(parse_scenario(with_heading, "given.yaml"), o);
+    FAIL() << "a goal heading was accepted for a controller that cannot turn to one";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.file(), "given.yaml") << e.what();
+    EXPECT_GT(e.line(), 0) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the given controller cannot turn to a goal heading"), std::string::npos) << e.what();
+  }
+  o.controller_capabilities = Capabilities{Capability::GoalHeading};
+  NavigationRun accepted(parse_scenario(with_heading, "given.yaml"), o);
+  EXPECT_EQ(accepted.navigator().controller().name(), "given");
 }
 
 const char* kEnclosedGoal = R"(

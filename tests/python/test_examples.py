@@ -14,7 +14,7 @@ EXAMPLES = sorted(f for f in os.listdir(source("examples", "python")) if f.endsw
 
 
 def test_every_example_is_here():
-    assert EXAMPLES == ["plan_ros_map.py", "register_clouds.py", "rough_terrain.py"]
+    assert EXAMPLES == ["controller_loop.py", "plan_ros_map.py", "register_clouds.py", "rough_terrain.py"]
 
 
 @pytest.mark.parametrize("name", EXAMPLES)

@@ -466,15 +466,22 @@ namespace {
 // The navigator of a scenario with its parts from the registry; errors about a goal name the
 // goal's line.
 std::unique_ptr<Navigator> make_navigator(const ScenarioSpec& spec, const NavigatorConfig& config,
-                                          const NavigationComponents& components) {
+                                          const NavigationComponents& components, const NavigationOptions& options = {}) {
   NavigatorParts parts = make_navigator_parts(components, config, spec.vehicle.robot, spec.seed);
+  std::string controller_name = components.controller.name;
+  if (options.make_controller) {
+    parts.controller = options.make_controller({spec.vehicle.robot, spec.file, config.geometry.resolution, spec.seed});
+    if (!parts.controller) throw Error("no controller was made", spec.file, 0, "navigation.controller");
+    parts.controller_capabilities = options.controller_capabilities;
+    controller_name = std::string(parts.controller->name());
+  }
   const ScenarioGoal& first = spec.navigation->goals.front();
   // Every goal's heading must suit the controller, not only the first's (the first goal's is
   // checked by the navigator itself below).
   for (const ScenarioGoal& g : spec.navigation->goals) {
     if (&g == &first || !g.yaw_rad) continue;
     if (!parts.controller_capabilities.has(Capability::GoalHeading))
-      throw Error("the " + components.controller.name + " controller cannot turn to a goal heading (give the goal without yaw_deg)",
+      throw Error("the " + controller_name + " controller cannot turn to a goal heading (give the goal without yaw_deg)",
                   spec.file, g.source.line, g.source.field + ".yaw_deg");
   }
   std::unique_ptr<Navigator> nav;
@@ -531,7 +538,7 @@ NavigationRun::NavigationRun(const ScenarioSpec& spec, const NavigationOptions& 
   const NavigatorConfig config = navigator_config(spec_, world, options_, &settings_, &components);
   localization_ = localization_config(spec_);
   sim_ = std::make_unique<Simulation>(spec_, world);
-  nav_ = make_navigator(spec_, config, components);
+  nav_ = make_navigator(spec_, config, components, options_);
   if (options_.record_steps) {
     const std::span<const std::int8_t> cells = nav_->map().occupancy().data();
     initial_occupancy_.assign(cells.begin(), cells.end());

@@ -42,6 +42,12 @@ struct NavigationOptions {
   // Keep the controller's first step at or after each time (its diagnostics and the map around it;
   // a controller that gives no diagnostics is refused).
   std::vector<double> controller_snapshot_times_s;
+  // A local controller given by whoever runs the scenario instead of the one navigation.controller
+  // names (a Python object through the bindings, a test's fake): made once from the robot, the
+  // scenario file and the map's resolution, with the capabilities it declares (GoalHeading: it can
+  // turn to a goal heading). The named controller's settings are still checked.
+  std::function<std::unique_ptr<LocalController>(const LocalControllerContext&)> make_controller;
+  Capabilities controller_capabilities;
 };
 
 // The most cells of a navigation map (2^24): each costs about kNavigationMapCellBytes (the layers,
