@@ -304,6 +304,14 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   }
 
   const PlanningLayers layers{&map_.occupancy(), nullptr};
+  // The poses for planners between poses (the others plan between the cells): the robot's own
+  // pose and the goal with its heading when it has one.
+  PlanQuery query;
+  query.start = start;
+  query.goal = goal_cell_;
+  query.start_pose = pose;
+  query.goal_pose = Pose2(goal_.x(), goal_.y(), goal_yaw_.value_or(0.0));
+  query.goal_heading = goal_yaw_.has_value();
   PlanResult r;
   if (incremental_) {
     const OccupancyGrid& occ = map_.occupancy();
@@ -311,7 +319,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
       c.occupancy = occ.at(c.cell.x, c.cell.y);
       pending_mark_[config_.geometry.index(c.cell.x, c.cell.y)] = 0;
     }
-    r = planner_->plan(layers, start, goal_cell_, pending_);
+    r = planner_->plan_poses(layers, query, pending_);
     pending_.clear();
     if (config_.compare_astar) {
       const PlanResult a = astar_from_scratch(map_.occupancy(), start, goal_cell_);
@@ -325,7 +333,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
       p.astar_backward_status = plan_status_reason(b.status);
     }
   } else {
-    r = planner_->plan(layers, start, goal_cell_, {});
+    r = planner_->plan_poses(layers, query, {});
   }
   p.status = plan_status_reason(r.status);
   p.expanded = r.expanded;
