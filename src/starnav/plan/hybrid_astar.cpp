@@ -131,6 +131,7 @@ void HybridAStarOptions::validate() const {
         "give both footprint_length_m and footprint_width_m (a rectangle), or neither (the circle of robot_radius_m)");
   check(collision_step_m >= 0.0 && finite(collision_step_m), "collision_step_m", "must be >= 0");
   check(path_step_m >= 0.0 && finite(path_step_m), "path_step_m", "must be >= 0");
+  check(heuristic_weight >= 1.0 && finite(heuristic_weight), "heuristic_weight", "must be >= 1");
   check(analytic_expansion_ratio > 0.0 && finite(analytic_expansion_ratio), "analytic_expansion_ratio", "must be > 0");
   check(analytic_expansion_max_length_m >= 0.0 && finite(analytic_expansion_max_length_m),
         "analytic_expansion_max_length_m", "must be >= 0");
@@ -187,6 +188,8 @@ const ParamTable<HybridAStarOptions>& hybrid_astar_params() {
     t.real("collision_step_m", &C::collision_step_m, non_negative(), "m",
            "footprint checks along every motion at most this far apart (0: half a cell)");
     t.real("path_step_m", &C::path_step_m, non_negative(), "m", "the returned poses at most this far apart (0: one cell)");
+    t.real("heuristic_weight", &C::heuristic_weight, ParamRange{1.0, kInfinity, false, false}, "",
+           "f = g + weight * h (1: admissible; above 1 weighted A*, faster, at most that factor above the optimum)");
     t.real("analytic_expansion_ratio", &C::analytic_expansion_ratio, positive(), "",
            "try the curve to the goal every max(1, h / (ratio * cell)) expansions");
     t.real("analytic_expansion_max_length_m", &C::analytic_expansion_max_length_m, non_negative(), "m",
@@ -437,6 +440,7 @@ struct HybridOpenEntry {
   std::int32_t node;
   bool operator>(const HybridOpenEntry& o) const {
     if (f != o.f) return f > o.f;
+    if (g != o.g) return g < o.g;  // ties: the deeper state first
     return seq > o.seq;
   }
 };
@@ -561,7 +565,8 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
   if (h0 == kHybridInf) return finish(PlanStatus::NoPath);  // the centre cannot reach the goal's cells
   nodes.push_back({start, 0.0, -1, kHybridNoMotion, false});
   index.emplace(key_of(start, inside), 0);
-  open.push({h0, 0.0, seq++, 0});
+  const double w = o.heuristic_weight;
+  open.push({w * h0, 0.0, seq++, 0});
   r.generated = 1;
 
   std::vector<HybridMotion> curve;
@@ -590,7 +595,7 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
     const HybridMotion* before = came_by != kHybridNoMotion ? &before_motion : nullptr;
 
     // Analytic expansion, more often near the goal (Nav2: every max(1, h / ratio) expansions, h in cells).
-    const double h = e.f - g;
+    const double h = (e.f - g) / w;
     const int every = std::max(1, static_cast<int>(std::floor(h / res / o.analytic_expansion_ratio)));
     if (++since_analytic >= every) {
       since_analytic = 0;
@@ -622,7 +627,7 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
       }
       const double hc = heuristic(child);
       if (hc == kHybridInf) continue;
-      open.push({g2 + hc, g2, seq++, cid});
+      open.push({g2 + w * hc, g2, seq++, cid});
       ++r.generated;
     }
   }
