@@ -189,7 +189,7 @@ const ParamTable<HybridAStarOptions>& hybrid_astar_params() {
            "footprint checks along every motion at most this far apart (0: half a cell)");
     t.real("path_step_m", &C::path_step_m, non_negative(), "m", "the returned poses at most this far apart (0: one cell)");
     t.real("heuristic_weight", &C::heuristic_weight, ParamRange{1.0, kInfinity, false, false}, "",
-           "f = g + weight * h (1: admissible; above 1 weighted A*, faster, at most that factor above the optimum)");
+           "f = g + weight * h (1: the heuristic stays admissible; above 1: weighted A*, faster, costlier paths)");
     t.real("analytic_expansion_ratio", &C::analytic_expansion_ratio, positive(), "",
            "try the curve to the goal every max(1, h / (ratio * cell)) expansions");
     t.real("analytic_expansion_max_length_m", &C::analytic_expansion_max_length_m, non_negative(), "m",

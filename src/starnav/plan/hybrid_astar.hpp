@@ -71,7 +71,7 @@ struct HybridAStarOptions {
   double collision_step_m = 0.0;  // spacing of the footprint checks along a motion; 0: half a cell
   double path_step_m = 0.0;       // spacing of the output samples; 0: one cell
   // f = g + heuristic_weight * h: 1 keeps the heuristic admissible; above 1 the search is
-  // weighted A* (faster, a path at most that factor above the lattice's optimum).
+  // weighted A* (much faster among obstacles, at some cost in path cost).
   double heuristic_weight = 1.0;
   double analytic_expansion_ratio = 3.5;
   double analytic_expansion_max_length_m = 3.0;  // 0: no limit
