@@ -55,7 +55,7 @@ struct Query {
 Query parking() {
   Query q{blank(20.0, 12.0), Pose2(4.0, 8.0, 0.0), Pose2(11.35, 1.5, kPi / 2), car()};
   fill(q.grid, 0.0, 0.0, 20.0, 0.2);
-  for (double x = 0.0; x < 20.0; x += 1.5) fill(q.grid, x, 0.0, x + 0.2, 2.6);
+  for (int k = 0; k * 1.5 < 20.0; ++k) fill(q.grid, k * 1.5, 0.0, k * 1.5 + 0.2, 2.6);
   return q;
 }
 

@@ -340,7 +340,8 @@ struct HybridAStar::Impl {
     corner_distance[at(bi, bj)] = 0.0;
     open.emplace(0.0, static_cast<std::int64_t>(at(bi, bj)));
     while (!open.empty()) {
-      const auto [d, k] = open.top();
+      const double d = open.top().first;
+      const std::int64_t k = open.top().second;
       open.pop();
       if (d > corner_distance[static_cast<std::size_t>(k)]) continue;
       const int i = static_cast<int>(k % w1), j = static_cast<int>(k / w1);
