@@ -126,6 +126,9 @@ Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, Na
   if (parts.planner_capabilities.has(Capability::NeedsElevation))
     throw Error("planner '" + std::string(planner_->name()) + "' plans on elevation maps; navigation plans on its occupancy map",
                 "", 0, "navigation.planner");
+  if (parts.planner_capabilities.has(Capability::NeedsHeadings) && !goal_yaw)
+    throw Error("planner '" + std::string(planner_->name()) + "' plans to a goal pose: give the goal's yaw_deg", "", 0,
+                "navigation.goal.yaw_deg");
   incremental_ = parts.planner_capabilities.has(Capability::Incremental);
   if (incremental_) pending_mark_.assign(config_.geometry.cell_count(), 0);
   motion_check_ = std::make_unique<FootprintMotionCheck>(footprint_, map_);
