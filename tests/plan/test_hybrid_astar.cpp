@@ -593,6 +593,17 @@ TEST(HybridAStar, TheRoleGivesPosesAndGridPlannersIgnoreThem) {
   EXPECT_TRUE(a.path_poses.empty());
 }
 
+// Navigation with a planner between poses needs the goal's heading: refused before the run, naming
+// the scenario's line and key.
+TEST(HybridAStar, NavigationRefusesAGoalWithoutHeading) {
+  test::ScratchDir dir;
+  const auto r = test::run_cli({"sim", test::scenario_path("e3_three_obstacles.yaml"), "--planner", "hybrid_astar", "--out",
+                                dir.file("run")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("e3_three_obstacles.yaml:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("navigation.goal.yaw_deg"), std::string::npos) << r.err;
+}
+
 TEST(HybridAStar, SamplesKeepEveryMotionsEnds) {
   std::vector<HybridMotion> ms(2);
   ms[0].start = Pose2(0, 0, 0);
