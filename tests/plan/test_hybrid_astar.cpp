@@ -473,6 +473,33 @@ TEST(HybridAStar, TheDiffModelTurnsOnTheSpot) {
   EXPECT_FALSE(car.plan(start, goal).found());
 }
 
+// An omnidirectional base slides sideways up a corridor too narrow to turn in; nothing else can.
+TEST(HybridAStar, TheOmniModelSlidesSideways) {
+  OccupancyGrid grid = empty_grid(40, 60, 0.05);
+  block_rect(grid, 0.0, 0.0, 0.65, 3.0);  // the corridor: x in (0.65, 1.35), along y
+  block_rect(grid, 1.35, 0.0, 2.0, 3.0);
+  HybridAStarOptions o;
+  o.footprint_length_m = 0.64;  // across the corridor: too long to turn round (diagonal 0.71 m)
+  o.footprint_width_m = 0.3;
+  o.motion_model = HybridMotionModel::Omni;
+  o.max_iterations = 20000;
+  const Pose2 start(1.0, 0.6, 0.0), goal(1.0, 2.37, 0.0);
+  HybridAStar omni(grid, o);
+  const PlanResult r = omni.plan(start, goal);
+  ASSERT_TRUE(r.found()) << plan_status_reason(r.status);
+  EXPECT_NEAR(r.length, 1.77, 1e-9);
+  for (const Pose2& p : r.path_poses) {
+    EXPECT_NEAR(p.x, 1.0, 1e-9);
+    EXPECT_NEAR(p.yaw, 0.0, 1e-9);
+    EXPECT_FALSE(body_collides(grid, body_of(o), p));
+  }
+  for (const HybridMotionModel m : {HybridMotionModel::Diff, HybridMotionModel::ReedsShepp}) {
+    o.motion_model = m;
+    HybridAStar other(grid, o);
+    EXPECT_FALSE(other.plan(start, goal).found()) << hybrid_motion_model_name(m);
+  }
+}
+
 // ---- statuses, parameters, determinism, the role ---------------------------------------------------
 
 TEST(HybridAStar, StatusesOfImpossibleQueries) {

@@ -531,7 +531,8 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
       c = free_cost(out, before);
     }
     if (hybrid_turns_on_the_spot(o.motion_model)) {
-      // Turn towards the goal, drive straight to it, turn to its heading; the cheaper free one.
+      // Turn towards the goal, drive straight to it, turn to its heading (omni: also straight,
+      // sideways, turn); the cheapest free one.
       std::vector<HybridMotion> turn_drive_turn;
       Pose2 at = from;
       const double dist = std::hypot(goal.x - from.x, goal.y - from.y);
@@ -551,6 +552,29 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
         if (c2 < c) {
           c = c2;
           out = std::move(turn_drive_turn);
+        }
+      }
+      if (short_enough && o.motion_model == HybridMotionModel::Omni && dist > 1e-12) {
+        // Omni: straight along the heading, sideways, then turn to the goal's heading.
+        const double cy = std::cos(from.yaw), sy = std::sin(from.yaw);
+        const double along = cy * (goal.x - from.x) + sy * (goal.y - from.y);
+        const double across = -sy * (goal.x - from.x) + cy * (goal.y - from.y);
+        std::vector<HybridMotion> slide;
+        Pose2 p = from;
+        if (along != 0.0) {
+          slide.push_back({HybridMotion::Kind::Arc, p, 0.0, along});
+          p = slide.back().end();
+        }
+        if (across != 0.0) {
+          slide.push_back({HybridMotion::Kind::Sideways, p, 0.0, across});
+          p = slide.back().end();
+        }
+        const double turn = angle_diff(goal.yaw, p.yaw);
+        if (turn != 0.0) slide.push_back({HybridMotion::Kind::Rotate, p, 0.0, turn});
+        const double c3 = free_cost(slide, before);
+        if (c3 < c) {
+          c = c3;
+          out = std::move(slide);
         }
       }
     }
