@@ -6,6 +6,8 @@
 //                [--heuristic H] [--inflate R] [--inflate-cost-radius R2] [--inflate-cost SCALE]
 //                [--turn-cost K] [--turn-exact] [--adaptive-weight] [--smooth none|los|gradient]
 //                [--smooth-clearance M] [--start-heading-deg A]
+//   starnav plan --map FILE --planner hybrid_astar --start X,Y --start-yaw-deg A --goal X,Y
+//                --goal-yaw-deg B [--set KEY=VALUE ...] [--unknown free|blocked] [--json] [--out poses.csv]
 //
 // The second group are the features of Ou et al. 2022 (docs/papers/ou2022.md): all of them with
 // --planner astar and ou2022, hard inflation and smoothing with the others. The query runs as one
@@ -14,6 +16,9 @@
 // Coordinates are cells on MovingAI maps (x column, y row from the top, as in .scen files) and
 // metres in the map frame on metric maps (--cells: cell indices there too). Exit 0 when a path is
 // found, 1 when the query has no answer (outside the map, blocked, no path, limit), 2 bad input.
+//
+// A planner between poses (capability needs_headings: Hybrid-A*) takes the start and goal headings
+// and its declared parameters by --set; it reports poses with their driving direction.
 //
 // On an elevation map plan runs OA*, AOEA* or IA* of Liu et al. 2024 (cmd_plan_terrain.cpp, flags
 // --hy-m ... --unobserved); the occupancy planners and their flags (--weight ... --start-heading-deg)
@@ -71,6 +76,12 @@ struct PlanOptions {
   std::vector<std::string> occupancy_only;  // flags of the occupancy planners
   TerrainPlanFlags terrain;  // elevation maps (docs/terrain.md)
   CLI::Option* planner_opt = nullptr;
+  // Planners between poses: the headings (degrees, map frame) and the planner's parameters.
+  double start_yaw_deg = 0.0;
+  double goal_yaw_deg = 0.0;
+  CLI::Option* start_yaw_opt = nullptr;
+  CLI::Option* goal_yaw_opt = nullptr;
+  std::vector<std::string> sets;
 
   // The query flags given among `flags` (all when empty), as settings naming their flag.
   std::vector<ParamSetting> settings(const std::vector<std::string>& flags = {}) const {
@@ -110,6 +121,62 @@ void run_plan_elevation(const PlanOptions& o, const LoadedMap& loaded, Context& 
   run_plan_terrain(rq, ctx);
 }
 
+// The names of the planners between poses, for messages.
+std::string pose_planner_names() {
+  std::string names;
+  for (const GlobalPlannerDef& d : global_planners())
+    if (d.info.has(Capability::NeedsHeadings)) names += (names.empty() ? "" : ", ") + d.info.name;
+  return names;
+}
+
+// A planner between poses (Hybrid-A*) through its role, with its declared parameters from --set.
+void run_plan_poses(const PlanOptions& o, const LoadedMap& loaded, const GlobalPlannerDef& def, Context& ctx) {
+  for (const auto& [flag, q] : o.query)
+    if (q.option->count() > 0 && flag != "--unknown")
+      throw Error("applies to the grid planners, not to " + def.info.name + " (its parameters: --set KEY=VALUE)", {}, 0, flag);
+  if (!o.svg.empty()) throw Error("no picture of a path of poses yet", {}, 0, "--svg");
+  if (o.start_yaw_opt->count() == 0)
+    throw Error("'" + def.info.name + "' plans between poses: give the start heading", {}, 0, "--start-yaw-deg");
+  if (o.goal_yaw_opt->count() == 0)
+    throw Error("'" + def.info.name + "' plans between poses: give the goal heading", {}, 0, "--goal-yaw-deg");
+  if (!std::isfinite(o.start_yaw_deg)) throw Error("must be finite", {}, 0, "--start-yaw-deg");
+  if (!std::isfinite(o.goal_yaw_deg)) throw Error("must be finite", {}, 0, "--goal-yaw-deg");
+  const OccupancyGrid& grid = loaded.occupancy();
+  const GridGeometry& geometry = grid.geometry();
+  if (loaded.format == MapFormat::MovingAi || geometry.y_down)
+    throw Error("'" + def.info.name + "' plans on metric maps (map_server .yaml), in metres", o.map, 0, "--map");
+  GlobalPlannerContext pctx;
+  pctx.grid.thresholds = loaded.thresholds();
+  const QueryFlag& unknown = o.query.at("--unknown");
+  if (unknown.option->count() > 0) {
+    if (unknown.text != "free" && unknown.text != "blocked")
+      throw Error("must be free or blocked, got '" + printable(unknown.text, 40) + "'", {}, 0, "--unknown");
+    pctx.grid.unknown_is_free = unknown.text == "free";
+  }
+  const std::vector<ParamSetting> sets = parse_set_options(o.sets);
+  const std::unique_ptr<GlobalPlanner> planner = def.make(pctx, sets);
+  const auto endpoint = [&](const std::string& text, const std::string& flag) {
+    if (!o.cells) return parse_xy(text, flag);
+    const Cell c = parse_endpoint_cell(text, flag, true, geometry);
+    return geometry.cell_center(c);
+  };
+  PlanQuery q;
+  const Vec2 start = endpoint(o.start, "--start"), goal = endpoint(o.goal, "--goal");
+  q.start_pose = Pose2(start.x(), start.y(), deg_to_rad(o.start_yaw_deg));
+  q.goal_pose = Pose2(goal.x(), goal.y(), deg_to_rad(o.goal_yaw_deg));
+  q.start = geometry.world_to_cell_unchecked(start);
+  q.goal = geometry.world_to_cell_unchecked(goal);
+  const PlanResult r = planner->plan_poses(PlanningLayers{&grid, nullptr}, q, {});
+  if (!o.out.empty() && r.found()) write_text_file(o.out, pose_plan_csv(r), "--out");
+  if (o.json) {
+    std::cout << pose_plan_json(def.info.name, r);
+  } else {
+    std::cout << pose_plan_text(def.info.name, r);
+    if (!o.out.empty() && r.found()) std::cout << "wrote " << o.out << "\n";
+  }
+  ctx.exit_code = r.found() ? 0 : 1;
+}
+
 void run_plan(PlanOptions& o, Context& ctx) {
   if (!o.out.empty()) check_output_path(o.out, o.force, "--out");
   if (!o.svg.empty()) check_output_path(o.svg, o.force, "--svg");
@@ -125,6 +192,14 @@ void run_plan(PlanOptions& o, Context& ctx) {
   }
   if (const CLI::Option* f = o.terrain.first_given())
     throw Error("applies to elevation maps only (planners oa, aoea, ia)", {}, 0, f->get_name());
+  if (const GlobalPlannerDef& def = find_global_planner(o.planner, "--planner"); def.info.has(Capability::NeedsHeadings)) {
+    run_plan_poses(o, loaded, def, ctx);
+    return;
+  }
+  for (const CLI::Option* f : {o.start_yaw_opt, o.goal_yaw_opt})
+    if (f->count() > 0)
+      throw Error("applies to planners between poses (" + pose_planner_names() + ")", {}, 0, f->get_name());
+  if (!o.sets.empty()) throw Error("applies to planners between poses (" + pose_planner_names() + ")", {}, 0, "--set");
   // The registry says which map a planner needs and whether it takes a weight; an old spelling
   // works with a warning. The options are the library's declared query parameters.
   const OccupancyGrid& grid = loaded.occupancy();
@@ -241,6 +316,12 @@ void register_plan_commands(CLI::App& app, Context& ctx) {
   // Elevation maps (docs/terrain.md, cmd_plan_terrain.cpp): the Liu 2024 flags; the flags above that only
   // the occupancy planners use are refused there.
   add_terrain_plan_flags(plan, o->terrain);
+  // Planners between poses (Hybrid-A*, docs/planning.md).
+  o->start_yaw_opt = plan->add_option("--start-yaw-deg", o->start_yaw_deg,
+                                      "planners between poses (hybrid_astar): the start heading, degrees in the map frame");
+  o->goal_yaw_opt = plan->add_option("--goal-yaw-deg", o->goal_yaw_deg, "planners between poses: the goal heading");
+  plan->add_option("--set", o->sets, "planners between poses: one of the planner's parameters, KEY=VALUE (repeatable)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   for (const auto& [flag, q] : o->query)
     if (std::find(kCommonQueryFlags.begin(), kCommonQueryFlags.end(), flag) == kCommonQueryFlags.end())
       o->occupancy_only.push_back(flag);

@@ -2,10 +2,13 @@
 // maps, --out and --force.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
+#include "starnav/core/angle.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -200,6 +203,61 @@ TEST(CliPlan, SvgDrawsThePicture) {
   const std::string none = dir.file("none.svg");
   EXPECT_EQ(run_cli({"plan", "--map", map, "--start", "0,0", "--goal", "3,3", "--svg", none}).exit_code, 1);
   EXPECT_NE(test::read_text(none).find("<svg"), std::string::npos);
+}
+
+// A planner between poses: headings in degrees, its parameters by --set, poses and reversing flags
+// in the JSON; the pose flags are refused for the grid planners and the grid flags for it.
+TEST(CliPlan, HybridAStarPlansBetweenPoses) {
+  test::ScratchDir dir;
+  // 60 x 40 cells of 0.1 m, a wall in the middle from the bottom (x 2.9 .. 3.1 m, y 0 .. 2.5 m).
+  std::string pgm = "P2\n60 40\n255\n";
+  for (int row = 0; row < 40; ++row) {
+    const int iy = 39 - row;
+    for (int ix = 0; ix < 60; ++ix) pgm += (ix >= 29 && ix <= 30 && iy < 25) ? "0 " : "254 ";
+    pgm += "\n";
+  }
+  test::write_text(dir.file("m.pgm"), pgm);
+  test::write_text(dir.file("m.yaml"),
+                   "image: m.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
+                   "free_thresh: 0.196\n");
+  const std::vector<std::string> base = {"plan", "--map", dir.file("m.yaml"), "--planner", "hybrid_astar", "--start",
+                                         "1.0,1.0", "--start-yaw-deg", "90", "--goal", "5.0,1.0"};
+  auto args = base;
+  for (const char* a : {"--goal-yaw-deg", "-90", "--set", "minimum_turning_radius_m=0.8", "--json"}) args.push_back(a);
+  const auto r = run_cli(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = parse_json(r.out);
+  for (const char* key : {"planner", "found", "cost", "length", "units", "expanded", "generated", "cusps",
+                          "reverse_length", "path", "reversing", "path_cells", "time_ms"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["planner"], "hybrid_astar");
+  ASSERT_EQ(j["path"].size(), j["reversing"].size());
+  EXPECT_NEAR(j["path"].front()[2].get<double>(), kPi / 2, 1e-9);
+  EXPECT_NEAR(j["path"].back()[0].get<double>(), 5.0, 1e-6);
+  EXPECT_NEAR(j["path"].back()[2].get<double>(), -kPi / 2, 1e-6);
+  // Over the wall's top (2.5 m) with the default robot radius (0.25 m) to spare.
+  double top = 0.0;
+  for (const auto& p : j["path"]) top = std::max(top, p[1].get<double>());
+  EXPECT_GT(top, 2.75);
+  EXPECT_GT(j["length"].get<double>(), 2.0 * std::hypot(2.0, 1.75));
+  // Errors, each naming its flag.
+  const auto fails_naming = [&](std::vector<std::string> a, const std::string& flag) {
+    const auto e = run_cli(a);
+    EXPECT_EQ(e.exit_code, 2) << flag;
+    EXPECT_NE(e.err.find(flag), std::string::npos) << e.err;
+  };
+  fails_naming(base, "--goal-yaw-deg");
+  auto bad = args;
+  bad.push_back("--set");
+  bad.push_back("angle_bins=3");
+  fails_naming(bad, "--set angle_bins");
+  bad = args;
+  bad.push_back("--weight");
+  bad.push_back("2");
+  fails_naming(bad, "--weight");
+  fails_naming({"plan", "--map", dir.file("m.yaml"), "--start", "1,1", "--goal", "5,1", "--start-yaw-deg", "10"},
+               "--start-yaw-deg");
+  fails_naming({"plan", "--map", dir.file("m.yaml"), "--start", "1,1", "--goal", "5,1", "--set", "a=1"}, "--set");
 }
 
 }  // namespace

@@ -20,7 +20,6 @@ namespace starnav {
 namespace {
 
 using plantest::Map;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Liang-Barsky: does the closed segment a-b meet the closed box [x0, x1] x [y0, y1]?
 bool segment_meets_box(Vec2 a, Vec2 b, double x0, double x1, double y0, double y1) {

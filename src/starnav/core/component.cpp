@@ -42,6 +42,7 @@ const char* capability_name(Capability c) {
     case Capability::PriorMap: return "prior_map";
     case Capability::FiltersOdometry: return "filters_odometry";
     case Capability::HeuristicWeight: return "heuristic_weight";
+    case Capability::NeedsHeadings: return "needs_headings";
   }
   return "unknown";
 }

@@ -57,11 +57,12 @@ enum class Capability : std::uint8_t {
   PriorMap,          // a costmap layer that holds the obstacles of navigation.map.prior
   FiltersOdometry,   // a localizer that fuses wheel odometry with the IMU and can stand in as the odometry
   HeuristicWeight,   // a planner whose heuristic takes a weight (plan --weight)
+  NeedsHeadings,     // a planner between poses: it needs the start and goal headings (plan_poses)
 };
-inline constexpr int kCapabilityCount = 14;
+inline constexpr int kCapabilityCount = 15;
 // "admissible", "incremental", "occupancy", "needs_elevation", "needs_map", "goal_heading",
 // "checks_footprint", "velocity_space", "plugin", "planar", "3d", "prior_map", "filters_odometry",
-// "heuristic_weight"
+// "heuristic_weight", "needs_headings"
 const char* capability_name(Capability c);
 
 // A set of capabilities, in declaration order when listed.

@@ -131,6 +131,8 @@ std::vector<std::string> movingai_planners(const std::vector<std::string>& reque
     const GlobalPlannerDef& def = find_global_planner(p, "--planner", &warning);
     if (!def.info.has(Capability::Occupancy))
       throw Error("'" + def.info.name + "' plans on elevation maps; MovingAI maps are occupancy grids", {}, 0, "--planner");
+    if (def.info.has(Capability::NeedsHeadings))
+      throw Error("'" + def.info.name + "' plans between poses; MovingAI scenarios give cells", {}, 0, "--planner");
     if (!warning.empty() && warnings) warnings->push_back(warning);
     if (std::find(planners.begin(), planners.end(), def.info.name) == planners.end()) planners.push_back(def.info.name);
   }

@@ -145,6 +145,8 @@ PlanRequest occupancy_plan_request(const std::string& planner, std::span<const P
   const GlobalPlannerDef& def = find_global_planner(planner, planner_field, warning);
   if (def.info.has(Capability::NeedsElevation))
     throw Error("'" + planner + "' plans on elevation maps; " + map_name + " is an occupancy map", {}, 0, planner_field);
+  if (def.info.has(Capability::NeedsHeadings))
+    throw Error("'" + planner + "' plans between poses (start and goal headings), not between cells", {}, 0, planner_field);
   PlanRequest rq = configured(occupancy_plan_params(), settings, {});
   rq.planner = planner;
   rq.options.thresholds = thresholds;

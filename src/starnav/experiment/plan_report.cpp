@@ -201,4 +201,77 @@ void write_plan_picture(const PlanOutcome& outcome, const PlanReportContext& c, 
   picture.write_svg(path);
 }
 
+namespace {
+
+struct PoseRunStats {
+  std::size_t cusps = 0;
+  double reverse_length = 0.0;
+};
+
+PoseRunStats pose_run_stats(const PlanResult& r) {
+  PoseRunStats s;
+  for (std::size_t i = 0; i + 1 < r.path_poses.size(); ++i) {
+    if (i > 0 && r.path_reversing[i] != r.path_reversing[i - 1]) ++s.cusps;
+    if (r.path_reversing[i])
+      s.reverse_length += std::hypot(r.path_poses[i + 1].x - r.path_poses[i].x, r.path_poses[i + 1].y - r.path_poses[i].y);
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string pose_plan_json(const std::string& planner, const PlanResult& r) {
+  const PoseRunStats stats = pose_run_stats(r);
+  nlohmann::ordered_json path = nlohmann::ordered_json::array(), reversing = nlohmann::ordered_json::array(),
+                         cells = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < r.path_poses.size(); ++i) {
+    const Pose2& p = r.path_poses[i];
+    path.push_back({json_coordinate(p.x), json_coordinate(p.y), json_coordinate(p.yaw)});
+    reversing.push_back(static_cast<int>(r.path_reversing[i]));
+  }
+  for (const Cell& c : r.path_cells) cells.push_back({c.x, c.y});
+  nlohmann::ordered_json j;
+  j["planner"] = planner;
+  j["found"] = r.found();
+  if (!r.found()) j["reason"] = plan_status_reason(r.status);
+  j["cost"] = r.found() ? nlohmann::ordered_json(r.cost) : nlohmann::ordered_json(nullptr);
+  j["length"] = r.found() ? nlohmann::ordered_json(r.length) : nlohmann::ordered_json(nullptr);
+  j["units"] = "m";
+  j["expanded"] = r.expanded;
+  j["generated"] = r.generated;
+  j["cusps"] = stats.cusps;
+  j["reverse_length"] = json_coordinate(stats.reverse_length);
+  j["path"] = path;
+  j["reversing"] = reversing;
+  j["path_cells"] = cells;
+  j["time_ms"] = r.time_ms;
+  return j.dump() + "\n";
+}
+
+std::string pose_plan_text(const std::string& planner, const PlanResult& r) {
+  std::ostringstream out;
+  out << "planner:    " << planner << "\n";
+  if (r.found()) {
+    const PoseRunStats stats = pose_run_stats(r);
+    out << "found:      yes, " << r.path_poses.size() << " poses\n";
+    out << "cost:       " << format_readable(r.cost) << "\n";
+    out << "length:     " << format_readable(r.length) << " m (" << format_readable(stats.reverse_length)
+        << " m in reverse, " << stats.cusps << " cusps)\n";
+  } else {
+    out << "found:      no (" << plan_status_reason(r.status) << ")\n";
+  }
+  out << "expanded:   " << r.expanded << "\ngenerated:  " << r.generated << "\n";
+  out << "time:       " << format_readable(r.time_ms) << " ms\n";
+  return out.str();
+}
+
+std::string pose_plan_csv(const PlanResult& r) {
+  std::ostringstream out;
+  out << std::setprecision(10) << "x_m,y_m,yaw_rad,reverse\n";
+  for (std::size_t i = 0; i < r.path_poses.size(); ++i)
+    out << r.path_poses[i].x << "," << r.path_poses[i].y << "," << r.path_poses[i].yaw << ","
+        << static_cast<int>(r.path_reversing[i]) << "\n";
+  return out.str();
+}
+
 }  // namespace starnav

@@ -25,4 +25,14 @@ std::string plan_path_csv(const PlanOutcome& outcome, const PlanReportContext& c
 void write_plan_picture(const PlanOutcome& outcome, const PlanReportContext& c, const GridPlannerOptions& options,
                         const std::string& path);
 
+// A query of a planner between poses (capability needs_headings, e.g. hybrid_astar), in metres:
+// planner, found, reason (when not), cost, length, units, expanded, generated, cusps (changes
+// between forward and reverse), reverse_length (metres driven backwards), path ([x, y, yaw] per
+// pose, yaw in radians), reversing (1 where the motion leaving the pose, for the last one
+// arriving at it, is in reverse), path_cells, time_ms.
+std::string pose_plan_json(const std::string& planner, const PlanResult& r);  // one line
+std::string pose_plan_text(const std::string& planner, const PlanResult& r);
+// x_m,y_m,yaw_rad,reverse: one line per pose.
+std::string pose_plan_csv(const PlanResult& r);
+
 }  // namespace starnav

@@ -126,6 +126,9 @@ Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, Na
   if (parts.planner_capabilities.has(Capability::NeedsElevation))
     throw Error("planner '" + std::string(planner_->name()) + "' plans on elevation maps; navigation plans on its occupancy map",
                 "", 0, "navigation.planner");
+  if (parts.planner_capabilities.has(Capability::NeedsHeadings) && !goal_yaw)
+    throw Error("planner '" + std::string(planner_->name()) + "' plans to a goal pose: give the goal's yaw_deg", "", 0,
+                "navigation.goal.yaw_deg");
   incremental_ = parts.planner_capabilities.has(Capability::Incremental);
   if (incremental_) pending_mark_.assign(config_.geometry.cell_count(), 0);
   motion_check_ = std::make_unique<FootprintMotionCheck>(footprint_, map_);
@@ -304,6 +307,14 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   }
 
   const PlanningLayers layers{&map_.occupancy(), nullptr};
+  // The poses for planners between poses (the others plan between the cells): the robot's own
+  // pose and the goal with its heading when it has one.
+  PlanQuery query;
+  query.start = start;
+  query.goal = goal_cell_;
+  query.start_pose = pose;
+  query.goal_pose = Pose2(goal_.x(), goal_.y(), goal_yaw_.value_or(0.0));
+  query.goal_heading = goal_yaw_.has_value();
   PlanResult r;
   if (incremental_) {
     const OccupancyGrid& occ = map_.occupancy();
@@ -311,7 +322,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
       c.occupancy = occ.at(c.cell.x, c.cell.y);
       pending_mark_[config_.geometry.index(c.cell.x, c.cell.y)] = 0;
     }
-    r = planner_->plan(layers, start, goal_cell_, pending_);
+    r = planner_->plan_poses(layers, query, pending_);
     pending_.clear();
     if (config_.compare_astar) {
       const PlanResult a = astar_from_scratch(map_.occupancy(), start, goal_cell_);
@@ -325,7 +336,7 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
       p.astar_backward_status = plan_status_reason(b.status);
     }
   } else {
-    r = planner_->plan(layers, start, goal_cell_, {});
+    r = planner_->plan_poses(layers, query, {});
   }
   p.status = plan_status_reason(r.status);
   p.expanded = r.expanded;

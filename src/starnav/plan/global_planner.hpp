@@ -4,7 +4,9 @@
 // layer; the rough-terrain planners of Liu et al. 2024 on an elevation layer (capability
 // "needs_elevation"). An incremental planner (capability "incremental", D* Lite) keeps its
 // search between calls and is given the cells that changed since the previous call; the others
-// plan from scratch every time. Built by name from the component registry.
+// plan from scratch every time. A planner that plans between poses (capability "needs_headings",
+// Hybrid-A*) is given the start and goal poses through plan_poses() and returns a path of poses
+// with a direction per pose. Built by name from the component registry.
 #include <memory>
 #include <span>
 #include <string>
@@ -24,6 +26,16 @@ struct PlanningLayers {
   const ElevationMap* elevation = nullptr;
 };
 
+// A query between poses (map frame, headings in radians): the cells are what every planner
+// plans between; a planner with capability "needs_headings" uses the poses.
+struct PlanQuery {
+  Cell start{};
+  Cell goal{};
+  Pose2 start_pose;
+  Pose2 goal_pose;
+  bool goal_heading = true;  // false: the goal's heading is free (goal_pose.yaw means nothing)
+};
+
 class GlobalPlanner {
  public:
   virtual ~GlobalPlanner() = default;
@@ -32,6 +44,12 @@ class GlobalPlanner {
   // previous call, with their new values (an incremental planner repairs its search with them;
   // the others ignore them). Throws Error when a layer the planner needs is missing.
   virtual PlanResult plan(const PlanningLayers& layers, Cell start, Cell goal, std::span<const CellChange> changed) = 0;
+  // Plans between the query's poses. Planners that do not use headings plan between its cells
+  // (this default); the others override it.
+  virtual PlanResult plan_poses(const PlanningLayers& layers, const PlanQuery& query,
+                                std::span<const CellChange> changed) {
+    return plan(layers, query.start, query.goal, changed);
+  }
 };
 
 // What a global planner is built from: the grid search options (connectivity, unknown cells)

@@ -49,6 +49,11 @@ struct PlanResult {
   PlanStatus status = PlanStatus::NoPath;
   std::vector<Cell> path_cells;  // start .. goal inclusive
   std::vector<Vec2> path_world;  // world points of the path (cell centres, or any-angle vertices)
+  // Planners between poses (capability "needs_headings"): the path's poses (map frame), and per
+  // pose 1 when the motion leaving it (for the last pose, arriving at it) drives in reverse.
+  // Empty for the grid planners.
+  std::vector<Pose2> path_poses;
+  std::vector<std::uint8_t> path_reversing;
   double cost = 0.0;             // the planner's objective
   double length = 0.0;           // geometric length in map units (metres; cells on index maps)
   std::uint64_t expanded = 0;    // popped from the open list and closed

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "starnav/core/error.hpp"
+#include "starnav/plan/hybrid_astar.hpp"
 #include "starnav/slam/graph_slam_3d.hpp"
 #include "starnav/terrain/rough_terrain_planners.hpp"
 
@@ -89,6 +90,7 @@ const std::vector<GlobalPlannerDef>& global_planners() {
       grid_global_planner("dstar_lite", "D* Lite (Koenig and Likhachev 2002): repairs its search as cells change",
                           {"dstarlite"}),
       grid_global_planner("ou2022", "The improved A* of Ou et al. 2022 with the paper's defaults"),
+      hybrid_astar_global_planner(),
       rough_terrain_global_planner(RoughTerrainPlannerKind::OA),
       rough_terrain_global_planner(RoughTerrainPlannerKind::AOEA),
       rough_terrain_global_planner(RoughTerrainPlannerKind::IA),
