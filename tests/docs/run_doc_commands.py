@@ -98,6 +98,10 @@ def strip_comment(cmd):
     return cmd
 
 
+# /tmp/ where a path starts (not inside another path, such as a clone's under /tmp).
+TMP_PATH = re.compile(r"(?<![\w./~-])/tmp/")
+
+
 class Runner:
     def __init__(self, root, cli, build, scratch):
         self.root, self.cli, self.build, self.scratch = root, cli, build, scratch
@@ -109,9 +113,10 @@ class Runner:
 
     def rewrite(self, cmd):
         cmd = strip_comment(cmd)
+        # /tmp/ first and only where a path starts: the CLI's own path (a clone under /tmp) stays.
+        cmd = re.sub(TMP_PATH, self.scratch.replace("\\", "\\\\") + "/", cmd)
         cmd = re.sub(r"(^|(?<=[\s;&|(]))build/bin/starnav\b", self.cli, cmd)
         cmd = re.sub(r"(^|(?<=&& )|(?<=; ))starnav\b", self.cli, cmd)
-        cmd = cmd.replace("/tmp/", self.scratch + "/")
         cmd = re.sub(r"(?<=\s)out/", self.scratch + "/out/", cmd)
         if re.match(r"^make demo\b", cmd):
             cmd += " BUILD=" + shlex.quote(self.build) + self.make_options()
@@ -248,7 +253,7 @@ def run_python_block(doc, index, body, root, build, scratch):
     if "../shared" in code and not os.path.isdir(shared):
         print("skip  %s: needs ../shared (absent)" % name)
         return 0
-    code = code.replace("/tmp/", scratch + "/")
+    code = re.sub(TMP_PATH, scratch.replace("\\", "\\\\") + "/", code)
     env = dict(os.environ, MPLBACKEND="Agg")
     env["PYTHONPATH"] = package + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     t0 = time.monotonic()
