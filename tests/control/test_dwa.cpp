@@ -21,6 +21,7 @@
 #include "starnav/core/rng.hpp"
 #include "starnav/registry/components.hpp"
 #include "support/box_world.hpp"
+#include "support/ideal_robots.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -29,18 +30,8 @@ namespace {
 using test::empty_map;
 using test::fill_box;
 
-RobotConfig mecanum() {
-  RobotConfig r;
-  r.drive = DriveKind::Mecanum;
-  r.actuator_lag_s = 0.0;
-  return r;
-}
-
-RobotConfig differential() {
-  RobotConfig r = mecanum();
-  r.drive = DriveKind::Differential;
-  return r;
-}
+using test::differential;
+using test::mecanum;
 
 // --- The dynamic window and sampling ------------------------------------------------------------
 

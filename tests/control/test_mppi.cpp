@@ -24,6 +24,7 @@
 #include "starnav/registry/components.hpp"
 #include "starnav/sim/scenario.hpp"
 #include "support/box_world.hpp"
+#include "support/ideal_robots.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -424,18 +425,8 @@ TEST(MppiCritics, ObstaclesCostCollisionsCriticalGapsAndRepulsionExactly) {
 
 // --- The controller ----------------------------------------------------------------------------------
 
-RobotConfig mecanum() {
-  RobotConfig r;
-  r.drive = DriveKind::Mecanum;
-  r.actuator_lag_s = 0.0;
-  return r;
-}
-
-RobotConfig differential() {
-  RobotConfig r = mecanum();
-  r.drive = DriveKind::Differential;
-  return r;
-}
+using test::differential;
+using test::mecanum;
 
 ParamSetting set(const std::string& key, const std::string& value) { return {key, value, "test.yaml", 3, "navigation.mppi." + key}; }
 

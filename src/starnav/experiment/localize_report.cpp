@@ -176,7 +176,6 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
     r.log_duration_s = static_cast<double>(summary.last_us - summary.first_us) * 1e-6;
   }
 
-  const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
   std::vector<std::optional<std::size_t>> twins(log.scans.size());
   if (reference) {
     twins = match_scans_by_ranges(log, *reference);
@@ -190,6 +189,8 @@ LocalizeRunResult run_localize(const RobotLog& log, const OccupancyGrid& map, co
     case LocalizeStart::Global: break;
     case LocalizeStart::FirstMatched: {
       if (!reference) throw Error("'first' starts at the corrected pose of a scan: give --reference", {}, 0, "--initial");
+      // The source gives the odometry by the same rule when the log is played.
+      const std::vector<std::optional<Pose2>> odometry = scan_odometry(log);
       std::size_t i = 0;
       while (i < log.scans.size() && !(twins[i] && odometry[i])) ++i;
       if (i == log.scans.size())
