@@ -364,9 +364,9 @@ struct ControlInputView {
 
 ControlStatus status_of(const std::string& name) {
   for (const ControlStatus s : {ControlStatus::Idle, ControlStatus::Tracking, ControlStatus::Arrived, ControlStatus::CannotReach,
-                                ControlStatus::Blocked})
+                                ControlStatus::Blocked, ControlStatus::AtCusp})
     if (name == control_status_name(s)) return s;
-  throw py::value_error("controller: unknown status '" + name + "' (idle, tracking, arrived, cannot_reach, blocked)");
+  throw py::value_error("controller: unknown status '" + name + "' (idle, tracking, arrived, cannot_reach, blocked, at_cusp)");
 }
 
 // The LocalController role played by a Python object: compute(input) -> (vx, vy, wz) or

@@ -230,6 +230,49 @@ TEST(FootprintChecker, AgreesWithBruteForceOnRandomMaps) {
   EXPECT_LT(hits, n - n / 10);
 }
 
+TEST(FootprintChecker, AnOutlineAheadOfBaseLinkIsTheCentredOneMovedForward) {
+  // A car's body centred 0.35 m ahead of its rear axle (base_link): every answer equals the
+  // centred outline's at the pose moved 0.35 m along the heading, and brute force's.
+  Rng rng(12);
+  int hits = 0, n = 0;
+  for (int trial = 0; trial < test::scaled(10); ++trial) {
+    const OccupancyGrid m = random_map(rng, 5.0, 5.0, rng.uniform(0.002, 0.03));
+    ClearanceWindow local;
+    local.build(m, {2.5, 2.5}, 1.5, 1.5);
+    for (const bool circle : {false, true}) {
+      FootprintModel centred;
+      centred.circle = circle;
+      centred.radius_m = 0.25;
+      centred.half_length_m = 0.45;
+      centred.half_width_m = 0.2;
+      FootprintModel ahead = centred;
+      ahead.center_x_m = 0.35;
+      const FootprintChecker a(ahead, 0.02), c(centred, 0.02);
+      for (int k = 0; k < 200; ++k) {
+        const Pose2 p(rng.uniform(1.4, 3.6), rng.uniform(1.4, 3.6), rng.uniform(-kPi, kPi));
+        const Pose2 moved(p.x + 0.35 * std::cos(p.yaw), p.y + 0.35 * std::sin(p.yaw), p.yaw);
+        const bool got = a.collides(local, p);
+        EXPECT_EQ(got, c.collides(local, moved)) << trial << " " << k;
+        EXPECT_EQ(got, a.collides_brute_force(local, p)) << trial << " " << k;
+        hits += got;
+        ++n;
+      }
+    }
+  }
+  EXPECT_GT(hits, n / 10);
+  EXPECT_LT(hits, n - n / 10);
+  // About base_link: the farthest corner and the nearest edge.
+  FootprintModel box;
+  box.circle = false;
+  box.half_length_m = 0.45;
+  box.half_width_m = 0.2;
+  box.center_x_m = 0.35;
+  EXPECT_NEAR(box.bounding_radius_m(), std::hypot(0.8, 0.2), 1e-12);
+  EXPECT_NEAR(box.inscribed_radius_m(), 0.1, 1e-12);  // the rear edge, 0.1 m behind base_link
+  box.center_x_m = 0.6;                                // base_link outside the box
+  EXPECT_EQ(box.inscribed_radius_m(), 0.0);
+}
+
 // Independent truth: does the rectangle (or circle) at `pose` overlap the square cell?
 // Separating axis theorem for two rectangles; distance to the square for a circle.
 bool overlaps_cell(const FootprintModel& fm, const Pose2& pose, const Vec2& cell_centre, double half_cell) {

@@ -345,6 +345,35 @@ TEST(MppiCritics, ConstraintPreferForwardAndTwirlingInClosedForm) {
   EXPECT_NEAR(b.score(MppiConstraintCritic(4.0, 1))(0), 4.0 * 0.5 * 0.05 * 10, 1e-5);
 }
 
+TEST(MppiCritics, OnAReverseStretchPreferForwardAndPathAnglePreferReverse) {
+  Batch b(2, 10);
+  b.scene.pose = Pose2(0.0, 0.0, 0.0);
+  b.scene.goal = Vec2(-5.0, 0.0);
+  b.controls.vx.row(0).setConstant(0.3f);   // forward
+  b.controls.vx.row(1).setConstant(-0.2f);  // reverse
+  b.scene.reversing = true;
+  const Eigen::ArrayXf f = b.score(MppiPreferForwardCritic(5.0, 1, 0.5));
+  EXPECT_NEAR(f(0), 5.0 * 0.3 * 0.05 * 10, 1e-5);  // now the forward motion pays
+  EXPECT_NEAR(f(1), 0.0, 1e-6);
+  // The path runs behind the robot (toward -x): reversing along it faces away from it, so the
+  // heading error is to the bearing turned by pi.
+  b.scene.path.clear();
+  for (int i = 0; i <= 60; ++i) b.scene.path.emplace_back(-0.05 * i, 0.0);
+  b.scene.path_free.assign(b.scene.path.size(), 1);
+  b.line(0, {0.0, 0.0}, {-0.05, 0.0}, 0.0);    // backing along the path, facing +x
+  b.line(1, {0.0, 0.0}, {-0.05, 0.0}, 0.6);    // the same, turned 0.6 rad
+  const MppiPathAngleCritic angle(2.2, 1, 0.5, 20, kPi / 4.0, 0);
+  EXPECT_EQ(b.score(angle).abs().maxCoeff(), 0.0f);  // facing +x is right: the critic is off
+  b.scene.pose = Pose2(0.0, 0.0, 1.2);  // beyond 45 degrees: on
+  const Eigen::ArrayXf a = b.score(angle);
+  EXPECT_NEAR(a(0), 0.0, 1e-5);
+  EXPECT_NEAR(a(1), 2.2 * 0.6, 1e-4);
+  // The same path driven forward would want the opposite heading.
+  b.scene.reversing = false;
+  const Eigen::ArrayXf fwd = b.score(angle);
+  EXPECT_NEAR(fwd(0), 2.2 * kPi, 1e-4);
+}
+
 TEST(MppiCritics, ObstaclesCostCollisionsCriticalGapsAndRepulsionExactly) {
   OccupancyGrid m = empty_map(4.0, 4.0);
   fill_box(m, 2.0, 0.0, 2.2, 4.0);  // a wall at x in [2.0, 2.2]
@@ -564,6 +593,74 @@ TEST(MppiController, AnAckermannRobotTurnsNeverTighterThanItsRadius) {
     EXPECT_EQ(t.vy, 0.0);
     EXPECT_LE(std::abs(t.wz), std::abs(t.vx) / r_min * (1.0 + 1e-5) + 1e-6);
   }
+}
+
+// A path of poses along y = 2: forward from x = 1 to x = 3, then in reverse back to x = 2 (the
+// heading 0 throughout), as a planner between poses gives it: per pose 1 when the motion leaving
+// it (for the last, arriving at it) drives in reverse, so the cusp at x = 3 is the first 1.
+void forward_then_reverse(std::vector<Pose2>& poses, std::vector<std::uint8_t>& reversing) {
+  for (int i = 0; i <= 40; ++i) poses.emplace_back(1.0 + 0.05 * i, 2.0, 0.0), reversing.push_back(i == 40 ? 1 : 0);
+  for (int i = 1; i <= 20; ++i) poses.emplace_back(3.0 - 0.05 * i, 2.0, 0.0), reversing.push_back(1);
+}
+
+TEST(MppiController, APathWithAReversalIsFollowedOneStretchAtATime) {
+  const OccupancyGrid m = empty_map(6.0, 4.0);
+  RobotConfig car = mecanum();
+  car.drive = DriveKind::Ackermann;
+  std::vector<Pose2> poses;
+  std::vector<std::uint8_t> reversing;
+  forward_then_reverse(poses, reversing);
+  const Vec2 goal = poses.back().translation();
+  MppiConfig config;
+  config.batch_size = 400;
+  // Ten steps from `pose` (held there): the last command and status.
+  const auto steps_at = [&](MppiController& c, const Pose2& pose) {
+    ControlOutput out;
+    for (int k = 0; k < 10; ++k) {
+      ControlInput in = input_at(pose, {}, m, goal, car);
+      in.t_s = 0.05 * k;
+      in.goal_yaw = 0.0;
+      out = c.compute(in);
+      if (out.status != ControlStatus::Tracking) break;
+    }
+    return out;
+  };
+  for (const bool replan : {false, true}) {
+    config.replan_at_cusps = replan;
+    MppiController c(config, car, 4);
+    c.set_path_poses(poses, reversing);
+    EXPECT_EQ(c.path().size(), poses.size());  // the whole path, for the pictures
+    // Before the cusp: forward, toward it (the reverse stretch beyond is not seen yet).
+    const ControlOutput before = steps_at(c, Pose2(2.2, 2.0, 0.0));
+    EXPECT_EQ(before.status, ControlStatus::Tracking);
+    EXPECT_GT(before.twist.vx, 0.01);  // from rest: the sign is what counts
+    // At the cusp (within 0.2 m and 0.4 rad of its pose): the next stretch, backwards, or (the
+    // default) a new plan from here asked for.
+    const ControlOutput at = steps_at(c, Pose2(2.85, 2.03, 0.2));
+    if (replan) {
+      EXPECT_EQ(at.status, ControlStatus::AtCusp);
+      EXPECT_EQ(at.twist.vx, 0.0);
+    } else {
+      EXPECT_EQ(at.status, ControlStatus::Tracking);
+      EXPECT_LT(at.twist.vx, -0.01);
+    }
+  }
+  {
+    // A plan that starts at the cusp: its first stretch ends where it starts, so it is done
+    // already and the reverse stretch is driven.
+    MppiController c(config, car, 4);
+    std::vector<Pose2> rest(poses.begin() + 39, poses.end());
+    std::vector<std::uint8_t> rest_reversing(reversing.begin() + 39, reversing.end());
+    c.set_path_poses(rest, rest_reversing);
+    const ControlOutput out = steps_at(c, Pose2(2.95, 2.0, 0.0));
+    EXPECT_EQ(out.status, ControlStatus::Tracking);
+    EXPECT_LT(out.twist.vx, -0.01);
+  }
+  // Sizes that differ, a pose not finite: errors naming the path.
+  MppiController c(config, car, 4);
+  EXPECT_THROW(c.set_path_poses(poses, std::vector<std::uint8_t>(3, 0)), Error);
+  poses[3].yaw = std::nan("");
+  EXPECT_THROW(c.set_path_poses(poses, reversing), Error);
 }
 
 TEST(MppiController, ADifferentialRobotPassesADoorWithoutTouching) {

@@ -15,6 +15,7 @@
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/core/plane_fit.hpp"
+#include "starnav/map/footprint_checker.hpp"
 #include "starnav/map/obstacle_distance_field.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/robot/robot_model.hpp"
@@ -27,6 +28,8 @@ enum class ControlStatus : std::uint8_t {
   Arrived,     // at the path's end: zero twist until a new path is set
   CannotReach, // the path's end cannot be reached from here (stopped): the navigator replans
   Blocked,     // no command is safe (e.g. every DWA sample collides): zero twist, recovery needed
+  AtCusp,      // at a cusp of a path with reversals (or stopped short of it): the navigator plans the
+               // rest from the pose the robot reached
 };
 const char* control_status_name(ControlStatus s);  // "idle", "tracking", "arrived", "cannot_reach", "blocked"
 
@@ -43,6 +46,12 @@ struct VelocityLimits {
 
 // The robot of `config`: its body box and the speeds its wheels allow.
 Footprint footprint_of(const RobotConfig& config);
+// The same box as the footprint checks take it, centred where the body is in base_link (ahead of
+// a car's rear axle).
+FootprintModel body_footprint_model(const RobotConfig& config);
+// The smallest turning radius of a robot that cannot turn on the spot (Ackermann: wheelbase /
+// tan(max steer)); 0 for the others.
+double min_turning_radius_of(const RobotConfig& config);
 VelocityLimits velocity_limits_of(const RobotConfig& config);
 // `limits` with every translation limit lowered to `max_speed_mps` (the yaw rate unchanged).
 VelocityLimits with_speed_limit(VelocityLimits limits, double max_speed_mps);
@@ -103,6 +112,11 @@ class LocalController {
   // A new global path (world x, y), starting near the robot. Throws Error (field "path") for an
   // empty path or a non-finite point.
   virtual void set_path(std::span<const Vec2> points) = 0;
+  // A path of poses from a planner between poses, with per pose 1 when the motion leaving it
+  // drives in reverse. A controller that cannot follow reversals takes the positions (this
+  // default); one that can overrides it. Throws Error (field "path") as set_path, or when the
+  // two spans differ in size.
+  virtual void set_path_poses(std::span<const Pose2> poses, std::span<const std::uint8_t> reversing);
   virtual void clear() = 0;
   virtual bool has_path() const = 0;
   // The path being followed (for deviation metrics and pictures).

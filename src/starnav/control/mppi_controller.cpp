@@ -70,6 +70,14 @@ const ParamTable<MppiConfig>& mppi_params() {
               "when every sample collides: resets of the sequence and tries again before the step is blocked");
     t.real("reset_period_s", &C::reset_period_s, positive(), "s", "after this long without a step, the sequence starts from rest again");
     t.real("prune_distance_m", &C::prune_distance_m, positive(), "m", "length of the path ahead the critics see");
+    t.real("inversion_xy_tolerance_m", &C::inversion_xy_tolerance_m, positive(), "m",
+           "a path with reversals: the next stretch once the robot is this close to the cusp");
+    t.real("inversion_yaw_tolerance_deg", &C::inversion_yaw_tolerance_rad, open(0.0, 180.0), "deg",
+           "... and within this angle of the cusp's heading", deg);
+    t.boolean("replan_at_cusps", &C::replan_at_cusps,
+              "at a cusp, ask the navigator to plan the rest from the pose reached (false: follow the path's next stretch, Nav2's way)");
+    t.real("stall_time_s", &C::stall_time_s, non_negative(), "s",
+           "a path with reversals: stopped this long short of a stretch's end, ask for a new plan from here (0: never)");
     t.real("control_period_s", &C::control_period_s, open(0.0, 10.0), "s", "time between two commands (the command is held)");
     t.real("ackermann_constraints.min_turning_r_m", &C::min_turning_r_m, non_negative(), "m",
            "Ackermann: the samples' minimum turning radius; 0: the robot's (wheelbase / tan(max_steer_rad))");
@@ -158,7 +166,7 @@ MppiController::MppiController(const MppiConfig& config, const RobotConfig& robo
                          : robot_.drive == DriveKind::Differential ? wheel_acc / robot_.half_track_m
                                                                    : c.az_max_radps2;
   limits_.az_max = std::min(c.az_max_radps2, yaw_acc);
-  const double robot_radius = 2.0 * robot_.half_wheelbase_m / std::tan(robot_.max_steer_rad);
+  const double robot_radius = min_turning_radius_of(robot_);
   if (model_ == MppiMotionModel::Ackermann) {
     if (c.min_turning_r_m > 0.0 && robot_.drive == DriveKind::Ackermann && c.min_turning_r_m < robot_radius - 1e-9)
       throw Error(format_readable(c.min_turning_r_m) + " m is below the robot's minimum turning radius " + format_readable(robot_radius) + " m",
@@ -166,14 +174,8 @@ MppiController::MppiController(const MppiConfig& config, const RobotConfig& robo
     limits_.min_turning_r = c.min_turning_r_m > 0.0 ? c.min_turning_r_m : robot_radius;
   }
 
-  // The footprint: the robot's body box (Ackermann: base_link on the rear axle, the box ahead of it
-  // is approximated by its circumscribed box about base_link).
-  FootprintModel fm;
-  fm.circle = false;
-  fm.half_length_m = 0.5 * robot_.body_length_m;
-  fm.half_width_m = 0.5 * robot_.body_width_m;
-  if (robot_.drive == DriveKind::Ackermann) fm.half_length_m = 0.5 * robot_.body_length_m + robot_.half_wheelbase_m;
-  checker_ = FootprintChecker(fm, 0.0);
+  // The footprint: the robot's body box (Ackermann: ahead of base_link, the rear axle).
+  checker_ = FootprintChecker(body_footprint_model(robot_), 0.0);
   validator_checker_ = checker_;
 
   const auto find = [&](const char* n) { return std::find(c.critics.begin(), c.critics.end(), n) != c.critics.end(); };
@@ -250,16 +252,70 @@ void MppiController::set_path(std::span<const Vec2> points) {
   if (points.empty()) throw Error("empty path", {}, 0, "path");
   for (const Vec2& p : points)
     if (!std::isfinite(p.x()) || !std::isfinite(p.y())) throw Error("a path point is not finite", {}, 0, "path");
-  path_.clear();
+  poses_.clear();
+  reversing_.clear();
   for (const Vec2& p : points)
+    if (poses_.empty() || (p - poses_.back().translation()).norm() > 1e-9) poses_.emplace_back(p.x(), p.y(), 0.0);
+  reversing_.assign(poses_.size(), 0);
+  stretches_ = {{0, poses_.size() - 1}};
+  full_path_.clear();
+  for (const Pose2& p : poses_) full_path_.push_back(p.translation());
+  pose_path_ = false;
+  load_stretch(0);
+}
+
+void MppiController::set_path_poses(std::span<const Pose2> poses, std::span<const std::uint8_t> reversing) {
+  if (poses.empty()) throw Error("empty path", {}, 0, "path");
+  if (poses.size() != reversing.size()) throw Error("a direction for every pose of the path", {}, 0, "path");
+  for (const Pose2& p : poses)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.yaw)) throw Error("a path pose is not finite", {}, 0, "path");
+  poses_.assign(poses.begin(), poses.end());
+  reversing_.assign(reversing.begin(), reversing.end());
+  // A cusp is a pose whose leaving direction differs from its arriving one: a stretch ends there
+  // and the next starts from it.
+  stretches_.clear();
+  std::size_t first = 0;
+  for (std::size_t i = 1; i + 1 < poses_.size(); ++i)
+    if ((reversing_[i] != 0) != (reversing_[i - 1] != 0)) {
+      stretches_.emplace_back(first, i);
+      first = i;
+    }
+  stretches_.emplace_back(first, poses_.size() - 1);
+  full_path_.clear();
+  for (const Pose2& p : poses_) full_path_.push_back(p.translation());
+  pose_path_ = true;
+  // Stretches that end within the inversion tolerances of where the path starts (a plan from a
+  // cusp may begin with a wiggle) are done already.
+  std::size_t k = 0;
+  while (k + 1 < stretches_.size() && at_pose(poses_.front(), poses_[stretches_[k].second])) ++k;
+  load_stretch(k);
+}
+
+bool MppiController::at_pose(const Pose2& robot, const Pose2& cusp) const {
+  return (robot.translation() - cusp.translation()).norm() <= config_.inversion_xy_tolerance_m &&
+         std::abs(wrap_angle(cusp.yaw - robot.yaw)) <= config_.inversion_yaw_tolerance_rad;
+}
+
+void MppiController::load_stretch(std::size_t k) {
+  stretch_ = k;
+  path_.clear();
+  for (std::size_t i = stretches_[k].first; i <= stretches_[k].second; ++i) {
+    const Vec2 p = poses_[i].translation();
     if (path_.empty() || (p - path_.back()).norm() > 1e-9) path_.push_back(p);
+  }
   along_.assign(path_.size(), 0.0);
   for (std::size_t i = 1; i < path_.size(); ++i) along_[i] = along_[i - 1] + (path_[i] - path_[i - 1]).norm();
   segment_ = 0;
+  stalled_since_s_.reset();
 }
 
 void MppiController::clear() {
   path_.clear();
+  full_path_.clear();
+  poses_.clear();
+  reversing_.clear();
+  stretches_.clear();
+  stretch_ = 0;
   along_.clear();
   segment_ = 0;
   reset_optimizer();
@@ -378,9 +434,22 @@ ControlOutput MppiController::compute(const ControlInput& in) {
   if (path_.empty()) return {};
   if (!in.local_map && !in.clearance) throw Error("the MPPI controller needs a local obstacle map", "", 0, "local_map");
   const Vec2 p = in.pose.translation();
+  // At a cusp (within the inversion tolerances of its pose): the next stretch, from rest.
+  while (stretch_ + 1 < stretches_.size()) {
+    if (!at_pose(in.pose, poses_[stretches_[stretch_].second])) break;
+    if (config_.replan_at_cusps) {
+      reset_optimizer();
+      if (keep_) record(in, MppiScene{}, {{}, ControlStatus::AtCusp});
+      return {{}, ControlStatus::AtCusp};
+    }
+    load_stretch(stretch_ + 1);
+    reset_optimizer();
+  }
+  const bool last_stretch = stretch_ + 1 >= stretches_.size();
+  const bool stretch_reverse = !reversing_.empty() && reversing_[stretches_[stretch_].first] != 0;
   const Vec2 goal = path_.back();
   const double to_goal = (p - goal).norm();
-  if ((in.goal_xy_reached || to_goal <= in.goal_tolerance_m) &&
+  if (last_stretch && (in.goal_xy_reached || to_goal <= in.goal_tolerance_m) &&
       (!in.goal_yaw || std::abs(wrap_angle(*in.goal_yaw - in.pose.yaw)) <= in.goal_yaw_tolerance_rad)) {
     reset_optimizer();
     if (keep_) record(in, MppiScene{}, {{}, ControlStatus::Arrived});
@@ -415,7 +484,9 @@ ControlOutput MppiController::compute(const ControlInput& in) {
   MppiScene s;
   s.pose = in.pose;
   s.goal = goal;
-  s.goal_yaw = in.goal_yaw;
+  // Before the last cusp the stretch's end is the local goal, with the heading the planner gave it.
+  s.goal_yaw = last_stretch ? in.goal_yaw : std::optional<double>(poses_[stretches_[stretch_].second].yaw);
+  s.reversing = stretch_reverse;
   s.goal_tolerance_m = in.goal_tolerance_m;
   s.model_dt_s = config_.model_dt_s;
   s.limits = limits;
@@ -480,6 +551,21 @@ ControlOutput MppiController::compute(const ControlInput& in) {
   const BodyTwist command{sequence_.vx(0), sequence_.vy(0), sequence_.wz(0)};
   for (std::size_t i = 0; i + 1 < 4; ++i) history_[i] = history_[i + 1];
   history_[3] = command;
+  // A path with reversals: stopped short of a stretch's end (the motion model cannot turn tight
+  // enough to reach its pose from here) for stall_time_s, a new plan from here is asked for.
+  constexpr double kStoppedMps = 0.02;
+  if (pose_path_ && config_.stall_time_s > 0.0 && std::abs(command.vx) < kStoppedMps && std::abs(in.velocity.vx) < kStoppedMps) {
+    if (!stalled_since_s_) stalled_since_s_ = in.t_s;
+    if (in.t_s - *stalled_since_s_ >= config_.stall_time_s) {
+      stalled_since_s_.reset();
+      reset_optimizer();
+      const ControlOutput stop{{}, last_stretch ? ControlStatus::CannotReach : ControlStatus::AtCusp};
+      if (keep_) record(in, s, stop);
+      return stop;
+    }
+  } else {
+    stalled_since_s_.reset();
+  }
   const ControlOutput out{command, ControlStatus::Tracking};
   if (keep_) {
     record(in, s, out);

@@ -46,6 +46,14 @@ struct MppiConfig {
   int retry_attempt_limit = 1;
   double reset_period_s = 1.0;
   double prune_distance_m = 1.5;
+  // A path with reversals (a planner between poses) is followed one direction at a time: the next
+  // stretch once the robot is this close to the cusp's pose (Nav2's inversion tolerances).
+  double inversion_xy_tolerance_m = 0.2;
+  double inversion_yaw_tolerance_rad = 0.4;
+  // At a cusp: ask the navigator for a new plan from the pose reached (false: follow the next
+  // stretch of the same path, Nav2's way). Stopped this long short of a stretch's end: the same.
+  bool replan_at_cusps = true;
+  double stall_time_s = 1.0;
   double control_period_s = 0.05;
   double min_turning_r_m = 0.0;  // Ackermann; 0: the robot's own (wheelbase / tan(max steer))
   double collision_lookahead_time_s = 2.0;
@@ -77,9 +85,13 @@ class MppiController final : public LocalController {
 
   std::string_view name() const override { return "mppi"; }
   void set_path(std::span<const Vec2> points) override;
+  // A path with reversals is cut at its cusps: the stretch up to the next cusp is followed (its
+  // direction preferred, its end pose the local goal) until the robot is within the inversion
+  // tolerances of it, then the next.
+  void set_path_poses(std::span<const Pose2> poses, std::span<const std::uint8_t> reversing) override;
   void clear() override;
   bool has_path() const override { return !path_.empty(); }
-  const std::vector<Vec2>& path() const override { return path_; }
+  const std::vector<Vec2>& path() const override { return full_path_; }
   ControlOutput compute(const ControlInput& input) override;
   double control_period_s() const override { return config_.control_period_s; }
   // A car cannot turn on the spot: it follows line-of-sight paths, not grid corners.
@@ -105,6 +117,9 @@ class MppiController final : public LocalController {
   void draw_noise();
   void shift_sequence(int steps);
   void update_progress(const Vec2& p);
+  void load_stretch(std::size_t k);
+  // `robot` within the inversion tolerances of `cusp`.
+  bool at_pose(const Pose2& robot, const Pose2& cusp) const;
   void build_local_path(MppiScene& scene) const;
   // One iteration: sample, roll out, score, average. False when every sample collides.
   bool iterate(MppiScene& scene, const BodyTwist& velocity);
@@ -120,7 +135,16 @@ class MppiController final : public LocalController {
   const MppiObstaclesCritic* obstacles_ = nullptr;
   FootprintChecker checker_;
   FootprintChecker validator_checker_;
-  std::vector<Vec2> path_;
+  std::vector<Vec2> full_path_;  // the whole path as given
+  // Its stretches between cusps (one for a path without reversals): first and last pose index,
+  // and the stretch followed now.
+  std::vector<Pose2> poses_;
+  std::vector<std::uint8_t> reversing_;
+  std::vector<std::pair<std::size_t, std::size_t>> stretches_;
+  std::size_t stretch_ = 0;
+  bool pose_path_ = false;  // set by set_path_poses
+  std::optional<double> stalled_since_s_;
+  std::vector<Vec2> path_;       // the stretch followed now
   std::vector<double> along_;
   std::size_t segment_ = 0;
   ClearanceWindow map_;

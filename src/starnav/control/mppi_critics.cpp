@@ -162,14 +162,17 @@ void MppiPathAngleCritic::score(const MppiScene& s, MppiCosts& costs) const {
   if (s.path.size() < 2 || s.distance_to_goal_m() < threshold_m_) return;
   const Vec2 target = s.path[offset_point(s, offset_)];
   const Vec2 to = target - s.pose.translation();
-  double error = std::abs(wrap_angle(std::atan2(to.y(), to.x()) - s.pose.yaw));
+  // On a stretch the planner drives in reverse the rear faces the path: the bearing turned by pi.
+  const double flip = s.reversing ? kPi : 0.0;
+  double error = std::abs(wrap_angle(std::atan2(to.y(), to.x()) + flip - s.pose.yaw));
   if (mode_ == 1) error = std::min(error, kPi - error);
   if (error < max_angle_rad_) return;
   const MppiTrajectories& t = *s.trajectories;
   Eigen::ArrayXXf bearing(t.x.rows(), t.x.cols());
   const float tx = static_cast<float>(target.x()), ty = static_cast<float>(target.y());
+  const float fflip = static_cast<float>(flip);
   for (Eigen::Index c = 0; c < t.x.cols(); ++c)
-    for (Eigen::Index r = 0; r < t.x.rows(); ++r) bearing(r, c) = std::atan2(ty - t.y(r, c), tx - t.x(r, c));
+    for (Eigen::Index r = 0; r < t.x.rows(); ++r) bearing(r, c) = std::atan2(ty - t.y(r, c), tx - t.x(r, c)) + fflip;
   Eigen::ArrayXXf diff = mppi_angle_difference(t.yaw, bearing).abs();
   if (mode_ == 1) diff = diff.cwiseMin(static_cast<float>(kPi) - diff);
   add(diff.rowwise().mean(), costs);
@@ -178,7 +181,9 @@ void MppiPathAngleCritic::score(const MppiScene& s, MppiCosts& costs) const {
 void MppiPreferForwardCritic::score(const MppiScene& s, MppiCosts& costs) const {
   if (s.distance_to_goal_m() < threshold_m_) return;
   const float dt = static_cast<float>(s.model_dt_s);
-  add(((-s.controls->vx).cwiseMax(0.0f) * dt).rowwise().sum(), costs);
+  // The direction the path ahead is driven in: forward, or reverse on a planner's reverse stretch.
+  const float sign = s.reversing ? 1.0f : -1.0f;
+  add(((sign * s.controls->vx).cwiseMax(0.0f) * dt).rowwise().sum(), costs);
 }
 
 void MppiTwirlingCritic::score(const MppiScene& s, MppiCosts& costs) const {

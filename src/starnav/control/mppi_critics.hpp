@@ -61,6 +61,7 @@ struct MppiScene {
   // prune_distance_m; and whether each point is free (the inscribed circle clear of obstacles).
   std::vector<Vec2> path;
   std::vector<std::uint8_t> path_free;
+  bool reversing = false;      // the path ahead is driven in reverse (a planner's reverse stretch)
   // The window of obstacles around the robot the batch reaches (its clearance per cell), and the
   // footprint on it.
   const ClearanceWindow* map = nullptr;

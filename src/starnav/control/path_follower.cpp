@@ -325,11 +325,25 @@ const char* control_status_name(ControlStatus s) {
     case ControlStatus::Arrived: return "arrived";
     case ControlStatus::CannotReach: return "cannot_reach";
     case ControlStatus::Blocked: return "blocked";
+    case ControlStatus::AtCusp: return "at_cusp";
   }
   return "unknown";
 }
 
 Footprint footprint_of(const RobotConfig& config) { return {config.body_length_m, config.body_width_m}; }
+
+FootprintModel body_footprint_model(const RobotConfig& config) {
+  FootprintModel m;
+  m.circle = false;
+  m.half_length_m = 0.5 * config.body_length_m;
+  m.half_width_m = 0.5 * config.body_width_m;
+  m.center_x_m = make_robot_model(config)->body_center().x();
+  return m;
+}
+
+double min_turning_radius_of(const RobotConfig& config) {
+  return config.drive == DriveKind::Ackermann ? 2.0 * config.half_wheelbase_m / std::tan(config.max_steer_rad) : 0.0;
+}
 
 VelocityLimits velocity_limits_of(const RobotConfig& config) {
   // One wheel at its speed limit, the others as the motion needs (the inverse kinematics of
@@ -346,6 +360,14 @@ VelocityLimits velocity_limits_of(const RobotConfig& config) {
     case DriveKind::Ackermann: l.max_yaw_rate_radps = 0.0; break;
   }
   return l;
+}
+
+void LocalController::set_path_poses(std::span<const Pose2> poses, std::span<const std::uint8_t> reversing) {
+  if (poses.size() != reversing.size()) throw Error("a direction for every pose of the path", {}, 0, "path");
+  std::vector<Vec2> points;
+  points.reserve(poses.size());
+  for (const Pose2& p : poses) points.push_back(p.translation());
+  set_path(points);
 }
 
 VelocityLimits with_speed_limit(VelocityLimits limits, double max_speed_mps) {

@@ -49,7 +49,7 @@ enum class Capability : std::uint8_t {
   NeedsElevation,    // a planner that plans on an elevation layer
   NeedsMap,          // a localizer that needs a known map
   GoalHeading,       // a controller that turns to a goal heading
-  ChecksFootprint,   // a controller that checks the whole footprint against the costmap
+  ChecksFootprint,   // a controller or planner that checks the whole footprint against the obstacles (not the expanded map)
   VelocitySpace,     // a controller that commands velocities under acceleration limits (a speed profile)
   Plugin,            // loaded from a plugin library at run time
   Planar,            // SLAM, scan matchers: 2D scans

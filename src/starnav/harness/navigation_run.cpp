@@ -436,7 +436,7 @@ NavigatorParts make_navigator_parts(const NavigationComponents& components, cons
   GridPlannerOptions grid;
   grid.connectivity = 8;
   grid.unknown_is_free = true;  // plan optimistically through unobserved cells (docs/papers/li2019.md)
-  parts.planner = planner.make({grid, p.file}, p.settings);
+  parts.planner = planner.make({grid, p.file, body_footprint_model(robot), min_turning_radius_of(robot)}, p.settings);
   parts.planner_capabilities = planner.info.capabilities;
   const ComponentChoice& c = components.controller;
   const LocalControllerDef& controller =

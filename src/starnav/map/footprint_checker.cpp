@@ -11,17 +11,19 @@
 namespace starnav {
 
 double FootprintModel::bounding_radius_m() const {
-  return circle ? radius_m : std::hypot(half_length_m, half_width_m);
+  const double off = std::abs(center_x_m);
+  return circle ? radius_m + off : std::hypot(half_length_m + off, half_width_m);
 }
 
 double FootprintModel::inscribed_radius_m() const {
-  return circle ? radius_m : std::min(half_length_m, half_width_m);
+  const double off = std::abs(center_x_m);
+  return std::max(0.0, circle ? radius_m - off : std::min(half_length_m - off, half_width_m));
 }
 
 FootprintChecker::FootprintChecker(const FootprintModel& model, double grow_m)
     : model_(model), grow_m_(grow_m), bounding_m_(model.bounding_radius_m()) {
   if (model_.circle) {
-    cover_ = {Vec2::Zero()};
+    cover_ = {Vec2(model_.center_x_m, 0.0)};
     cover_radius_m_ = model_.radius_m;
     return;
   }
@@ -34,7 +36,7 @@ FootprintChecker::FootprintChecker(const FootprintModel& model, double grow_m)
   const double slice = 2.0 * hl / k;
   for (int i = 0; i < k; ++i) {
     const double a = -hl + slice * (i + 0.5);
-    cover_.push_back(along_x ? Vec2(a, 0.0) : Vec2(0.0, a));
+    cover_.push_back(along_x ? Vec2(model_.center_x_m + a, 0.0) : Vec2(model_.center_x_m, a));
   }
   cover_radius_m_ = std::hypot(0.5 * slice, hw);
 }

@@ -12,14 +12,18 @@
 
 namespace starnav {
 
-// The robot's outline for collision tests: a circle, or a rectangle centred on base_link. Every
-// test grows it by `grow_m` and by half the diagonal of a cell, so that an obstacle cell (a
-// square) touching the outline is always found from its centre.
+// The robot's outline for collision tests: a circle, or a rectangle, centred on base_link or
+// `center_x_m` ahead of it (a car's base_link is its rear axle, its body centred between the
+// axles). Every test grows it by `grow_m` and by half the diagonal of a cell, so that an obstacle
+// cell (a square) touching the outline is always found from its centre.
 struct FootprintModel {
   bool circle = true;
   double radius_m = 0.25;       // circle
   double half_length_m = 0.0;   // rectangle, along x
   double half_width_m = 0.0;    // rectangle, along y
+  double center_x_m = 0.0;      // the outline's centre in base_link (x forward)
+  // About base_link: the smallest circle holding the outline, the largest circle inside it (0
+  // when base_link lies outside the outline).
   double bounding_radius_m() const;
   double inscribed_radius_m() const;
 };
@@ -55,9 +59,10 @@ class FootprintChecker {
     const double dx = point.x() - pose.x, dy = point.y() - pose.y;
     if (model_.circle) {
       const double r = model_.radius_m + grow;
-      return dx * dx + dy * dy <= r * r;
+      const double cx = dx - heading.x() * model_.center_x_m, cy = dy - heading.y() * model_.center_x_m;
+      return cx * cx + cy * cy <= r * r;
     }
-    const double qx = heading.x() * dx + heading.y() * dy;
+    const double qx = heading.x() * dx + heading.y() * dy - model_.center_x_m;
     const double qy = -heading.y() * dx + heading.x() * dy;
     const double ox = std::max(std::abs(qx) - model_.half_length_m, 0.0);
     const double oy = std::max(std::abs(qy) - model_.half_width_m, 0.0);

@@ -130,6 +130,7 @@ Navigator::Navigator(const NavigatorConfig& config, const RobotConfig& robot, Na
     throw Error("planner '" + std::string(planner_->name()) + "' plans to a goal pose: give the goal's yaw_deg", "", 0,
                 "navigation.goal.yaw_deg");
   incremental_ = parts.planner_capabilities.has(Capability::Incremental);
+  planner_checks_footprint_ = parts.planner_capabilities.has(Capability::ChecksFootprint);
   if (incremental_) pending_mark_.assign(config_.geometry.cell_count(), 0);
   motion_check_ = std::make_unique<FootprintMotionCheck>(footprint_, map_);
   set_goal(goal, goal_yaw);
@@ -296,7 +297,8 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   if (!robot_cell) return fail("start_outside_map", "the robot left the navigation map");
   std::vector<Cell> escape;
   Cell start = *robot_cell;
-  if (map_.blocked(start.x, start.y)) {
+  // (A planner that checks the footprint plans from the robot's pose as it is.)
+  if (!planner_checks_footprint_ && map_.blocked(start.x, start.y)) {
     const auto e = map_.escape_cell(start, &escape);
     if (!e) {
       return fail("start_blocked", map_.raw_blocked(start.x, start.y)
@@ -306,7 +308,8 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
     start = *e;
   }
 
-  const PlanningLayers layers{&map_.occupancy(), nullptr};
+  // A planner that checks the footprint itself plans on the obstacles, not on the expanded map.
+  const PlanningLayers layers{planner_checks_footprint_ ? &map_.raw_occupancy() : &map_.occupancy(), nullptr};
   // The poses for planners between poses (the others plan between the cells): the robot's own
   // pose and the goal with its heading when it has one.
   PlanQuery query;
@@ -354,8 +357,16 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   p.cells = escape;
   if (!p.cells.empty()) p.cells.pop_back();  // the escape cell starts the planned path
   p.cells.insert(p.cells.end(), r.path_cells.begin(), r.path_cells.end());
-  p.points = follower_points(p.cells, pose.translation());
-  controller_->set_path(p.points);
+  if (!r.path_poses.empty()) {
+    // A planner between poses: its poses and directions as they are (they start at the robot's pose).
+    p.poses = std::move(r.path_poses);
+    p.reversing = std::move(r.path_reversing);
+    for (const Pose2& q : p.poses) p.points.push_back(q.translation());
+    controller_->set_path_poses(p.poses, p.reversing);
+  } else {
+    p.points = follower_points(p.cells, pose.translation());
+    controller_->set_path(p.points);
+  }
   progress_ = 0;
   status_ = NavStatus::Navigating;
   no_path_since_ = -1.0;
@@ -416,6 +427,12 @@ BodyTwist Navigator::command(const Pose2& pose, double t, const BodyTwist& veloc
   if (out.status == ControlStatus::Arrived || out.status == ControlStatus::CannotReach) {
     // The controller ended its path outside the goal tolerance: plan again at the next cycle.
     replan_cause_ = "missed";
+    return {};
+  }
+  if (out.status == ControlStatus::AtCusp) {
+    // The rest of a path with reversals, planned from the pose the robot reached (what it drove
+    // so far is never exactly the plan; the next direction starts from where it is).
+    replan_cause_ = "cusp";
     return {};
   }
   if (out.status == ControlStatus::Blocked) {

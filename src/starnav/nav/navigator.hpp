@@ -109,6 +109,10 @@ struct NavPlan {
   std::size_t escape_cells = 0;     // cells of the escape prefix (0: the start was outside the band)
   std::vector<Cell> cells;          // robot cell .. escape cell .. goal cell
   std::vector<Vec2> points;         // what the follower got: robot position, turning points, goal
+  // A planner between poses: the path's poses and, per pose, 1 when the motion leaving it drives
+  // in reverse (what the controller got); empty for the grid planners.
+  std::vector<Pose2> poses;
+  std::vector<std::uint8_t> reversing;
 };
 
 // Something the navigator did besides planning (recoveries, giving up).
@@ -210,6 +214,7 @@ class Navigator {
   std::vector<std::unique_ptr<Recovery>> recoveries_list_;
   Capabilities controller_capabilities_;
   std::vector<std::string> warnings_;
+  bool planner_checks_footprint_ = false;
   bool incremental_ = false;
   Footprint footprint_;
   std::unique_ptr<MotionCheck> motion_check_;  // the footprint against the raw obstacles

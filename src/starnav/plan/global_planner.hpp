@@ -8,12 +8,14 @@
 // Hybrid-A*) is given the start and goal poses through plan_poses() and returns a path of poses
 // with a direction per pose. Built by name from the component registry.
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 
 #include "starnav/core/component.hpp"
 #include "starnav/map/elevation_map.hpp"
+#include "starnav/map/footprint_checker.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/plan/grid_planner.hpp"
 #include "starnav/plan/plan_result.hpp"
@@ -52,11 +54,14 @@ class GlobalPlanner {
   }
 };
 
-// What a global planner is built from: the grid search options (connectivity, unknown cells)
-// and the scenario file its settings came from.
+// What a global planner is built from: the grid search options (connectivity, unknown cells),
+// the scenario file its settings came from, and in navigation the robot: its body's outline in
+// base_link and, for a robot that cannot turn on the spot, its smallest turning radius (0: it can).
 struct GlobalPlannerContext {
   GridPlannerOptions grid;
   std::string file;
+  std::optional<FootprintModel> robot_footprint;
+  double robot_min_turning_radius_m = 0.0;
 };
 using GlobalPlannerDef = ComponentDef<GlobalPlanner, GlobalPlannerContext>;
 

@@ -129,6 +129,7 @@ void HybridAStarOptions::validate() const {
   check(footprint_width_m >= 0.0 && finite(footprint_width_m), "footprint_width_m", "must be >= 0");
   check((footprint_length_m > 0.0) == (footprint_width_m > 0.0), footprint_length_m > 0.0 ? "footprint_width_m" : "footprint_length_m",
         "give both footprint_length_m and footprint_width_m (a rectangle), or neither (the circle of robot_radius_m)");
+  check(finite(footprint_center_x_m), "footprint_center_x_m", "must be a finite number");
   check(collision_step_m >= 0.0 && finite(collision_step_m), "collision_step_m", "must be >= 0");
   check(path_step_m >= 0.0 && finite(path_step_m), "path_step_m", "must be >= 0");
   check(heuristic_weight >= 1.0 && finite(heuristic_weight), "heuristic_weight", "must be >= 1");
@@ -148,6 +149,7 @@ FootprintModel HybridAStarOptions::footprint() const {
     m.circle = true;
     m.radius_m = robot_radius_m;
   }
+  m.center_x_m = footprint_center_x_m;
   return m;
 }
 
@@ -183,8 +185,13 @@ const ParamTable<HybridAStarOptions>& hybrid_astar_params() {
     t.real("cost_scaling_factor", &C::cost_scaling_factor, non_negative(), "1/m", "decay of the inflation cost");
     t.real("robot_radius_m", &C::robot_radius_m, non_negative(), "m", "the footprint's circle when no rectangle is given");
     t.real("footprint_length_m", &C::footprint_length_m, non_negative(), "m",
-           "the footprint's rectangle along x, centred on base_link (0: the circle)");
+           "the footprint's rectangle along x (0: the circle)");
     t.real("footprint_width_m", &C::footprint_width_m, non_negative(), "m", "the footprint's rectangle along y");
+    t.real("footprint_center_x_m", &C::footprint_center_x_m, ParamRange{-kInfinity, kInfinity, false, false}, "m",
+           "the footprint's centre ahead of base_link (a car's base_link is its rear axle)");
+    for (const char* key : {"robot_radius_m", "footprint_length_m", "footprint_width_m", "footprint_center_x_m"})
+      t.default_rule(key, "in navigation: the robot's body box unless any footprint key is set");
+    t.default_rule("minimum_turning_radius_m", "in navigation: an Ackermann robot's own (wheelbase / tan(max steer)); else 0.4 (Nav2)");
     t.real("collision_step_m", &C::collision_step_m, non_negative(), "m",
            "footprint checks along every motion at most this far apart (0: half a cell)");
     t.real("path_step_m", &C::path_step_m, non_negative(), "m", "the returned poses at most this far apart (0: one cell)");
@@ -776,10 +783,24 @@ GlobalPlannerDef hybrid_astar_global_planner() {
   d.info.name = "hybrid_astar";
   d.info.section = "hybrid_astar";
   d.info.summary = "Hybrid-A* (Nav2 Smac): SE2 search with Reeds-Shepp/Dubins expansions and the footprint checked";
-  d.info.capabilities = {Capability::Occupancy, Capability::NeedsHeadings};
+  d.info.capabilities = {Capability::Occupancy, Capability::NeedsHeadings, Capability::ChecksFootprint};
   d.info.params = hybrid_astar_params().specs();
   d.make = [](const GlobalPlannerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GlobalPlanner> {
     HybridAStarOptions o = configured(hybrid_astar_params(), settings, ctx.file);
+    const auto set = [&](std::string_view key) {
+      return std::any_of(settings.begin(), settings.end(), [&](const ParamSetting& s) { return s.key == key; });
+    };
+    // In navigation the planner checks the robot's own body and turns no tighter than it can.
+    if (ctx.robot_footprint && !set("robot_radius_m") && !set("footprint_length_m") && !set("footprint_width_m") &&
+        !set("footprint_center_x_m")) {
+      const FootprintModel& f = *ctx.robot_footprint;
+      o.robot_radius_m = f.circle ? f.radius_m : o.robot_radius_m;
+      o.footprint_length_m = f.circle ? 0.0 : 2.0 * f.half_length_m;
+      o.footprint_width_m = f.circle ? 0.0 : 2.0 * f.half_width_m;
+      o.footprint_center_x_m = f.center_x_m;
+    }
+    if (ctx.robot_min_turning_radius_m > 0.0 && !set("minimum_turning_radius_m"))
+      o.minimum_turning_radius_m = ctx.robot_min_turning_radius_m;
     o.unknown_is_free = ctx.grid.unknown_is_free;
     o.thresholds = ctx.grid.thresholds;
     try {

@@ -64,10 +64,12 @@ struct HybridAStarOptions {
   double cost_penalty = 2.0;
   double inflation_radius_m = 0.55;
   double cost_scaling_factor = 10.0;
-  // Footprint: a rectangle centred on base_link when footprint_length_m > 0, else a circle.
+  // Footprint: a rectangle when footprint_length_m > 0, else a circle; centred footprint_center_x_m
+  // ahead of base_link. In navigation the robot's body box and turning radius unless set.
   double robot_radius_m = 0.25;
   double footprint_length_m = 0.0;
   double footprint_width_m = 0.0;
+  double footprint_center_x_m = 0.0;  // the outline's centre ahead of base_link (a car's rear axle)
   double collision_step_m = 0.0;  // spacing of the footprint checks along a motion; 0: half a cell
   double path_step_m = 0.0;       // spacing of the output samples; 0: one cell
   // f = g + heuristic_weight * h: 1 keeps the heuristic admissible; above 1 the search is
