@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import starnav
-from conftest import cli_error, run_cli
+from conftest import cli_error, progress_while, run_cli
 
 # A short navigation scenario: a box between the start and the goal in a 6 x 4 m room.
 SCENARIO = {
@@ -90,3 +90,9 @@ def test_bad_input_raises_the_clis_errors(scenario_file):
         starnav.experiments.bench_nav(scenario_file + ".missing", 1)
     except OSError as err:
         assert str(err) == line
+
+
+def test_the_bench_releases_the_gil(scenario_file):
+    result, share, seconds = progress_while(lambda: starnav.experiments.bench_nav(scenario_file, 2))
+    assert len(result.table["seed"]) == 4
+    assert share > 0.05, "the main thread kept %.3f of its speed during the %.2f s bench" % (share, seconds)
