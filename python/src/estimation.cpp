@@ -130,6 +130,7 @@ py::dict read_log_arrays(const py::object& path_object, const py::dict& read_kwa
         if (const auto* s = std::get_if<ScanMessage>(&m)) scans.push_back(*s);
       },
       [&](std::size_t read_count) { reading = read_count; });
+  if (scans.size() != n) throw Error("the log played " + std::to_string(scans.size()) + " scans of " + std::to_string(n), path);
   for (std::size_t i = 0; i < n; ++i) {
     const ScanMessage& s = scans[i];
     t[i] = s.header.t_s;
@@ -164,6 +165,7 @@ py::dict read_log_arrays(const py::object& path_object, const py::dict& read_kwa
 
 struct SlamRunHandle {
   std::shared_ptr<SlamRunResult> result;
+  std::shared_ptr<const LoadedMap> map;  // the result's map, copied once: every `map` shares it
 };
 
 SlamRunHandle slam_run(const py::object& log, const std::string& method, const py::object& relations, bool record_steps,
@@ -182,7 +184,10 @@ SlamRunHandle slam_run(const py::object& log, const std::string& method, const p
     *r = with_missing_files({q.log, q.relations}, [&] { return run_slam_on_file(q); });
   }
   raise_warnings(read);
-  return {std::move(r)};
+  LoadedMap loaded;
+  loaded.format = MapFormat::RosMap;
+  loaded.map = r->map;
+  return {std::move(r), std::make_shared<const LoadedMap>(std::move(loaded))};
 }
 
 py::dict graph_dict(const SlamGraph& g) {
@@ -356,12 +361,12 @@ void bind_estimation(py::module_& m) {
       .def_property_readonly(
           "map",
           [](const SlamRunHandle& h) {
-            LoadedMap loaded;
-            loaded.format = MapFormat::RosMap;
-            loaded.map = h.result->map;
-            return wrap_map(std::move(loaded), "slam", false);
+            OccupancyMapHandle m;
+            m.loaded = h.map;
+            m.source = "slam";
+            return m;
           },
-          "the map rendered from every scan at its SLAM pose (a starnav.OccupancyMap)")
+          "the map rendered from every scan at its SLAM pose (a starnav.OccupancyMap; its data is shared by every access)")
       .def_property_readonly(
           "statistics",
           [](const SlamRunHandle& h) {
@@ -507,7 +512,8 @@ void bind_estimation(py::module_& m) {
             s.angles_rad.assign(a.data(), a.data() + a.shape(0));
             for (double x : s.angles_rad)
               if (!std::isfinite(x)) throw Error("expected finite angles (rad)", {}, 0, "angles");
-            py::gil_scoped_release release;
+            // The GIL stays held: a localizer is one mutable object, and another thread could
+            // otherwise feed it at the same time (one scan's update takes milliseconds).
             h.localizer->on_scan(s);
           },
           py::arg("ranges"), py::arg("angles"), py::arg("stamp"), py::arg("range_min"), py::arg("range_max"), py::arg("stream"),

@@ -30,6 +30,7 @@ def test_map_and_summary_are_the_clis(slam, aces_cli_slam):
     written = starnav.load_map(str(aces_cli_slam / "map.yaml"))
     m = slam.map
     assert isinstance(m, starnav.OccupancyMap) and m.data.dtype == np.int8
+    assert np.shares_memory(m.data, slam.map.data)  # one map, whichever access
     assert m.data.shape == written.data.shape and m.resolution == written.resolution
     # map.pgm (map_server's trinary image) keeps free, occupied and unknown by the thresholds in
     # percent, rounded (as map_saver compares them).
