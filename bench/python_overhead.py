@@ -3,7 +3,10 @@
 docs/benchmarks.md): one A* query as `starnav plan` runs it, and 1,000 queries in one batch, on the
 512 x 512 MovingAI map bg512/AR0011SR of ../shared. The C++ side is starnav_bench's
 PythonBaseline_* (bench/bench_python_baseline.cpp: the same map, queries and clocks); both are
-pinned to one core and measured in thread CPU time. Not a test: run it by hand or from make bench.
+pinned to one core and measured in thread CPU time. Then `starnav.register` on KITTI 00 frames 1
+onto 0 (0.25 m voxels) for gicp, ndt and icp: the Python call's wall time against the matcher's own
+time_s (set_reference and match, timed inside the library), median of 5. Not a test: run it by hand
+or from make bench.
 
     python3 bench/python_overhead.py [BUILD_DIR]      (default build; needs -DSTARNAV_BUILD_BENCH=ON)
 """
@@ -20,6 +23,26 @@ sys.path.insert(0, os.path.join(BUILD, "python"))
 import starnav  # noqa: E402
 
 MAP = os.path.join(HERE, "..", "..", "shared", "benchmarks", "movingai", "bg512", "AR0011SR.map")
+KITTI = os.path.join(HERE, "..", "..", "shared", "datasets", "lidar3d", "kitti_odometry_mini", "sequences", "00", "velodyne")
+
+
+def registration():
+    """(method, Python wall ms, library time_s ms) for each matcher, medians of 5."""
+    if not os.path.isdir(KITTI):
+        return []
+    target = starnav.cloud.voxel_downsample(starnav.cloud.read_cloud(os.path.join(KITTI, "000000.bin.gz")), 0.25)
+    source = starnav.cloud.voxel_downsample(starnav.cloud.read_cloud(os.path.join(KITTI, "000001.bin.gz")), 0.25)
+    rows = []
+    for method in ("gicp", "ndt", "icp"):
+        starnav.register(source, target, method)  # warm
+        wall, inside = [], []
+        for _ in range(5):
+            t0 = time.perf_counter()
+            reg = starnav.register(source, target, method)
+            wall.append((time.perf_counter() - t0) * 1e3)
+            inside.append(reg.time_s * 1e3)
+        rows.append((method, statistics.median(wall), statistics.median(inside)))
+    return rows
 
 
 def queries():
@@ -75,6 +98,9 @@ def main():
     ok_single = single_py <= single_cpp * 1.05 + 2.0
     ok_batch = batch_py <= batch_cpp * 1.10
     print("one query within 5 %% + 2 us: %s; batch within 10 %%: %s" % ("yes" if ok_single else "NO", "yes" if ok_batch else "NO"))
+    for method, wall, inside in registration():
+        print("register %-5s KITTI 00 1 -> 0: Python %8.1f ms, the matcher's own %8.1f ms, ratio %.4f (within 5 %%: %s)" % (
+            method, wall, inside, wall / inside, "yes" if wall <= inside * 1.05 else "NO"))
     return 0
 
 

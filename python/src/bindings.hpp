@@ -110,5 +110,7 @@ void bind_terrain(py::module_& m);
 void bind_planning(py::module_& m);
 void bind_cloud(py::module_& m);
 void bind_simulation(py::module_& m);
+void bind_estimation(py::module_& m);
+void bind_experiments(py::module_& m);
 
 }  // namespace starnav::python

@@ -1,6 +1,7 @@
 // The Python module starnav._starnav (docs/python.md): the library's errors, settings and
-// declarations; the maps, terrain, planning, cloud and simulator parts are bound in their own
-// translation units (maps.cpp, planning.cpp, cloud.cpp, simulation.cpp) to keep each compile small.
+// declarations; the maps, terrain, planning, cloud, simulator, estimation and experiment parts are
+// bound in their own translation units (maps.cpp, planning.cpp, cloud.cpp, simulation.cpp,
+// estimation.cpp, experiments.cpp) to keep each compile small.
 #include <Python.h>
 
 #include <cerrno>
@@ -190,4 +191,6 @@ PYBIND11_MODULE(_starnav, m) {
   starnav::python::bind_planning(m);
   starnav::python::bind_cloud(m);
   starnav::python::bind_simulation(m);
+  starnav::python::bind_estimation(m);
+  starnav::python::bind_experiments(m);
 }

@@ -12,6 +12,7 @@
 #include "starnav/experiment/plan_query.hpp"
 #include "starnav/experiment/plan_report.hpp"
 #include "starnav/experiment/terrain_report.hpp"
+#include "starnav/registry/components.hpp"
 
 namespace starnav::python {
 
@@ -19,15 +20,31 @@ namespace {
 
 // One query's outcome and what its reports need (the map it was planned on is kept alive: the
 // report context points into it).
+// A planner between poses (Hybrid-A*) keeps its result and name in `poses` (the report of
+// `starnav plan --start-yaw-deg ...`).
+struct PosePlanOutcome {
+  std::string planner;
+  PlanResult result;
+};
+
 struct PlanResultHandle {
   std::shared_ptr<const LoadedMap> map;
   std::shared_ptr<PlanOutcome> occupancy;
   std::shared_ptr<TerrainPlanOutcome> terrain;
+  std::shared_ptr<PosePlanOutcome> poses;
   PlanReportContext report;
 
-  const PlanResult& result() const { return occupancy ? occupancy->result : terrain->result; }
+  const PlanResult& result() const { return poses ? poses->result : occupancy ? occupancy->result : terrain->result; }
   bool index_grid() const { return occupancy && report.index_grid; }
-  std::string json() const { return occupancy ? plan_json(*occupancy, report) : terrain_plan_json(*terrain); }
+  std::string json() const {
+    if (poses) return pose_plan_json(poses->planner, poses->result);
+    return occupancy ? plan_json(*occupancy, report) : terrain_plan_json(*terrain);
+  }
+  std::string planner() const {
+    return poses ? poses->planner : occupancy ? std::string(occupancy->planner->name()) : terrain->planner;
+  }
+  // A planner between poses searches a lattice of motions: no optimality claim.
+  bool admissible() const { return !poses && (occupancy ? occupancy->planner->admissible() : terrain->admissible); }
 };
 
 // Many queries' results.
@@ -93,6 +110,68 @@ std::string map_name(const MapHandle& h) { return h.from_file ? h.source : "the 
 
 py::object optional_number(bool present, double v) { return present ? py::object(py::float_(v)) : py::object(py::none()); }
 
+// A pose (x, y, yaw): metres and radians in the map frame.
+Pose2 pose_endpoint(const py::handle& point, const char* field) {
+  std::vector<double> v;
+  try {
+    v = py::cast<std::vector<double>>(point);
+  } catch (const py::cast_error&) {
+    throw Error("expected (x, y, yaw), three numbers (m, m, rad): the planner plans between poses", {}, 0, field);
+  }
+  if (v.size() != 3) throw Error("expected (x, y, yaw), three numbers (m, m, rad): the planner plans between poses", {}, 0, field);
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) throw Error("expected three finite numbers", {}, 0, field);
+  return Pose2(v[0], v[1], v[2]);
+}
+
+// A planner between poses (capability needs_headings) through its role, as `starnav plan` runs it
+// with --start-yaw-deg and --goal-yaw-deg: its declared parameters, and `unknown` (free or
+// blocked) as --unknown.
+PlanResultHandle plan_between_poses(const OccupancyMapHandle& h, const GlobalPlannerDef& def, const py::object& start,
+                                    const py::object& goal, bool cells, std::vector<ParamSetting> settings) {
+  const OccupancyGrid& grid = h.loaded->occupancy();
+  const GridGeometry& geometry = grid.geometry();
+  if (h.index_grid())
+    throw Error("'" + def.info.name + "' plans on metric maps (map_server .yaml), in metres", h.from_file ? h.source : "", 0, "map");
+  GlobalPlannerContext pctx;
+  pctx.grid.thresholds = h.loaded->thresholds();
+  for (auto it = settings.begin(); it != settings.end();) {
+    if (it->key != "unknown") {
+      ++it;
+      continue;
+    }
+    if (it->value != "free" && it->value != "blocked") throw Error("must be free or blocked, got '" + printable(it->value, 40) + "'", {}, 0, "unknown");
+    pctx.grid.unknown_is_free = it->value == "free";
+    it = settings.erase(it);
+  }
+  const std::unique_ptr<GlobalPlanner> planner = def.make(pctx, settings);
+  Pose2 s = pose_endpoint(start, "start"), g = pose_endpoint(goal, "goal");
+  if (cells) {  // cell indices: their centres
+    const auto centre = [&](Pose2 p, const char* field) {
+      const Cell c = plan_endpoint_cell(Vec2(p.x, p.y), true, geometry, field, format_param_real(p.x) + "," + format_param_real(p.y));
+      const Vec2 w = geometry.cell_center(c);
+      return Pose2(w.x(), w.y(), p.yaw);
+    };
+    s = centre(s, "start");
+    g = centre(g, "goal");
+  }
+  PlanQuery q;
+  q.start_pose = s;
+  q.goal_pose = g;
+  q.start = geometry.world_to_cell_unchecked(Vec2(s.x, s.y));
+  q.goal = geometry.world_to_cell_unchecked(Vec2(g.x, g.y));
+  auto outcome = std::make_shared<PosePlanOutcome>();
+  outcome->planner = def.info.name;
+  {
+    py::gil_scoped_release release;
+    outcome->result = planner->plan_poses(PlanningLayers{&grid, nullptr}, q, {});
+  }
+  PlanResultHandle out;
+  out.map = h.loaded;
+  out.poses = std::move(outcome);
+  out.report = {&grid, q.start, q.goal, false, false};
+  return out;
+}
+
 
 PlanResultHandle plan_query(const py::object& map_object, const py::object& start, const py::object& goal,
                             const py::object& planner_name, bool cells, const py::dict& kwargs) {
@@ -104,6 +183,11 @@ PlanResultHandle plan_query(const py::object& map_object, const py::object& star
     const OccupancyGrid& grid = h.loaded->occupancy();
     const bool index_grid = h.index_grid();
     std::string warning;
+    if (const GlobalPlannerDef& def = find_global_planner(planner, "planner", &warning); def.info.has(Capability::NeedsHeadings)) {
+      warn_deprecated(warning);
+      return plan_between_poses(h, def, start, goal, cells, settings);
+    }
+    warning.clear();
     PlanRequest rq = occupancy_plan_request(planner, settings, grid.geometry(), index_grid, h.loaded->thresholds(),
                                             map_name(h), "planner", &warning);
     warn_deprecated(warning);
@@ -194,12 +278,28 @@ The result of one planning query, as `starnav plan --json` reports it: json() is
 byte for byte (time_ms aside, a wall-clock time). `path` holds the path's points in the CLI's units
 (cells on MovingAI maps, metres in the map frame otherwise), (N, 2) float64; `path_cells` the cells
 (ix, iy), (N, 2) int32.)doc")
-      .def_property_readonly("planner", [](const PlanResultHandle& h) {
-        return h.occupancy ? std::string(h.occupancy->planner->name()) : h.terrain->planner;
-      })
-      .def_property_readonly("admissible", [](const PlanResultHandle& h) {
-        return h.occupancy ? h.occupancy->planner->admissible() : h.terrain->admissible;
-      })
+      .def_property_readonly("planner", &PlanResultHandle::planner)
+      .def_property_readonly("admissible", &PlanResultHandle::admissible)
+      .def_property_readonly(
+          "poses",
+          [](const PlanResultHandle& h) -> py::object {
+            if (!h.poses) return py::none();
+            const PlanResult& r = h.poses->result;
+            std::vector<double> v;
+            v.reserve(3 * r.path_poses.size());
+            for (const Pose2& p : r.path_poses) v.insert(v.end(), {p.x, p.y, p.yaw});
+            return owning_array(std::move(v), {static_cast<py::ssize_t>(r.path_poses.size()), 3});
+          },
+          "planners between poses (hybrid_astar): the path's poses (N, 3) x, y (m), yaw (rad); else None")
+      .def_property_readonly(
+          "reversing",
+          [](const PlanResultHandle& h) -> py::object {
+            if (!h.poses) return py::none();
+            std::vector<std::uint8_t> v(h.poses->result.path_reversing);
+            const auto n = static_cast<py::ssize_t>(v.size());
+            return owning_array(std::move(v), {n}).attr("astype")("bool");
+          },
+          "planners between poses: per pose, whether the motion leaving it drives in reverse; else None")
       .def_property_readonly("found", [](const PlanResultHandle& h) { return h.result().found(); })
       .def_property_readonly("reason", [](const PlanResultHandle& h) { return std::string(plan_status_reason(h.result().status)); },
                              "found, start_outside_map, goal_outside_map, start_blocked, goal_blocked, no_path, expansion_limit, "
@@ -212,7 +312,15 @@ byte for byte (time_ms aside, a wall-clock time). `path` holds the path's points
       .def_property_readonly("expanded", [](const PlanResultHandle& h) { return h.result().expanded; }, "states expanded")
       .def_property_readonly("generated", [](const PlanResultHandle& h) { return h.result().generated; }, "states generated")
       .def_property_readonly("time_ms", [](const PlanResultHandle& h) { return h.result().time_ms; }, "the search's wall time")
-      .def_property_readonly("path", [](const PlanResultHandle& h) { return path_array(h.result(), h.index_grid()); })
+      .def_property_readonly("path",
+                             [](const PlanResultHandle& h) {
+                               if (!h.poses) return path_array(h.result(), h.index_grid());
+                               const std::vector<Pose2>& poses = h.poses->result.path_poses;  // x, y of each pose
+                               std::vector<double> xy;
+                               xy.reserve(2 * poses.size());
+                               for (const Pose2& p : poses) xy.insert(xy.end(), {json_coordinate(p.x), json_coordinate(p.y)});
+                               return owning_array(std::move(xy), {static_cast<py::ssize_t>(poses.size()), 2});
+                             })
       .def_property_readonly("path_cells", [](const PlanResultHandle& h) { return cells_array(h.result().path_cells); })
       .def_property_readonly(
           "smoothed_path",
@@ -231,6 +339,7 @@ byte for byte (time_ms aside, a wall-clock time). `path` holds the path's points
       .def_property_readonly(
           "expanded_cells",
           [](const PlanResultHandle& h) -> py::object {
+            if (h.poses) return py::none();
             if (h.occupancy) return h.report.expanded ? py::object(cells_array(h.occupancy->planner->trace())) : py::none();
             return h.terrain->options.record_trace ? py::object(cells_array(h.terrain->trace)) : py::none();
           },

@@ -1,4 +1,4 @@
-"""starnav in Python: maps, planners, the simulator and 3D registration of the starnav C++ library,
+"""starnav in Python: maps, planners, the simulator, SLAM and localization, 3D registration and experiments of the starnav C++ library,
 numpy in and out.
 
     import starnav
@@ -25,25 +25,29 @@ from ._starnav import (  # noqa: E402
     ElevationMap,
     FileError,
     InputError,
+    LocalizeRun,
     MissingFileError,
     OccupancyMap,
     PlanBatch,
     PlanResult,
+    SlamRun,
     TerrainAnalysis,
     __version__,
     build_info,
     load_map,
     load_scenarios,
 )
-from . import cloud, matchers, planners, simulation, terrain  # noqa: E402
+from . import cloud, experiments, localization, matchers, planners, simulation, slam, terrain  # noqa: E402
 from .cloud import Registration, register  # noqa: E402
+from .localization import Amcl, Ekf, Localizer, localize, read_log  # noqa: E402
 from .planners import plan, plan_many  # noqa: E402
 from .simulation import Navigation, Simulation, navigate, scenario_document, scenario_yaml  # noqa: E402
 from ._generate import components  # noqa: E402
 
 __all__ = [
-    "ControlInput", "ElevationMap", "FileError", "InputError", "MissingFileError", "Navigation", "OccupancyMap",
-    "PlanBatch", "PlanResult", "Registration", "Simulation", "TerrainAnalysis", "__version__", "build_info", "cloud",
-    "components", "load_map", "load_scenarios", "matchers", "navigate", "plan", "plan_many", "planners", "register",
-    "scenario_document", "scenario_yaml", "simulation", "terrain",
+    "Amcl", "ControlInput", "Ekf", "ElevationMap", "FileError", "InputError", "LocalizeRun", "Localizer",
+    "MissingFileError", "Navigation", "OccupancyMap", "PlanBatch", "PlanResult", "Registration", "Simulation",
+    "SlamRun", "TerrainAnalysis", "__version__", "build_info", "cloud", "components", "experiments", "load_map",
+    "load_scenarios", "localization", "localize", "matchers", "navigate", "plan", "plan_many", "planners", "read_log",
+    "register", "scenario_document", "scenario_yaml", "simulation", "slam", "terrain",
 ]

@@ -80,8 +80,37 @@ def finish(function, name, module, doc, sig, specs):
     return function
 
 
+UNKNOWN_SPEC = {"key": "unknown", "type": "choice", "default": "", "range": "free | blocked", "choices": ["free", "blocked"],
+                "unit": "", "doc": "unknown cells free or blocked (default: the planner's rule, as `starnav plan --unknown`)"}
+
+
+def pose_planner_function(info):
+    """starnav.planners.<name>(map, start, goal, *, cells=False, **params) for a planner between
+    poses (capability needs_headings: hybrid_astar): start and goal are (x, y, yaw)."""
+    name = info["name"]
+    specs = list(info["params"]) + [UNKNOWN_SPEC]
+
+    def function(map, start, goal, *, cells=False, **params):
+        return _starnav.plan(map, start, goal, name, cells, params)
+
+    doc = [info["summary"] + ".", "",
+           "Plans between poses on an OccupancyMap with metric cells (the registry's global planner %r;" % name,
+           "capabilities: %s), as `starnav plan --planner %s --start-yaw-deg A --goal-yaw-deg B`." % (
+               ", ".join(info["capabilities"]), name),
+           "start and goal are (x, y, yaw): metres in the map frame and radians (the CLI takes degrees);",
+           "cells=True takes (column, row) cell indices for x, y (their centres). Returns a starnav.PlanResult:",
+           "poses (N, 3), reversing (N,), path (N, 2) the poses' positions; json() is the CLI's line.",
+           "", "Keyword arguments (the planner's declared parameters, `--set KEY=VALUE`, and unknown):"]
+    doc += parameter_lines(specs)
+    sig = signature([("map", inspect.Parameter.empty), ("start", inspect.Parameter.empty),
+                     ("goal", inspect.Parameter.empty)], specs, tail=[("cells", False)], returns="PlanResult")
+    return finish(function, name, "starnav.planners", "\n".join(doc), sig, specs)
+
+
 def planner_function(info):
     """starnav.planners.<name>(map, start, goal, *, cells=False, **params) for one registered planner."""
+    if "needs_headings" in info["capabilities"]:
+        return pose_planner_function(info)
     name = info["name"]
     elevation = "needs_elevation" in info["capabilities"]
     specs = _starnav.declared_parameters("plan_terrain" if elevation else "plan_occupancy")

@@ -250,16 +250,73 @@ def navigate(scenario: str | os.PathLike[str] | dict[str, Any], controller: Any 
 """
 
 
+ESTIMATION_STUBS = {
+    "slam.pyi": """from typing import Any, Optional
+import os
+from ._starnav import SlamRun
+def run(log: str | os.PathLike[str], method: str = ..., *, relations: Optional[str | os.PathLike[str]] = ..., record_steps: bool = ..., **params: Any) -> SlamRun: ...
+""",
+    "localization.pyi": """from typing import Any, Optional
+import os
+import numpy
+from ._starnav import LocalizeRun, OccupancyMap
+def read_log(path: str | os.PathLike[str], **read: Any) -> dict[str, Any]: ...
+def localize(log: str | os.PathLike[str], map: str | os.PathLike[str] | OccupancyMap, initial: str | tuple[float, float, float] = ..., *, reference: Optional[str | os.PathLike[str]] = ..., seed: int = ..., record_steps: bool = ..., **params: Any) -> LocalizeRun: ...
+class Localizer:
+    def __init__(self, name: str, map: Optional[OccupancyMap] = ..., *, initial: tuple[float, float, float] = ..., seed: int = ..., laser_in_base: tuple[float, float, float] = ..., laser_range: Optional[tuple[float, float]] = ..., **params: Any) -> None: ...
+    @property
+    def name(self) -> str: ...
+    def on_odometry(self, t: float, pose: Any, twist: Any = ...) -> None: ...
+    def on_imu(self, t: float, yaw: Optional[float] = ..., angular_velocity: Any = ...) -> None: ...
+    def on_scan(self, ranges: numpy.ndarray, angles: numpy.ndarray, stamp: float, range_min: float = ..., range_max: float = ..., stream: str = ..., mount: Any = ...) -> None: ...
+    def on_ground_truth(self, t: float, pose: Any) -> None: ...
+    def estimate(self) -> dict[str, Any]: ...
+    @property
+    def pose(self) -> numpy.ndarray: ...
+    @property
+    def covariance(self) -> numpy.ndarray: ...
+    @property
+    def particles(self) -> numpy.ndarray: ...
+class Ekf(Localizer):
+    declared_parameters: list[dict[str, Any]]
+    def __init__(self, *, initial: tuple[float, float, float] = ..., seed: int = ..., **params: Any) -> None: ...
+    @property
+    def state(self) -> numpy.ndarray: ...
+class Amcl(Localizer):
+    declared_parameters: list[dict[str, Any]]
+    def __init__(self, map: OccupancyMap, *, initial: tuple[float, float, float] = ..., seed: int = ..., laser_in_base: tuple[float, float, float] = ..., laser_range: Optional[tuple[float, float]] = ..., **params: Any) -> None: ...
+""",
+    "experiments.pyi": """from typing import Any, Iterable, Optional
+import os
+import numpy
+def csv_table(text: str) -> dict[str, numpy.ndarray]: ...
+class BenchResult:
+    csv: str
+    text: str
+    summary: dict[str, Any]
+    timing: dict[str, Any]
+    table: dict[str, numpy.ndarray]
+    def __init__(self, reports: dict[str, str]) -> None: ...
+def bench_nav(scenario: str | os.PathLike[str], seeds: int, *, seed_base: int = ..., motion_mode: Optional[str] = ..., set: Optional[dict[str, Any]] = ...) -> BenchResult: ...
+def run_scenarios(scenarios: Iterable[Any], seeds: Iterable[int], *, set: Optional[dict[str, Any]] = ..., planner: Optional[str] = ...) -> dict[str, numpy.ndarray]: ...
+""",
+}
+
+
 def package_stub():
     out = [HEADER]
     out.append("from ._starnav import (ControlInput as ControlInput, ElevationMap as ElevationMap, FileError as FileError, InputError as InputError,")
     out.append("    MissingFileError as MissingFileError, OccupancyMap as OccupancyMap, PlanBatch as PlanBatch,")
     out.append("    PlanResult as PlanResult, TerrainAnalysis as TerrainAnalysis, __version__ as __version__,")
+    out.append("    LocalizeRun as LocalizeRun, SlamRun as SlamRun,")
     out.append("    build_info as build_info, load_map as load_map, load_scenarios as load_scenarios)")
     out.append("from . import cloud as cloud, matchers as matchers, planners as planners, terrain as terrain")
     out.append("from .cloud import Registration as Registration, register as register")
     out.append("from .planners import plan as plan, plan_many as plan_many")
     out.append("from . import simulation as simulation")
+    out.append("from . import experiments as experiments, localization as localization, slam as slam")
+    out.append("from .localization import (Amcl as Amcl, Ekf as Ekf, Localizer as Localizer, localize as localize,")
+    out.append("    read_log as read_log)")
     out.append("from .simulation import (Navigation as Navigation, Simulation as Simulation, navigate as navigate,")
     out.append("    scenario_document as scenario_document, scenario_yaml as scenario_yaml)")
     out.append("from typing import Any")
@@ -278,6 +335,8 @@ def main(argv):
     write(os.path.join(outdir, "terrain.pyi"), generated_module_stub(terrain, []))
     write(os.path.join(outdir, "cloud.pyi"), cloud_stub())
     write(os.path.join(outdir, "simulation.pyi"), HEADER + SIMULATION_STUB)
+    for name, text in ESTIMATION_STUBS.items():
+        write(os.path.join(outdir, name), HEADER + text)
     write(os.path.join(outdir, "__init__.pyi"), package_stub())
     write(os.path.join(outdir, "py.typed"), "")
     return 0

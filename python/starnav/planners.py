@@ -1,6 +1,7 @@
 """The global planners of starnav's registry, one function each, made at import from the registry
 and the declared query parameters (starnav/_generate.py): dijkstra, astar, wastar, jps, jpsplus,
-thetastar, dstar_lite, ou2022 on occupancy maps; oa, aoea, ia (Liu et al. 2024) on elevation maps.
+thetastar, dstar_lite, ou2022 on occupancy maps; hybrid_astar between poses (x, y, yaw) on metric
+occupancy maps; oa, aoea, ia (Liu et al. 2024) on elevation maps.
 
     r = starnav.planners.astar(m, (3, 3), (60, 44), connectivity=4)
 

@@ -95,3 +95,35 @@ def progress_while(call):
     t0, t1 = box["t0"], box["t1"]
     inside = sum(1 for x in window if t0 < x < t1)
     return box["result"], inside / (rate * (t1 - t0)), t1 - t0
+
+
+# The first scans of the aces log (the Freiburg SLAM benchmark's, as the text extract of its bag):
+# a prefix keeps the SLAM and localization tests to a second or two, the whole log takes longer.
+ACES_PREFIX_LINES = 800
+
+
+@pytest.fixture(scope="session")
+def aces_prefix(tmp_path_factory):
+    """A text extract holding the aces log's comment lines and its first ACES_PREFIX_LINES
+    ODOMETRY / LASERSCAN lines (skips without ../shared)."""
+    import gzip
+    full = shared("datasets", "carmen_raw", "derived_from_bags", "aces.odomscan.txt.gz")
+    kept, data = [], 0
+    with gzip.open(full, "rt") as f:
+        for line in f:
+            if not line.startswith("#"):
+                data += 1
+                if data > ACES_PREFIX_LINES:
+                    break
+            kept.append(line)
+    path = tmp_path_factory.mktemp("aces") / "aces.odomscan.txt"
+    path.write_text("".join(kept))
+    return str(path)
+
+
+@pytest.fixture(scope="session")
+def aces_cli_slam(aces_prefix, tmp_path_factory):
+    """`starnav slam run` on the aces prefix: its output folder (trajectory.csv, map.yaml ...)."""
+    out = tmp_path_factory.mktemp("aces_slam") / "slam"
+    run_cli("slam", "run", aces_prefix, "--out", out, "--quiet")
+    return out

@@ -2,6 +2,7 @@
 arguments, results equal to `starnav plan --json` byte for byte (wall-clock times aside), the
 CLI's error messages for bad values, the batch call in C++ with the GIL released."""
 import inspect
+import math
 import pydoc
 import warnings
 
@@ -40,10 +41,29 @@ def test_every_planner_is_a_function():
 
 
 @pytest.mark.parametrize("name", POSES)
-def test_pose_planner_is_refused_between_cells(name):
-    """A planner between poses (Hybrid-A*) needs headings, which this call does not take (yet)."""
+def test_pose_planner_equals_the_cli(name):
+    """A planner between poses (Hybrid-A*) takes (x, y, yaw) in metres and radians: the CLI's JSON
+    for the same query with the headings in degrees (deg * (pi / 180), the library's conversion)."""
+    m = starnav.load_map(ROOMS)
+    # No time budget: the same search whatever the machine's load.
+    r = getattr(starnav.planners, name)(m, (1.0, 1.0, 0.0), (6.0, 3.0, 90 * (math.pi / 180)), max_planning_time_s=0)
+    assert r.found and r.planner == name and r.units == "m"
+    same_as_cli(r, "--map", ROOMS, "--planner", name, "--start", "1,1", "--start-yaw-deg", "0", "--goal", "6,3",
+                "--goal-yaw-deg", "90", "--set", "max_planning_time_s=0")
+    poses = r.poses
+    assert poses.shape == (len(r.reversing), 3) and np.allclose(r.path, poses[:, :2], rtol=0, atol=1e-9)
+    assert np.allclose(poses[0], (1.0, 1.0, 0.0)) and np.allclose(poses[-1], (6.0, 3.0, math.pi / 2))
+    assert np.allclose(np.array(r.to_dict()["path"]), poses, rtol=0, atol=1e-9)
+    # Its own parameters and --unknown, checked as the CLI checks them; headings are required.
     with pytest.raises(starnav.InputError, match="plans between poses"):
-        getattr(starnav.planners, name)(starnav.load_map(ROOMS), (1.0, 1.0), (20.0, 13.0))
+        getattr(starnav.planners, name)(m, (1.0, 1.0), (20.0, 13.0))
+    with pytest.raises(starnav.InputError) as e:
+        getattr(starnav.planners, name)(m, (1.0, 1.0, 0.0), (20.0, 13.0, 0.0), unknown="maybe")
+    assert e.value.field == "unknown"
+    with pytest.raises(starnav.InputError):
+        getattr(starnav.planners, name)(m, (1.0, 1.0, 0.0), (20.0, 13.0, 0.0), no_such_key=1)
+    with pytest.raises(starnav.InputError, match="metric maps"):
+        getattr(starnav.planners, name)(starnav.load_map(OFFICE), (3, 3, 0.0), (60, 44, 0.0))
 
 
 @pytest.mark.parametrize("name", OCCUPANCY)

@@ -9,7 +9,8 @@ import starnav
 from starnav import _stubs
 
 PACKAGE = os.path.dirname(starnav.__file__)
-STUBS = ["__init__.pyi", "planners.pyi", "matchers.pyi", "terrain.pyi", "cloud.pyi", "simulation.pyi", "_starnav.pyi"]
+STUBS = ["__init__.pyi", "planners.pyi", "matchers.pyi", "terrain.pyi", "cloud.pyi", "simulation.pyi", "slam.pyi", "localization.pyi",
+         "experiments.pyi", "_starnav.pyi"]
 TYPES = {"real": "float", "integer": "int", "boolean": "bool", "choice": "str", "names": "list[Any]", "polygons": "list[Any]"}
 
 
