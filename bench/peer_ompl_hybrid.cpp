@@ -66,6 +66,7 @@ struct Options {
   double width_m = 0.9;
   double radius_m = 2.5;
   std::uint64_t seed = 45;
+  int only = -1;  // >= 0: run only this query of the sequence
   std::string csv;
   bool json = false;
   bool quiet = false;
@@ -223,13 +224,19 @@ std::vector<Pose2> concatenate(const std::vector<std::vector<Pose2>>& segments) 
 
 // The footprint at every pose against every obstacle cell near it (the checker's brute-force rule
 // on a small window of the grid built for the pose), independent of the planners' whole-map window.
-bool poses_free(const MapCase& mc, const std::vector<Pose2>& poses) {
+// The first pose that collides is reported on stderr.
+bool poses_free(const MapCase& mc, const std::vector<Pose2>& poses, const char* planner) {
   ClearanceWindow local;
   const double res = mc.grid.resolution();
   const double half = mc.checker.model().bounding_radius_m() + 2.0 * res;
-  for (const Pose2& p : poses) {
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Pose2& p = poses[i];
     local.build(mc.grid, {p.x, p.y}, half, 2.0 * res);
-    if (mc.checker.collides_brute_force(local, p)) return false;
+    if (mc.checker.collides_brute_force(local, p)) {
+      std::fprintf(stderr, "%s: the footprint at sample %zu of %zu, pose (%.6f, %.6f, %.6f), collides on %s (whole-map checker: %s)\n",
+                   planner, i, poses.size(), p.x, p.y, p.yaw, mc.name.c_str(), mc.collides(p) ? "collides" : "free");
+      return false;
+    }
   }
   return true;
 }
@@ -267,7 +274,7 @@ HybridRun run_hybrid(MapCase& mc, const Query& q) {
   }
   out.length_m = length;
   out.max_curvature = max_curvature(segments);
-  out.free = poses_free(mc, concatenate(segments));
+  out.free = poses_free(mc, concatenate(segments), "hybrid_astar");
   return out;
 }
 
@@ -362,11 +369,12 @@ PeerRun run_peer(const MapCase& mc, const Query& q, Peer peer, const Options& o)
     }
   }
   out.max_curvature = max_curvature(segments);
-  out.free = poses_free(mc, concatenate(segments));
+  out.free = poses_free(mc, concatenate(segments), peer == Peer::RRTstar ? "rrtstar" : "bitstar");
   return out;
 }
 
 struct Row {
+  std::size_t index = 0;  // in the query sequence
   Query query;
   HybridRun hybrid;
   PeerRun rrt, bit;
@@ -394,7 +402,7 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, const std:
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     const Query& q = r.query;
-    f << i << ',' << maps[static_cast<std::size_t>(q.map)]->name << ',' << num(q.start.x) << ',' << num(q.start.y) << ','
+    f << r.index << ',' << maps[static_cast<std::size_t>(q.map)]->name << ',' << num(q.start.x) << ',' << num(q.start.y) << ','
       << num(q.start.yaw) << ',' << num(q.goal.x) << ',' << num(q.goal.y) << ',' << num(q.goal.yaw) << ',' << r.hybrid.found
       << ',' << r.hybrid.status << ',' << num(r.hybrid.time_s) << ',' << num(r.hybrid.length_m) << ',' << num(r.hybrid.max_curvature) << ','
       << r.hybrid.cusps << ',' << r.hybrid.free;
@@ -510,6 +518,7 @@ int run(const Options& o) {
       throw Error("no such map file (nor under " + dir.string() + ")", m, 0, "--map");
     }
   }
+  if (o.only >= o.queries) throw Error("must be below --queries", {}, 0, "--only");
   // Only the maps the queries use are loaded (queries go round the list).
   const std::size_t used = std::min(paths.size(), static_cast<std::size_t>(o.queries));
   std::vector<std::unique_ptr<MapCase>> maps;
@@ -524,7 +533,9 @@ int run(const Options& o) {
   }
   std::vector<Row> rows;
   for (std::size_t i = 0; i < queries.size(); ++i) {
+    if (o.only >= 0 && static_cast<int>(i) != o.only) continue;
     Row r;
+    r.index = i;
     r.query = queries[i];
     MapCase& mc = *maps[static_cast<std::size_t>(r.query.map)];
     r.hybrid = run_hybrid(mc, r.query);
@@ -564,6 +575,8 @@ int main(int argc, char** argv) {
   app.add_option("--min-distance", o.min_distance_m, "least distance between start and goal (m)")
       ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--seed", o.seed, "seed of the queries (and of OMPL's sampler)");
+  app.add_option("--only", o.only, "run only query INDEX (from 0) of the sequence, to look at one again")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--csv", o.csv, "per-query results to this CSV file");
   app.add_flag("--json", o.json, "the summary as JSON");
   app.add_flag("--quiet", o.quiet, "no progress lines on stderr");
