@@ -519,6 +519,7 @@ int run(const Options& o) {
     }
   }
   if (o.only >= o.queries) throw Error("must be below --queries", {}, 0, "--only");
+  if (!o.csv.empty() && !std::ofstream(o.csv)) throw Error("cannot write", o.csv, 0, "--csv");  // before the long run
   // Only the maps the queries use are loaded (queries go round the list).
   const std::size_t used = std::min(paths.size(), static_cast<std::size_t>(o.queries));
   std::vector<std::unique_ptr<MapCase>> maps;

@@ -22,6 +22,7 @@ rc=0
   >"$out/ompl_hybrid.json" || rc=$?
 if [ "$rc" -eq 77 ]; then
   echo "bench-ompl-hybrid: $shared/benchmarks/movingai not present, skipped"
+  rm -f "$out/ompl_hybrid.json" "$out/ompl_hybrid.csv"
   exit 0
 fi
 exit "$rc"
