@@ -275,6 +275,19 @@ HybridRun run_hybrid(MapCase& mc, const Query& q) {
   out.length_m = length;
   out.max_curvature = max_curvature(segments);
   out.free = poses_free(mc, concatenate(segments), "hybrid_astar");
+  if (!out.free) {
+    // Which motion, and whether the planner's own checks along it (every half cell) see it.
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      if (std::none_of(segments[i].begin(), segments[i].end(), [&](const Pose2& p) { return mc.collides(p); })) continue;
+      const HybridMotion& m = mc.planner->motions()[i];
+      const double len = std::abs(m.length), step = 0.5 * mc.grid.resolution();
+      const int n = std::max(1, static_cast<int>(std::ceil(len / step - 1e-9)));
+      bool seen = false;
+      for (int k = 0; k <= n; ++k) seen = seen || mc.collides(m.pose_at(len * k / n));
+      std::fprintf(stderr, "hybrid_astar: motion %zu of %zu (curvature %.4f 1/m, length %.4f m) collides; checked every %.3f m it %s\n",
+                   i, segments.size(), m.curvature, m.length, len / n, seen ? "collides too" : "looks clear");
+    }
+  }
   return out;
 }
 
