@@ -17,8 +17,12 @@ CTEST = ctest --output-on-failure --progress -j $(JOBS)
 
 all: build
 
+# make bench and bench-full install the benchmarks' peers too (OMPL): the target-specific value
+# reaches deps through build.
+DEPS_SET ?= core
+bench bench-full: DEPS_SET = bench
 deps:
-	@STARNAV_WITH_GDAL=$(GDAL) STARNAV_WITH_PCL=$(PCL) scripts/install-deps.sh core
+	@STARNAV_WITH_GDAL=$(GDAL) STARNAV_WITH_PCL=$(PCL) scripts/install-deps.sh $(DEPS_SET)
 
 build: deps
 	@$(CMAKE_BUILD) $(BUILD) "-DCMAKE_BUILD_TYPE=Release $(CMAKE_COMMON)"

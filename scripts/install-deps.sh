@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian packages starnav needs, only those missing (dpkg -s), so a second run is
 # quick, then the viewer's npm packages when viewer/package-lock.json is newer than what is installed.
-# Usage: scripts/install-deps.sh [core|fuzz|ci|all]   (default core)
+# Usage: scripts/install-deps.sh [core|fuzz|bench|ci|all]   (default core)
 #   core  what make build / test / demo need; fuzz  plus clang-16 for the sanitizer build;
-#   ci    everything .ci/run uses (with chromium for the browser tests, slurm-wlm and munge for the
-#   sweep's end-to-end test on a single-node Slurm cluster); all  plus the developer tools (clang-format)
+#   bench  plus the benchmarks' peers (make bench: OMPL for Hybrid-A* against RRT* / BIT*);
+#   ci    everything .ci/run uses (with the benchmarks' peers, chromium for the browser tests,
+#   slurm-wlm and munge for the sweep's end-to-end test on a single-node Slurm cluster);
+#   all  plus the developer tools (clang-format)
 set -euo pipefail
 what=${1:-core}
 core=(build-essential cmake ninja-build pkg-config python3 curl libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
@@ -20,12 +22,15 @@ if [ "${STARNAV_WITH_PYTHON:-ON}" != "OFF" ]; then
          python3-venv python3-pip)
 fi
 fuzz=(clang-16 libclang-rt-16-dev libfuzzer-16-dev)
+# Peers linked only into benchmark executables (bench/peer_*.cpp), never into the library.
+bench=(libompl-dev)
 case "$what" in
   core) pkgs=("${core[@]}") ;;
   fuzz) pkgs=("${core[@]}" "${fuzz[@]}") ;;
-  ci) pkgs=("${core[@]}" "${fuzz[@]}" chromium slurm-wlm munge) ;;
-  all)  pkgs=("${core[@]}" "${fuzz[@]}" clang-format) ;;
-  *) echo "usage: $0 [core|fuzz|ci|all]" >&2; exit 2 ;;
+  bench) pkgs=("${core[@]}" "${bench[@]}") ;;
+  ci) pkgs=("${core[@]}" "${fuzz[@]}" "${bench[@]}" chromium slurm-wlm munge) ;;
+  all)  pkgs=("${core[@]}" "${fuzz[@]}" "${bench[@]}" clang-format) ;;
+  *) echo "usage: $0 [core|fuzz|bench|ci|all]" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${pkgs[@]}"; do
