@@ -103,9 +103,21 @@ void KdTree3::k_nearest(const Vec3& query, std::size_t k, std::vector<Neighbour>
   out.clear();
   k = std::min(k, size());
   if (k == 0) return;
-  std::vector<std::uint32_t> idx(k);
-  std::vector<double> dist(k);
-  const std::size_t n = impl_->tree.knnSearch(query.data(), k, idx.data(), dist.data());
+  // Small k (local shapes: 20) searches into the stack: this runs once per point of a cloud.
+  constexpr std::size_t kOnStack = 64;
+  std::uint32_t idx_stack[kOnStack];
+  double dist_stack[kOnStack];
+  std::vector<std::uint32_t> idx_heap;
+  std::vector<double> dist_heap;
+  std::uint32_t* idx = idx_stack;
+  double* dist = dist_stack;
+  if (k > kOnStack) {
+    idx_heap.resize(k);
+    dist_heap.resize(k);
+    idx = idx_heap.data();
+    dist = dist_heap.data();
+  }
+  const std::size_t n = impl_->tree.knnSearch(query.data(), k, idx, dist);
   out.reserve(n);
   for (std::size_t i = 0; i < n; ++i) out.push_back({idx[i], dist[i]});
   std::sort(out.begin(), out.end(), nearer);

@@ -1,32 +1,50 @@
 #include "starnav/cloud/local_shape.hpp"
 
+#include <algorithm>
+
 #include <Eigen/Eigenvalues>
 
 namespace starnav {
+
+namespace {
+
+// The covariance of the neighbours about their mean and its eigen decomposition; false with fewer
+// than 3 neighbours or collinear (or coincident) ones, where no plane is defined.
+bool fit_neighbourhood(const std::vector<Vec3>& pts, const std::vector<Neighbour>& nn, Eigen::Matrix3d& cov,
+                       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& eig) {
+  if (nn.size() < 3) return false;
+  Vec3 mean = Vec3::Zero();
+  for (const Neighbour& n : nn) mean += pts[n.index];
+  mean /= static_cast<double>(nn.size());
+  cov.setZero();
+  for (const Neighbour& n : nn) {
+    const Vec3 d = pts[n.index] - mean;
+    cov += d * d.transpose();
+  }
+  cov /= static_cast<double>(nn.size());
+  eig.computeDirect(cov);
+  const Eigen::Vector3d ev = eig.eigenvalues();
+  return ev(1) > 1e-12 * std::max(ev(2), 1e-300);
+}
+
+Eigen::Matrix3d disc(const Eigen::Matrix3d& eigenvectors, double epsilon) {
+  return eigenvectors * Eigen::Vector3d(epsilon, 1.0, 1.0).asDiagonal() * eigenvectors.transpose();
+}
+
+constexpr std::size_t kShapeChunk = 512;
+
+}  // namespace
 
 std::vector<LocalShape> local_shapes(const KdTree3& tree, std::size_t k) {
   const std::vector<Vec3>& pts = tree.points();
   std::vector<LocalShape> out(pts.size());
   std::vector<Neighbour> nn;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     tree.k_nearest(pts[i], k, nn);
-    if (nn.size() < 3) continue;
-    Vec3 mean = Vec3::Zero();
-    for (const Neighbour& n : nn) mean += pts[n.index];
-    mean /= static_cast<double>(nn.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const Neighbour& n : nn) {
-      const Vec3 d = pts[n.index] - mean;
-      cov += d * d.transpose();
-    }
-    cov /= static_cast<double>(nn.size());
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(cov);
-    const Eigen::Vector3d ev = eig.eigenvalues();
     LocalShape& s = out[i];
-    s.covariance = cov;
-    // Collinear (or coincident) neighbours: the second eigenvalue vanishes and no plane is defined.
-    s.valid = ev(1) > 1e-12 * std::max(ev(2), 1e-300);
+    if (nn.size() < 3) continue;
+    s.valid = fit_neighbourhood(pts, nn, s.covariance, eig);
     Vec3 n = eig.eigenvectors().col(0);
     if (n.dot(pts[i]) > 0) n = -n;  // towards the sensor at the origin
     s.normal = n.normalized();
@@ -34,11 +52,35 @@ std::vector<LocalShape> local_shapes(const KdTree3& tree, std::size_t k) {
   return out;
 }
 
+std::vector<Eigen::Matrix3d> disc_covariances(const KdTree3& tree, std::size_t k, double epsilon, ThreadPool* pool) {
+  const std::vector<Vec3>& pts = tree.points();
+  std::vector<Eigen::Matrix3d> out(pts.size());
+  const std::size_t chunks = (pts.size() + kShapeChunk - 1) / kShapeChunk;
+  // Every point's covariance is its own, so any split over threads gives the same bytes.
+  auto task = [&](std::size_t c) {
+    std::vector<Neighbour> nn;
+    nn.reserve(k);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    Eigen::Matrix3d cov;
+    const std::size_t end = std::min(pts.size(), (c + 1) * kShapeChunk);
+    for (std::size_t i = c * kShapeChunk; i < end; ++i) {
+      tree.k_nearest(pts[i], k, nn);
+      // A point without a surface around it counts as a small isotropic blob.
+      out[i] = fit_neighbourhood(pts, nn, cov, eig) ? disc(eig.eigenvectors(), epsilon) : Eigen::Matrix3d::Identity();
+    }
+  };
+  if (pool && pool->size() > 1) {
+    pool->run(chunks, task);
+  } else {
+    for (std::size_t c = 0; c < chunks; ++c) task(c);
+  }
+  return out;
+}
+
 Eigen::Matrix3d plane_regularised(const Eigen::Matrix3d& covariance, double epsilon) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
   eig.computeDirect(covariance);
-  const Eigen::Matrix3d& v = eig.eigenvectors();
-  return v * Eigen::Vector3d(epsilon, 1.0, 1.0).asDiagonal() * v.transpose();
+  return disc(eig.eigenvectors(), epsilon);
 }
 
 }  // namespace starnav

@@ -1,7 +1,9 @@
 #include "starnav/cloud/scan_matcher_3d.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "starnav/core/error.hpp"
 
@@ -34,6 +36,39 @@ double fitness_score(const KdTree3& reference, std::span<const Vec3> scan, const
       sum += nn.squared_distance;
       ++n;
     }
+  }
+  return n > 0 ? sum / static_cast<double>(n) : kInfinity;
+}
+
+double fitness_score(const KdTree3& reference, std::span<const Vec3> scan, const Rigid3& transform, double max_range_m,
+                     ThreadPool* pool) {
+  if (reference.size() == 0) return kInfinity;
+  constexpr std::size_t kChunk = 512;
+  const double max_sq = max_range_m * max_range_m;
+  const std::size_t chunks = (scan.size() + kChunk - 1) / kChunk;
+  std::vector<double> sums(chunks, 0.0);
+  std::vector<std::size_t> counts(chunks, 0);
+  auto task = [&](std::size_t c) {
+    Neighbour nn;
+    const std::size_t end = std::min(scan.size(), (c + 1) * kChunk);
+    for (std::size_t i = c * kChunk; i < end; ++i) {
+      reference.nearest(transform * scan[i], nn);
+      if (nn.squared_distance <= max_sq) {
+        sums[c] += nn.squared_distance;
+        ++counts[c];
+      }
+    }
+  };
+  if (pool && pool->size() > 1) {
+    pool->run(chunks, task);
+  } else {
+    for (std::size_t c = 0; c < chunks; ++c) task(c);
+  }
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    sum += sums[c];
+    n += counts[c];
   }
   return n > 0 ? sum / static_cast<double>(n) : kInfinity;
 }
