@@ -69,9 +69,10 @@ ParamSetting setting(const std::string& key, const std::string& value) {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: bench_peer_small_gicp [--dataset DIR] [--rounds N] [--threads N] [--neighbours K]\n"
+               "usage: bench_peer_small_gicp [--dataset DIR] [--rounds N] [--threads N] [--neighbours K] [--only TEXT]\n"
                "  the 27 KITTI pairs of starnav bench kitti, starnav's gicp and vgicp beside small_gicp's\n"
-               "  GICP and VGICP; --threads adds rows on N threads (default 1: none)\n");
+               "  GICP and VGICP; --threads adds rows on N threads (default 1: none); --only keeps the\n"
+               "  methods whose label holds TEXT\n");
   return 2;
 }
 
@@ -80,6 +81,7 @@ int usage() {
 int main(int argc, char** argv) try {
   std::string dataset = "../shared/datasets/lidar3d/kitti_odometry_mini";
   int rounds = 5, threads = 1, k = 20;
+  std::string only;  // run only the methods whose label holds this
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help") return usage(), 0;
@@ -89,6 +91,7 @@ int main(int argc, char** argv) try {
     else if (a == "--rounds") rounds = std::atoi(v.c_str());
     else if (a == "--threads") threads = std::atoi(v.c_str());
     else if (a == "--neighbours") k = std::atoi(v.c_str());
+    else if (a == "--only") only = v;
     else return usage();
   }
   if (rounds < 1 || threads < 1 || k < 3) return usage();
@@ -192,6 +195,7 @@ int main(int argc, char** argv) try {
     add_peer("small_gicp VGICP, " + ts + " threads (OpenMP)", true, threads);
   }
 
+  std::erase_if(methods, [&](const Method& m) { return m.label.find(only) == std::string::npos; });
   for (Method& m : methods) m.times.assign(static_cast<std::size_t>(rounds), std::vector<double>(pairs.size()));
   for (int round = 0; round < rounds; ++round) {
     for (std::size_t p = 0; p < pairs.size(); ++p) {

@@ -28,6 +28,9 @@ class KdTree3 {
 
   std::size_t size() const;
   const std::vector<Vec3>& points() const;
+  // The points' indices in the order of the tree's leaves: queries made in this order find their
+  // neighbours in memory the previous query touched.
+  const std::vector<std::uint32_t>& leaf_order() const;
 
   // The nearest point; false for an empty tree.
   bool nearest(const Vec3& query, Neighbour& out) const;

@@ -57,13 +57,16 @@ std::vector<Eigen::Matrix3d> disc_covariances(const KdTree3& tree, std::size_t k
   std::vector<Eigen::Matrix3d> out(pts.size());
   const std::size_t chunks = (pts.size() + kShapeChunk - 1) / kShapeChunk;
   // Every point's covariance is its own, so any split over threads gives the same bytes.
+  // Points are taken in the tree's leaf order, so consecutive searches share their memory.
+  const std::vector<std::uint32_t>& order = tree.leaf_order();
   auto task = [&](std::size_t c) {
     std::vector<Neighbour> nn;
     nn.reserve(k);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
     Eigen::Matrix3d cov;
     const std::size_t end = std::min(pts.size(), (c + 1) * kShapeChunk);
-    for (std::size_t i = c * kShapeChunk; i < end; ++i) {
+    for (std::size_t j = c * kShapeChunk; j < end; ++j) {
+      const std::uint32_t i = order[j];
       tree.k_nearest(pts[i], k, nn);
       // A point without a surface around it counts as a small isotropic blob.
       out[i] = fit_neighbourhood(pts, nn, cov, eig) ? disc(eig.eigenvectors(), epsilon) : Eigen::Matrix3d::Identity();
