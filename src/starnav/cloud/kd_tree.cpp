@@ -74,6 +74,8 @@ bool nearer(const Neighbour& a, const Neighbour& b) {
 // leaf's points side by side in memory) and the tree's index table made the identity, so a search
 // visits exactly the points and distances it did before, in the same order, but reads memory
 // in sequence; `order` maps a leaf position back to the caller's index.
+constexpr std::size_t kLeafSize = 24;
+
 struct KdTree3::Impl {
   CloudAdaptor cloud;
   Tree tree;
@@ -81,7 +83,7 @@ struct KdTree3::Impl {
   std::vector<std::uint32_t> order;
   explicit Impl(std::span<const Vec3> pts)
       : cloud{std::vector<Vec3>(pts.begin(), pts.end())},
-        tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)),
+        tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize)),
         original(cloud.points) {
     order.assign(tree.vAcc.begin(), tree.vAcc.end());
     for (std::size_t j = 0; j < order.size(); ++j) {

@@ -27,6 +27,40 @@ bool fit_neighbourhood(const std::vector<Vec3>& pts, const std::vector<Neighbour
   return ev(1) > 1e-12 * std::max(ev(2), 1e-300);
 }
 
+// The same covariance in one pass over the neighbours: sums of d and d d^T with d taken from the
+// first neighbour (the query itself, so the sums stay small and cancel nothing), the upper
+// triangle only.
+bool fit_neighbourhood_one_pass(const std::vector<Vec3>& pts, const std::vector<Neighbour>& nn, Eigen::Matrix3d& cov,
+                                Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& eig) {
+  if (nn.size() < 3) return false;
+  const Vec3 o = pts[nn.front().index];
+  double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+  for (const Neighbour& n : nn) {
+    const Vec3& p = pts[n.index];
+    const double x = p.x() - o.x(), y = p.y() - o.y(), z = p.z() - o.z();
+    sx += x;
+    sy += y;
+    sz += z;
+    sxx += x * x;
+    sxy += x * y;
+    sxz += x * z;
+    syy += y * y;
+    syz += y * z;
+    szz += z * z;
+  }
+  const double inv = 1.0 / static_cast<double>(nn.size());
+  const double mx = sx * inv, my = sy * inv, mz = sz * inv;
+  cov(0, 0) = sxx * inv - mx * mx;
+  cov(1, 1) = syy * inv - my * my;
+  cov(2, 2) = szz * inv - mz * mz;
+  cov(0, 1) = cov(1, 0) = sxy * inv - mx * my;
+  cov(0, 2) = cov(2, 0) = sxz * inv - mx * mz;
+  cov(1, 2) = cov(2, 1) = syz * inv - my * mz;
+  eig.computeDirect(cov);
+  const Eigen::Vector3d ev = eig.eigenvalues();
+  return ev(1) > 1e-12 * std::max(ev(2), 1e-300);
+}
+
 Eigen::Matrix3d disc(const Eigen::Matrix3d& eigenvectors, double epsilon) {
   return eigenvectors * Eigen::Vector3d(epsilon, 1.0, 1.0).asDiagonal() * eigenvectors.transpose();
 }
@@ -69,7 +103,7 @@ std::vector<Eigen::Matrix3d> disc_covariances(const KdTree3& tree, std::size_t k
       const std::uint32_t i = order[j];
       tree.k_nearest(pts[i], k, nn);
       // A point without a surface around it counts as a small isotropic blob.
-      out[i] = fit_neighbourhood(pts, nn, cov, eig) ? disc(eig.eigenvectors(), epsilon) : Eigen::Matrix3d::Identity();
+      out[i] = fit_neighbourhood_one_pass(pts, nn, cov, eig) ? disc(eig.eigenvectors(), epsilon) : Eigen::Matrix3d::Identity();
     }
   };
   if (pool && pool->size() > 1) {
