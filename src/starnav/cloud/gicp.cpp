@@ -53,8 +53,11 @@ CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
   if (!tree_) throw Error("gicp: match before set_reference");
   const auto start = std::chrono::steady_clock::now();
   CloudMatch m;
+  std::optional<KdTree3> scan_tree_storage;
+  std::span<const std::uint32_t> scan_order;
   if (scan.size() >= 3) {
-    const KdTree3 scan_tree(scan);
+    const KdTree3& scan_tree = scan_tree_storage.emplace(scan);
+    scan_order = scan_tree.leaf_order();
     const std::vector<Eigen::Matrix3d> scan_covariances = covariances(scan_tree);
     const double max_sq = c_.max_correspondence_distance_m * c_.max_correspondence_distance_m;
     m = gauss_newton(guess, c_.limits, [&](const Rigid3& t) {
@@ -63,7 +66,7 @@ CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
         Neighbour nn;
         for (std::size_t i = begin; i < end; ++i) {
           const Vec3 p = t * scan[i];
-          if (!tree_->nearest(p, nn) || nn.squared_distance > max_sq) continue;
+          if (!tree_->nearest_within(p, max_sq, nn)) continue;
           const Vec3 d = p - tree_->points()[nn.index];
           const Eigen::Matrix3d info =
               (reference_covariances_[nn.index] + r * scan_covariances[i] * r.transpose()).inverse();
@@ -75,7 +78,7 @@ CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
       });
     });
   }
-  m.fitness = fitness_score(*tree_, scan, m.transform, c_.limits.fitness_max_range_m, pool_.get());
+  m.fitness = fitness_score(*tree_, scan, m.transform, c_.limits.fitness_max_range_m, pool_.get(), scan_order);
   m.time_s = seconds_since(start);
   return m;
 }

@@ -116,6 +116,19 @@ bool KdTree3::nearest(const Vec3& query, Neighbour& out) const {
   return true;
 }
 
+bool KdTree3::nearest_within(const Vec3& query, double max_squared_distance, Neighbour& out) const {
+  if (impl_->cloud.points.empty() || !(max_squared_distance >= 0)) return false;
+  std::uint32_t index = 0;
+  double dist = 0.0;
+  nanoflann::KNNResultSet<double, std::uint32_t> set(1);
+  set.init(&index, &dist);
+  dist = std::nextafter(max_squared_distance, kInfinity);  // the set admits points strictly nearer
+  impl_->tree.findNeighbors(set, query.data(), nanoflann::SearchParams());
+  if (set.size() == 0) return false;
+  out = {impl_->order[index], dist};
+  return true;
+}
+
 void KdTree3::k_nearest(const Vec3& query, std::size_t k, std::vector<Neighbour>& out) const {
   out.clear();
   k = std::min(k, size());
@@ -138,6 +151,25 @@ void KdTree3::k_nearest(const Vec3& query, std::size_t k, std::vector<Neighbour>
   out.reserve(n);
   for (std::size_t i = 0; i < n; ++i) out.push_back({impl_->order[idx[i]], dist[i]});
   std::sort(out.begin(), out.end(), nearer);
+}
+
+std::size_t KdTree3::k_nearest(const Vec3& query, std::size_t k, std::uint32_t* indices, double* squared_distances,
+                              double bound_sq) const {
+  k = std::min(k, size());
+  if (k == 0) return 0;
+  nanoflann::KNNResultSet<double, std::uint32_t> set(k);
+  set.init(indices, squared_distances);
+  // The set admits only points nearer than its last slot: the bound prunes from the start.
+  if (bound_sq < kInfinity) squared_distances[k - 1] = bound_sq;
+  impl_->tree.findNeighbors(set, query.data(), nanoflann::SearchParams());
+  std::size_t n = set.size();
+  if (n < k && bound_sq < kInfinity) {
+    set.init(indices, squared_distances);
+    impl_->tree.findNeighbors(set, query.data(), nanoflann::SearchParams());
+    n = set.size();
+  }
+  for (std::size_t i = 0; i < n; ++i) indices[i] = impl_->order[indices[i]];
+  return n;
 }
 
 void KdTree3::within_radius(const Vec3& query, double radius, std::vector<Neighbour>& out) const {

@@ -1,6 +1,7 @@
 #include "starnav/cloud/local_shape.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <Eigen/Eigenvalues>
 
@@ -30,13 +31,13 @@ bool fit_neighbourhood(const std::vector<Vec3>& pts, const std::vector<Neighbour
 // The same covariance in one pass over the neighbours: sums of d and d d^T with d taken from the
 // first neighbour (the query itself, so the sums stay small and cancel nothing), the upper
 // triangle only.
-bool fit_neighbourhood_one_pass(const std::vector<Vec3>& pts, const std::vector<Neighbour>& nn, Eigen::Matrix3d& cov,
-                                Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& eig) {
-  if (nn.size() < 3) return false;
-  const Vec3 o = pts[nn.front().index];
+bool fit_neighbourhood_one_pass(const std::vector<Vec3>& pts, const std::uint32_t* nn, std::size_t n,
+                                Eigen::Matrix3d& cov, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>& eig) {
+  if (n < 3) return false;
+  const Vec3 o = pts[nn[0]];
   double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
-  for (const Neighbour& n : nn) {
-    const Vec3& p = pts[n.index];
+  for (std::size_t j = 0; j < n; ++j) {
+    const Vec3& p = pts[nn[j]];
     const double x = p.x() - o.x(), y = p.y() - o.y(), z = p.z() - o.z();
     sx += x;
     sy += y;
@@ -48,7 +49,7 @@ bool fit_neighbourhood_one_pass(const std::vector<Vec3>& pts, const std::vector<
     syz += y * z;
     szz += z * z;
   }
-  const double inv = 1.0 / static_cast<double>(nn.size());
+  const double inv = 1.0 / static_cast<double>(n);
   const double mx = sx * inv, my = sy * inv, mz = sz * inv;
   cov(0, 0) = sxx * inv - mx * mx;
   cov(1, 1) = syy * inv - my * my;
@@ -93,17 +94,27 @@ std::vector<Eigen::Matrix3d> disc_covariances(const KdTree3& tree, std::size_t k
   // Every point's covariance is its own, so any split over threads gives the same bytes.
   // Points are taken in the tree's leaf order, so consecutive searches share their memory.
   const std::vector<std::uint32_t>& order = tree.leaf_order();
+  k = std::min(k, pts.size());
   auto task = [&](std::size_t c) {
-    std::vector<Neighbour> nn;
-    nn.reserve(k);
+    std::vector<std::uint32_t> nn(k);
+    std::vector<double> dist(k);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
     Eigen::Matrix3d cov;
+    // The previous point's k-th neighbour distance plus the step to this point bounds this
+    // point's (triangle inequality), with a margin for rounding.
+    Vec3 previous = Vec3::Zero();
+    double previous_kth = kInfinity;
     const std::size_t end = std::min(pts.size(), (c + 1) * kShapeChunk);
     for (std::size_t j = c * kShapeChunk; j < end; ++j) {
       const std::uint32_t i = order[j];
-      tree.k_nearest(pts[i], k, nn);
+      const double reach = std::sqrt(previous_kth) + (pts[i] - previous).norm();
+      const double bound = previous_kth < kInfinity ? reach * reach * (1.0 + 1e-9) + 1e-12 : kInfinity;
+      const std::size_t n = tree.k_nearest(pts[i], k, nn.data(), dist.data(), bound);
+      previous = pts[i];
+      previous_kth = n == k ? dist[k - 1] : kInfinity;
       // A point without a surface around it counts as a small isotropic blob.
-      out[i] = fit_neighbourhood_one_pass(pts, nn, cov, eig) ? disc(eig.eigenvectors(), epsilon) : Eigen::Matrix3d::Identity();
+      out[i] = fit_neighbourhood_one_pass(pts, nn.data(), n, cov, eig) ? disc(eig.eigenvectors(), epsilon)
+                                                                        : Eigen::Matrix3d::Identity();
     }
   };
   if (pool && pool->size() > 1) {

@@ -57,9 +57,11 @@ CloudMatch register_clouds(ScanMatcher3d& matcher, std::span<const Vec3> referen
 // PCL's fitness score of `scan` under `transform` against the points of `reference`.
 double fitness_score(const KdTree3& reference, std::span<const Vec3> scan, const Rigid3& transform, double max_range_m);
 // The same, summed over fixed chunks of points in chunk order on `pool` (the same bytes on any
-// number of threads; the last bits may differ from the one-pass sum above).
+// number of threads; the last bits may differ from the one-pass sum above). `order` (empty: the
+// scan's own) is the order the points are visited in: a spatially coherent one (the scan's k-d
+// tree's leaf_order) lets each search start from the bound the previous point gives.
 double fitness_score(const KdTree3& reference, std::span<const Vec3> scan, const Rigid3& transform, double max_range_m,
-                     ThreadPool* pool);
+                     ThreadPool* pool, std::span<const std::uint32_t> order = {});
 
 // Declares the RegistrationLimits every matcher's configuration holds as `limits`.
 template <class Config>

@@ -82,8 +82,11 @@ CloudMatch VgicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) 
   if (!tree_) throw Error("vgicp: match before set_reference");
   const auto start = std::chrono::steady_clock::now();
   CloudMatch m;
+  std::optional<KdTree3> scan_tree_storage;
+  std::span<const std::uint32_t> scan_order;
   if (scan.size() >= 3) {
-    const KdTree3 scan_tree(scan);
+    const KdTree3& scan_tree = scan_tree_storage.emplace(scan);
+    scan_order = scan_tree.leaf_order();
     const std::vector<Eigen::Matrix3d> scan_covariances =
         disc_covariances(scan_tree, static_cast<std::size_t>(c_.covariance_neighbours), c_.epsilon, pool_.get());
     const double max_sq = c_.max_correspondence_distance_m * c_.max_correspondence_distance_m;
@@ -121,7 +124,7 @@ CloudMatch VgicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) 
       });
     });
   }
-  m.fitness = fitness_score(*tree_, scan, m.transform, c_.limits.fitness_max_range_m, pool_.get());
+  m.fitness = fitness_score(*tree_, scan, m.transform, c_.limits.fitness_max_range_m, pool_.get(), scan_order);
   m.time_s = seconds_since(start);
   return m;
 }
