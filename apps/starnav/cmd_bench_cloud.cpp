@@ -96,7 +96,7 @@ void register_bench_cloud(CLI::App& app, Context& ctx) {
       "of frame 0 against SemanticKITTI's ground labels (docs/mapping3d.md)");
   cmd->add_option("--dataset", o->config.dataset, "the kitti_odometry_mini folder")->default_str(o->config.dataset);
   cmd->add_option("--sequences", o->config.sequences, "sequences, comma-separated")->delimiter(',')->default_str("00,05,07");
-  cmd->add_option("--matchers", o->config.matchers, "icp, icp_plane, gicp, ndt, ndt_mt, pcl_icp, pcl_gicp, pcl_ndt (comma-separated)")
+  cmd->add_option("--matchers", o->config.matchers, "icp, icp_plane, gicp, vgicp, ndt, ndt_mt, pcl_icp, pcl_gicp, pcl_ndt (comma-separated)")
       ->delimiter(',')
       ->default_str("icp,icp_plane,gicp,ndt,ndt_mt");
   cmd->add_option("--frames", o->config.frames, "frames per sequence (pairs: frames - 1)")->default_str("10");

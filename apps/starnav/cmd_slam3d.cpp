@@ -137,7 +137,7 @@ void register_slam3d_command(CLI::App& app, Context& ctx) {
   cmd->add_option("INPUT", o->input, "a frames folder, a simulator run folder, a folder of cloud files or a ROS 1 bag")->required();
   cmd->add_option("--out", o->out, "folder for trajectory.csv, keyframes.csv, summary.json and the run record `starnav view` reads")
       ->required();
-  cmd->add_option("--matcher", o->matcher, "icp, gicp, ndt or ndt_mt")->default_str("ndt_mt");
+  cmd->add_option("--matcher", o->matcher, "icp, gicp, vgicp, ndt or ndt_mt")->default_str("ndt_mt");
   cmd->add_option("--set", o->sets, "a SLAM parameter key=value (repeatable; docs/parameters.md, \"3D graph SLAM\")")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--matcher-set", o->matcher_sets, "a matcher parameter key=value (repeatable; docs/parameters.md)")

@@ -79,6 +79,7 @@ TEST(Registration, EveryMatcherRecoversAKnownTransform) {
       {"icp", {}, 0.03, 0.3},
       {"icp", {setting("metric", "point_to_plane")}, 0.01, 0.1},
       {"gicp", {}, 0.01, 0.1},
+      {"vgicp", {}, 0.01, 0.1},
       {"ndt", {}, 0.02, 0.2},
       {"ndt_mt", {}, 0.02, 0.2},
   };

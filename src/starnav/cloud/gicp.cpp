@@ -39,30 +39,26 @@ GicpMatcher::GicpMatcher(const GicpConfig& config) : c_(config) {
   if (c_.threads != 1) pool_ = std::make_unique<ThreadPool>(static_cast<unsigned>(c_.threads));
 }
 
-std::vector<Eigen::Matrix3d> GicpMatcher::disc_covariances(const KdTree3& tree) const {
-  const std::vector<LocalShape> shapes = local_shapes(tree, static_cast<std::size_t>(c_.covariance_neighbours));
-  std::vector<Eigen::Matrix3d> out;
-  out.reserve(shapes.size());
-  for (const LocalShape& s : shapes) {
-    // A point without a surface around it counts as a small isotropic blob.
-    out.push_back(s.valid ? plane_regularised(s.covariance, c_.epsilon) : Eigen::Matrix3d::Identity());
-  }
-  return out;
+std::vector<Eigen::Matrix3d> GicpMatcher::covariances(const KdTree3& tree) const {
+  return disc_covariances(tree, static_cast<std::size_t>(c_.covariance_neighbours), c_.epsilon, pool_.get());
 }
 
 void GicpMatcher::set_reference(std::span<const Vec3> reference) {
   if (reference.size() < 6) throw Error("the reference cloud has fewer than 6 points", "", 0, "reference");
   tree_.emplace(reference);
-  reference_covariances_ = disc_covariances(*tree_);
+  reference_covariances_ = covariances(*tree_);
 }
 
 CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
   if (!tree_) throw Error("gicp: match before set_reference");
   const auto start = std::chrono::steady_clock::now();
   CloudMatch m;
+  std::optional<KdTree3> scan_tree_storage;
+  std::span<const std::uint32_t> scan_order;
   if (scan.size() >= 3) {
-    const KdTree3 scan_tree(scan);
-    const std::vector<Eigen::Matrix3d> scan_covariances = disc_covariances(scan_tree);
+    const KdTree3& scan_tree = scan_tree_storage.emplace(scan);
+    scan_order = scan_tree.leaf_order();
+    const std::vector<Eigen::Matrix3d> scan_covariances = covariances(scan_tree);
     const double max_sq = c_.max_correspondence_distance_m * c_.max_correspondence_distance_m;
     m = gauss_newton(guess, c_.limits, [&](const Rigid3& t) {
       const Eigen::Matrix3d r = t.linear();
@@ -70,7 +66,7 @@ CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
         Neighbour nn;
         for (std::size_t i = begin; i < end; ++i) {
           const Vec3 p = t * scan[i];
-          if (!tree_->nearest(p, nn) || nn.squared_distance > max_sq) continue;
+          if (!tree_->nearest_within(p, max_sq, nn)) continue;
           const Vec3 d = p - tree_->points()[nn.index];
           const Eigen::Matrix3d info =
               (reference_covariances_[nn.index] + r * scan_covariances[i] * r.transpose()).inverse();
@@ -82,7 +78,7 @@ CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
       });
     });
   }
-  m.fitness = fitness_score(*tree_, scan, m.transform, c_.limits.fitness_max_range_m);
+  m.fitness = fitness_score(*tree_, scan, m.transform, c_.limits.fitness_max_range_m, pool_.get(), scan_order);
   m.time_s = seconds_since(start);
   return m;
 }

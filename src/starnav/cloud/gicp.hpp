@@ -30,9 +30,10 @@ class GicpMatcher : public ScanMatcher3d {
   std::string_view name() const override { return "gicp"; }
   void set_reference(std::span<const Vec3> reference) override;
   CloudMatch match(std::span<const Vec3> scan, const Rigid3& guess) override;
+  unsigned threads() const override { return pool_ ? pool_->size() : 1U; }
 
  private:
-  std::vector<Eigen::Matrix3d> disc_covariances(const KdTree3& tree) const;
+  std::vector<Eigen::Matrix3d> covariances(const KdTree3& tree) const;
   GicpConfig c_;
   std::optional<KdTree3> tree_;
   std::vector<Eigen::Matrix3d> reference_covariances_;

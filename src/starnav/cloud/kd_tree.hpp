@@ -28,11 +28,22 @@ class KdTree3 {
 
   std::size_t size() const;
   const std::vector<Vec3>& points() const;
+  // The points' indices in the order of the tree's leaves: queries made in this order find their
+  // neighbours in memory the previous query touched.
+  const std::vector<std::uint32_t>& leaf_order() const;
 
   // The nearest point; false for an empty tree.
   bool nearest(const Vec3& query, Neighbour& out) const;
+  // The nearest point at most sqrt(max_squared_distance) away; false when there is none. Faster
+  // than nearest() where far points are not wanted: the search prunes with the limit from the start.
+  bool nearest_within(const Vec3& query, double max_squared_distance, Neighbour& out) const;
   // Up to k nearest points, nearest first (fewer when the tree is smaller).
   void k_nearest(const Vec3& query, std::size_t k, std::vector<Neighbour>& out) const;
+  // The same into caller's arrays of k, without the tie order: nearest first as the search
+  // found them; returns how many. A bound_sq at least the k-th squared distance (strictly above
+  // it) only speeds the search up; a bound too small costs a second search, never a wrong answer.
+  std::size_t k_nearest(const Vec3& query, std::size_t k, std::uint32_t* indices, double* squared_distances,
+                        double bound_sq = kInfinity) const;
   // Every point within `radius` (inclusive), nearest first.
   void within_radius(const Vec3& query, double radius, std::vector<Neighbour>& out) const;
   // How many points lie within `radius`, stopping early once `enough` are found (0: count all).

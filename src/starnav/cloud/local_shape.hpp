@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "starnav/cloud/kd_tree.hpp"
+#include "starnav/core/thread_pool.hpp"
 
 namespace starnav {
 
@@ -22,6 +23,12 @@ struct LocalShape {
 
 // One LocalShape per point of `tree` from its `k` nearest neighbours (k >= 3).
 std::vector<LocalShape> local_shapes(const KdTree3& tree, std::size_t k);
+
+// Each point's covariance from its k nearest neighbours, regularised as plane_regularised does
+// (the identity where no plane is defined): GICP's and VGICP's per-point covariances. One
+// eigen decomposition per point; the same bytes on any pool.
+std::vector<Eigen::Matrix3d> disc_covariances(const KdTree3& tree, std::size_t k, double epsilon,
+                                              ThreadPool* pool = nullptr);
 
 // The covariance with eigenvalues (epsilon, 1, 1) along its eigenvectors (smallest first).
 Eigen::Matrix3d plane_regularised(const Eigen::Matrix3d& covariance, double epsilon);

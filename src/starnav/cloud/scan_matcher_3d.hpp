@@ -1,9 +1,9 @@
 #pragma once
 // The 3D scan-matcher role, the twin of slam/scan_matcher.hpp for point clouds: the rigid
 // transform that lays a scan onto a reference cloud. ICP (point-to-point and point-to-plane),
-// GICP and NDT (one thread or many) implement it (cloud/icp.cpp, gicp.cpp, ndt.cpp); the registry
-// finds them by name. Both clouds are in their own sensor frames; the transform maps `scan` into
-// `reference`'s frame: reference_point ~= transform * scan_point.
+// GICP, VGICP and NDT (one thread or many) implement it (cloud/icp.cpp, gicp.cpp, vgicp.cpp,
+// ndt.cpp); the registry finds them by name. Both clouds are in their own sensor frames; the
+// transform maps `scan` into `reference`'s frame: reference_point ~= transform * scan_point.
 //
 // A matcher prepares the reference once (set_reference: a k-d tree, NDT's voxel statistics) so
 // that several scans can be matched against it; register_clouds does both and times them.
@@ -15,6 +15,7 @@
 #include "starnav/cloud/kd_tree.hpp"
 #include "starnav/cloud/point_cloud.hpp"
 #include "starnav/core/component.hpp"
+#include "starnav/core/thread_pool.hpp"
 
 namespace starnav {
 
@@ -55,6 +56,12 @@ CloudMatch register_clouds(ScanMatcher3d& matcher, std::span<const Vec3> referen
 
 // PCL's fitness score of `scan` under `transform` against the points of `reference`.
 double fitness_score(const KdTree3& reference, std::span<const Vec3> scan, const Rigid3& transform, double max_range_m);
+// The same, summed over fixed chunks of points in chunk order on `pool` (the same bytes on any
+// number of threads; the last bits may differ from the one-pass sum above). `order` (empty: the
+// scan's own) is the order the points are visited in: a spatially coherent one (the scan's k-d
+// tree's leaf_order) lets each search start from the bound the previous point gives.
+double fitness_score(const KdTree3& reference, std::span<const Vec3> scan, const Rigid3& transform, double max_range_m,
+                     ThreadPool* pool, std::span<const std::uint32_t> order = {});
 
 // Declares the RegistrationLimits every matcher's configuration holds as `limits`.
 template <class Config>

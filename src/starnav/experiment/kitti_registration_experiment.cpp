@@ -45,6 +45,7 @@ std::vector<MatcherVariant> standard_matcher_variants() {
       {"icp", "icp", {}},
       {"icp_plane", "icp", {matcher_setting("metric", "point_to_plane")}},
       {"gicp", "gicp", {}},
+      {"vgicp", "vgicp", {}},
       {"ndt", "ndt", {}},
       {"ndt_mt", "ndt_mt", {}},
       // PCL's (through its plugin) with the limits of starnav's above: 64 iterations, pairs within 1 m,

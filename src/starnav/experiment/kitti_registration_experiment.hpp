@@ -25,7 +25,7 @@ struct MatcherVariant {
   std::string matcher;
   std::vector<ParamSetting> settings;
 };
-// icp, icp_plane (point_to_plane), gicp, ndt, ndt_mt.
+// icp, icp_plane (point_to_plane), gicp, vgicp, ndt, ndt_mt (and PCL's with its plugin).
 std::vector<MatcherVariant> standard_matcher_variants();
 // The standard variants named in `labels` (comma-separated on the CLI); Error naming `field` for
 // an unknown label.

@@ -31,6 +31,7 @@ namespace starnav {
 #define STARNAV_SCAN_MATCHERS_3D(X) \
   X(icp_scan_matcher)    /* cloud/icp.cpp */ \
   X(gicp_scan_matcher)   /* cloud/gicp.cpp */ \
+  X(vgicp_scan_matcher)  /* cloud/vgicp.cpp */ \
   X(ndt_scan_matcher)    /* cloud/ndt.cpp */ \
   X(ndt_mt_scan_matcher) /* cloud/ndt.cpp */ \
   X(pcl_icp_scan_matcher)  /* cloud/pcl_matchers.cpp (PCL plugin) */ \
