@@ -273,13 +273,20 @@ struct HybridAStar::Impl {
   // start is known clear); `mean_multiplier` gets the mean costmap multiplier over those samples.
   bool motion_clear(const HybridMotion& m, double& mean_multiplier) const {
     const double total = std::abs(m.length);
-    // Turning on the spot: the footprint's farthest point moves bounding radius * angle.
-    const double span = m.kind == HybridMotion::Kind::Rotate ? total * std::max(checker.model().bounding_radius_m(), 1e-3) : total;
+    // The farthest point of the footprint moves farther than base_link: bounding radius * angle
+    // turning on the spot, (1 + |curvature| * bounding radius) * length on an arc.
+    const double b = std::max(checker.model().bounding_radius_m(), 1e-3);
+    const double span = m.kind == HybridMotion::Kind::Rotate ? total * b
+                        : m.kind == HybridMotion::Kind::Arc  ? total * (1.0 + std::abs(m.curvature) * b)
+                                                             : total;
     const int n = std::max(1, static_cast<int>(std::ceil(span / collision_step - 1e-9)));
+    // Between two checks no point of the body moves more than span / n: every pose in between
+    // lies within half that of a checked one, so checking the body grown by it misses nothing.
+    const double between = 0.5 * span / n;
     double sum = 0.0;
     for (int i = 1; i <= n; ++i) {
       const Pose2 p = m.pose_at(total * i / n);
-      if (collides(p)) return false;
+      if (checker.collides(window, p, between)) return false;
       sum += cell_multiplier(p);
     }
     mean_multiplier = sum / n;
