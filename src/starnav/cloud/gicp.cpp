@@ -67,13 +67,8 @@ CloudMatch GicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) {
         for (std::size_t i = begin; i < end; ++i) {
           const Vec3 p = t * scan[i];
           if (!tree_->nearest_within(p, max_sq, nn)) continue;
-          const Vec3 d = p - tree_->points()[nn.index];
-          const Eigen::Matrix3d info =
-              (reference_covariances_[nn.index] + r * scan_covariances[i] * r.transpose()).inverse();
-          const Vec3 info_d = info * d;
-          add_point(eq, p, info, info_d, 1.0);
-          eq.cost += d.dot(info_d);
-          ++eq.count;
+          add_plane_to_plane(eq, p, p - tree_->points()[nn.index],
+                             reference_covariances_[nn.index] + r * scan_covariances[i] * r.transpose());
         }
       });
     });

@@ -78,6 +78,16 @@ inline void add_point(NormalEquations& eq, const Vec3& p, const Eigen::Matrix3d&
   g[5] += w * vz;
 }
 
+// One GICP pair: the moved scan point p, its residual d to the reference point or voxel mean, and
+// the pair's combined covariance C_ref + R C_scan R^T: the plane-to-plane term d^T C^-1 d.
+inline void add_plane_to_plane(NormalEquations& eq, const Vec3& p, const Vec3& d, const Eigen::Matrix3d& combined_covariance) {
+  const Eigen::Matrix3d info = combined_covariance.inverse();
+  const Vec3 info_d = info * d;
+  add_point(eq, p, info, info_d, 1.0);
+  eq.cost += d.dot(info_d);
+  ++eq.count;
+}
+
 inline constexpr std::size_t kChunk = 256;
 
 // Sums per_chunk(begin, end, equations) over [0, n) in chunks of kChunk.

@@ -114,12 +114,7 @@ CloudMatch VgicpMatcher::match(std::span<const Vec3> scan, const Rigid3& guess) 
             }
           }
           if (!best) continue;
-          const Vec3 d = p - best->mean;
-          const Eigen::Matrix3d info = (best->covariance + r * scan_covariances[i] * r.transpose()).inverse();
-          const Vec3 info_d = info * d;
-          add_point(eq, p, info, info_d, 1.0);
-          eq.cost += d.dot(info_d);
-          ++eq.count;
+          add_plane_to_plane(eq, p, p - best->mean, best->covariance + r * scan_covariances[i] * r.transpose());
         }
       });
     });

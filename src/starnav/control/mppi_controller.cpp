@@ -252,16 +252,11 @@ void MppiController::set_path(std::span<const Vec2> points) {
   if (points.empty()) throw Error("empty path", {}, 0, "path");
   for (const Vec2& p : points)
     if (!std::isfinite(p.x()) || !std::isfinite(p.y())) throw Error("a path point is not finite", {}, 0, "path");
-  poses_.clear();
-  reversing_.clear();
+  std::vector<Pose2> poses;
   for (const Vec2& p : points)
-    if (poses_.empty() || (p - poses_.back().translation()).norm() > 1e-9) poses_.emplace_back(p.x(), p.y(), 0.0);
-  reversing_.assign(poses_.size(), 0);
-  stretches_ = {{0, poses_.size() - 1}};
-  full_path_.clear();
-  for (const Pose2& p : poses_) full_path_.push_back(p.translation());
-  pose_path_ = false;
-  load_stretch(0);
+    if (poses.empty() || (p - poses.back().translation()).norm() > 1e-9) poses.emplace_back(p.x(), p.y(), 0.0);
+  std::vector<std::uint8_t> forward(poses.size(), 0);
+  take_path(std::move(poses), std::move(forward), false);
 }
 
 void MppiController::set_path_poses(std::span<const Pose2> poses, std::span<const std::uint8_t> reversing) {
@@ -269,8 +264,12 @@ void MppiController::set_path_poses(std::span<const Pose2> poses, std::span<cons
   if (poses.size() != reversing.size()) throw Error("a direction for every pose of the path", {}, 0, "path");
   for (const Pose2& p : poses)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.yaw)) throw Error("a path pose is not finite", {}, 0, "path");
-  poses_.assign(poses.begin(), poses.end());
-  reversing_.assign(reversing.begin(), reversing.end());
+  take_path({poses.begin(), poses.end()}, {reversing.begin(), reversing.end()}, true);
+}
+
+void MppiController::take_path(std::vector<Pose2> poses, std::vector<std::uint8_t> reversing, bool pose_path) {
+  poses_ = std::move(poses);
+  reversing_ = std::move(reversing);
   // A cusp is a pose whose leaving direction differs from its arriving one: a stretch ends there
   // and the next starts from it.
   stretches_.clear();
@@ -283,7 +282,7 @@ void MppiController::set_path_poses(std::span<const Pose2> poses, std::span<cons
   stretches_.emplace_back(first, poses_.size() - 1);
   full_path_.clear();
   for (const Pose2& p : poses_) full_path_.push_back(p.translation());
-  pose_path_ = true;
+  pose_path_ = pose_path;
   // Stretches that end within the inversion tolerances of where the path starts (a plan from a
   // cusp may begin with a wiggle) are done already.
   std::size_t k = 0;

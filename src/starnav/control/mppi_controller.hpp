@@ -117,6 +117,8 @@ class MppiController final : public LocalController {
   void draw_noise();
   void shift_sequence(int steps);
   void update_progress(const Vec2& p);
+  // The path as given (set_path: headings 0, all forward), cut into its stretches.
+  void take_path(std::vector<Pose2> poses, std::vector<std::uint8_t> reversing, bool pose_path);
   void load_stretch(std::size_t k);
   // `robot` within the inversion tolerances of `cusp`.
   bool at_pose(const Pose2& robot, const Pose2& cusp) const;
