@@ -4,10 +4,8 @@
 //                        [--matcher-set key=value ...] [--frames N] [--poses FILE] [--mount X,Y,Z,R,P,Y]
 //                        [--cloud-topic T] [--odom-topic T] [--truth-topic T] [--plan-to X,Y] [--no-map] [--json] [--force]
 #include <cmath>
-#include <filesystem>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,13 +14,10 @@
 #include "starnav/core/error.hpp"
 #include "starnav/harness/slam3d_record.hpp"
 #include "starnav/harness/slam3d_run.hpp"
-#include "starnav/io/ros_map.hpp"
 
 namespace starnav::cli {
 
 namespace {
-
-namespace fs = std::filesystem;
 
 struct Slam3dOptions {
   std::string input, out, matcher = "ndt_mt";
@@ -72,41 +67,21 @@ void run_slam3d(const Slam3dOptions& o, Context& ctx) {
     bar.update(done, "frame " + std::to_string(done));
   });
   bar.finish();
-  fs::create_directories(o.out);
-  const fs::path d(o.out);
-  write_text_file((d / "trajectory.csv").string(), slam3d_trajectory_csv(r), "--out");
-  write_text_file((d / "keyframes.csv").string(), slam3d_keyframes_csv(r), "--out");
-  write_text_file((d / "summary.json").string(), slam3d_summary_json(r), "--out");
-  std::string plan_line;
-  std::optional<OccupancyGrid> grid;
-  std::vector<Vec2> path;
-  if (!o.no_map) {
-    Slam3dMapConfig mc;
-    mc.octree.resolution_m = o.map_resolution_m;
-    mc.grid.min_height_m = o.band_min_m;
-    mc.grid.max_height_m = o.band_max_m;
-    const OctreeMap octree = slam3d_octree(r.keyframes, mc);
-    octree.write((d / "map.bt").string());
-    grid = octree.project_to_grid(mc.grid);
-    write_ros_map(*grid, (d / "map.yaml").string());
-    if (!o.plan_to.empty()) {
-      const std::vector<double> g = parse_number_list(o.plan_to, "--plan-to", 2, "X,Y (metres, map frame)");
-      const PlanOutcome p = slam3d_plan(*grid, r.keyframes.front().pose.translation().head<2>(), Vec2(g[0], g[1]), o.inflation_m);
-      if (p.result.found()) {
-        path = p.path();
-        std::string csv = "x_m,y_m\n";
-        for (const Vec2& q : path) csv += std::to_string(q.x()) + "," + std::to_string(q.y()) + "\n";
-        write_text_file((d / "path.csv").string(), csv, "--out");
-        plan_line = "; improved A* path " + format_readable(p.metrics.length) + " m";
-      } else {
-        plan_line = "; improved A*: no path";
-      }
-    }
-    write_slam3d_picture(r, *grid, path, (d / "map.svg").string());
-    write_slam3d_picture(r, *grid, path, (d / "map.png").string());
+  Slam3dOutputConfig out;
+  out.map = !o.no_map;
+  out.map_config.octree.resolution_m = o.map_resolution_m;
+  out.map_config.grid.min_height_m = o.band_min_m;
+  out.map_config.grid.max_height_m = o.band_max_m;
+  out.inflation_m = o.inflation_m;
+  if (!o.plan_to.empty() && !o.no_map) {
+    const std::vector<double> g = parse_number_list(o.plan_to, "--plan-to", 2, "X,Y (metres, map frame)");
+    out.plan_to = Vec2(g[0], g[1]);
   }
-  // The run record `starnav view` reads; last, as run.json lists the folder.
-  write_slam3d_run_record(o.out, o.input, r, grid ? &*grid : nullptr, path);
+  const Slam3dOutputs written = write_slam3d_outputs(r, o.input, o.out, out);
+  std::string plan_line;
+  if (written.plan)
+    plan_line = written.plan->result.found() ? "; improved A* path " + format_readable(written.plan->metrics.length) + " m"
+                                             : "; improved A*: no path";
   if (o.json) {
     std::cout << slam3d_summary_json(r);
   } else {

@@ -8,15 +8,22 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cerrno>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "starnav/cloud/point_cloud.hpp"
 #include "starnav/core/component.hpp"
+#include "starnav/core/error.hpp"
+#include "starnav/core/file_error.hpp"
 #include "starnav/core/params.hpp"
 #include "starnav/io/map_file.hpp"
+#include "starnav/sim/scenario.hpp"
 
 namespace starnav::python {
 
@@ -32,6 +39,27 @@ void bind_errors(py::module_& m);
 
 // A deprecated alias's warning from the registry (empty: none) as a DeprecationWarning.
 void warn_deprecated(const std::string& warning);
+
+// A path argument (str or os.PathLike) as text.
+inline std::string path_of(const py::handle& p) { return py::module_::import("os").attr("fspath")(p).cast<std::string>(); }
+
+// The drivers' readers report a file that is not there as bad input (the CLI's exit 2); Python
+// raises MissingFileError (an OSError) for it, with the same line.
+template <class Call>
+auto with_missing_files(const std::vector<std::string>& inputs, Call&& call) {
+  try {
+    return call();
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    for (const std::string& p : inputs) {
+      std::error_code ec;
+      if (!p.empty() && e.file() == p && !std::filesystem::exists(p, ec))
+        throw FileError(e.field().empty() ? e.message() : e.field() + ": " + e.message(), e.file(), ENOENT);
+    }
+    throw;
+  }
+}
 
 // ---- settings ---------------------------------------------------------------------------------------
 
@@ -83,6 +111,31 @@ py::array owning_array(std::vector<T>&& values, std::vector<py::ssize_t> shape) 
   return py::array(py::dtype::of<T>(), std::move(shape), std::move(strides), held->data(), owner);
 }
 
+// ---- point clouds ------------------------------------------------------------------------------
+
+// Points read from an (N, 3) array: in place when it is float64 and C-ordered (Eigen's Vec3 is
+// three packed doubles), else from a float64 copy; `array` keeps the memory alive. Errors name
+// `field`.
+struct Points {
+  py::array_t<double, py::array::c_style | py::array::forcecast> array;
+  std::span<const Vec3> span;
+};
+Points points_of(const py::handle& data, const char* field);
+// An (N, 3) float64 array owning `cloud` (no copy of the points).
+py::array cloud_array(PointCloud&& cloud);
+// None (identity), a 4 x 4 rigid transform, or (x, y, z, roll, pitch, yaw) in metres and degrees
+// as the CLI's --initial; errors name `field`.
+Rigid3 transform_of(const py::handle& initial, const char* field = "initial");
+// A 4 x 4 float64 array of `t`.
+py::array matrix_array(const Rigid3& t);
+
+// ---- scenarios -------------------------------------------------------------------------------------
+
+// `set` ({dotted key: value} or None) as scenario overrides, checked as --set's.
+std::vector<ScenarioOverride> overrides_of(const py::object& sets);
+// A scenario from a file (`path`), or from YAML `text` that names itself `file` in errors.
+ScenarioSpec scenario_of(const py::object& path, const py::object& text, const std::string& file, const py::object& sets);
+
 // ---- maps -------------------------------------------------------------------------------------------
 
 // A map as the Python classes OccupancyMap and ElevationMap hold it: the library's LoadedMap (the
@@ -109,6 +162,7 @@ void bind_maps(py::module_& m);
 void bind_terrain(py::module_& m);
 void bind_planning(py::module_& m);
 void bind_cloud(py::module_& m);
+void bind_mapping3d(py::module_& m);
 void bind_simulation(py::module_& m);
 void bind_estimation(py::module_& m);
 void bind_experiments(py::module_& m);

@@ -17,15 +17,6 @@
 
 namespace starnav::python {
 
-namespace {
-
-// Points read from an (N, 3) array: in place when it is float64 and C-ordered (Eigen's Vec3 is
-// three packed doubles), else from a float64 copy; `array` keeps the memory alive.
-struct Points {
-  py::array_t<double, py::array::c_style | py::array::forcecast> array;
-  std::span<const Vec3> span;
-};
-
 Points points_of(const py::handle& data, const char* field) {
   const py::array any = py::module_::import("numpy").attr("asarray")(data);
   if (any.ndim() != 2 || any.shape(1) != 3)
@@ -45,7 +36,6 @@ Points points_of(const py::handle& data, const char* field) {
   return p;
 }
 
-// An (N, 3) float64 array owning `cloud` (no copy of the points).
 py::array cloud_array(PointCloud&& cloud) {
   auto* held = new PointCloud(std::move(cloud));
   py::capsule owner(held, [](void* p) { delete static_cast<PointCloud*>(p); });
@@ -55,28 +45,26 @@ py::array cloud_array(PointCloud&& cloud) {
                    reinterpret_cast<const double*>(held->data()), owner);
 }
 
-// None (identity), a 4 x 4 rigid transform, or (x, y, z, roll, pitch, yaw) in metres and degrees
-// as the CLI's --initial.
-Rigid3 transform_of(const py::handle& initial) {
+Rigid3 transform_of(const py::handle& initial, const char* field) {
   if (initial.is_none()) return Rigid3::Identity();
   const py::array a = py::module_::import("numpy").attr("asarray")(initial, py::arg("dtype") = "float64");
   const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
   if (v.ndim() == 1 && v.shape(0) == 6) {
     const double* p = v.data();
     for (int i = 0; i < 6; ++i)
-      if (!std::isfinite(p[i])) throw Error("expected finite numbers", {}, 0, "initial");
+      if (!std::isfinite(p[i])) throw Error("expected finite numbers", {}, 0, field);
     return to_rigid(Pose3::from_rpy(Vec3(p[0], p[1], p[2]), deg_to_rad(p[3]), deg_to_rad(p[4]), deg_to_rad(p[5])));
   }
   if (v.ndim() != 2 || v.shape(0) != 4 || v.shape(1) != 4)
-    throw Error("expected a 4 x 4 transform or (x, y, z, roll, pitch, yaw) in m and degrees", {}, 0, "initial");
+    throw Error("expected a 4 x 4 transform or (x, y, z, roll, pitch, yaw) in m and degrees", {}, 0, field);
   Eigen::Matrix4d t;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) t(r, c) = v.at(r, c);
-  if (!t.allFinite()) throw Error("expected finite numbers", {}, 0, "initial");
+  if (!t.allFinite()) throw Error("expected finite numbers", {}, 0, field);
   const Eigen::Matrix3d rot = t.topLeftCorner<3, 3>();
   if ((rot.transpose() * rot - Eigen::Matrix3d::Identity()).norm() > 1e-6 || rot.determinant() < 0.0 ||
       t.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
-    throw Error("not a rigid transform (a rotation, a translation and the row 0 0 0 1)", {}, 0, "initial");
+    throw Error("not a rigid transform (a rotation, a translation and the row 0 0 0 1)", {}, 0, field);
   Rigid3 out = Rigid3::Identity();
   out.matrix() = t;
   return out;
@@ -88,6 +76,8 @@ py::array matrix_array(const Rigid3& t) {
     for (int c = 0; c < 4; ++c) m[static_cast<std::size_t>(4 * r + c)] = t(r, c);
   return owning_array(std::move(m), {4, 4});
 }
+
+namespace {
 
 // A matcher of the registry with its settings, and the reference it was last given.
 struct MatcherHandle {

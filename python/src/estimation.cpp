@@ -21,6 +21,7 @@
 #include "starnav/core/file_error.hpp"
 #include "starnav/estimate/localizer.hpp"
 #include "starnav/experiment/localize_report.hpp"
+#include "starnav/harness/localization_chain.hpp"
 #include "starnav/harness/slam_report.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/robot_log_source.hpp"
@@ -30,7 +31,6 @@ namespace starnav::python {
 
 namespace {
 
-std::string path_of(const py::handle& p) { return py::module_::import("os").attr("fspath")(p).cast<std::string>(); }
 
 // The reader's options as the CLI's log flags give them (--scan-topic ... --range-max, --flaser-angles);
 // the reader's warnings are kept to be raised as Python warnings once the GIL is held again.
@@ -83,24 +83,6 @@ py::array trajectory_array(const std::vector<TrajectoryPose>& poses) {
 }
 
 py::object json_value(const nlohmann::ordered_json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
-
-// The drivers' readers report a file that is not there as bad input (the CLI's exit 2); Python
-// raises MissingFileError (an OSError) for it, with the same line.
-template <class Call>
-auto with_missing_files(const std::vector<std::string>& inputs, Call&& call) {
-  try {
-    return call();
-  } catch (const FileError&) {
-    throw;
-  } catch (const Error& e) {
-    for (const std::string& p : inputs) {
-      std::error_code ec;
-      if (!p.empty() && e.file() == p && !std::filesystem::exists(p, ec))
-        throw FileError(e.field().empty() ? e.message() : e.field() + ": " + e.message(), e.file(), ENOENT);
-    }
-    throw;
-  }
-}
 
 // ---- logs ---------------------------------------------------------------------------------------------
 
@@ -283,7 +265,8 @@ LocalizeRunHandle localize_run(const py::object& log, const py::object& map, con
 
 struct LocalizerHandle {
   std::string name;
-  std::shared_ptr<const LoadedMap> map;  // kept alive: the localizer points into it
+  std::shared_ptr<const LoadedMap> map;         // kept alive: the localizer points into it
+  std::shared_ptr<const ScenarioSpec> scenario;  // likewise (its robot)
   std::unique_ptr<Localizer> localizer;
   Pose2 laser_in_base;
 };
@@ -305,28 +288,64 @@ double stamp_of(double t, const char* field) {
   return t;
 }
 
-LocalizerHandle make_localizer_handle(const std::string& name, const py::object& map, const py::object& initial, std::uint64_t seed,
-                                      const py::object& laser_in_base, const py::object& laser_range, const py::dict& params) {
+// The scenario's settings for localizer `name` (its localization section, when it runs that
+// localizer or filters its odometry with it), the keywords replacing those of the same key.
+std::vector<ParamSetting> scenario_settings(const LocalizationConfig& config, const std::string& name,
+                                            const std::vector<ParamSetting>& keywords) {
+  std::vector<ParamSetting> out;
+  const ComponentChoice* choice = config.localizer.name == name ? &config.localizer
+                                  : config.odometry_filter && config.odometry_filter->name == name ? &*config.odometry_filter
+                                                                                                   : nullptr;
+  if (choice)
+    for (const ParamSetting& v : choice->settings) {
+      bool replaced = false;
+      for (const ParamSetting& k : keywords) replaced = replaced || k.key == v.key;
+      if (!replaced) out.push_back(v);
+    }
+  out.insert(out.end(), keywords.begin(), keywords.end());
+  return out;
+}
+
+LocalizerHandle make_localizer_handle(const std::string& name, const py::object& map, const py::object& initial, const py::object& seed,
+                                      const py::object& laser_in_base, const py::object& laser_range, const py::object& scenario_path,
+                                      const py::object& scenario_text, const std::string& scenario_file, const py::dict& params) {
   std::string warning;
   const LocalizerDef& def = find_localizer(name, "name", &warning);
   warn_deprecated(warning);
   LocalizerHandle h;
   h.name = def.info.name;
-  LocalizerContext ctx(pose_of(initial, "initial"), seed, {});
+  std::vector<ParamSetting> settings = settings_of(params);
+  LocalizerContext ctx;
+  std::string map_file;
+  if (!scenario_path.is_none() || !scenario_text.is_none()) {
+    // As the scenario's localization chain builds it: its start, seed, robot and LiDAR.
+    auto spec = std::make_shared<const ScenarioSpec>(scenario_of(scenario_path, scenario_text, scenario_file, py::none()));
+    ctx = localizer_context(*spec);
+    const LocalizationConfig config = localization_config(*spec);
+    settings = scenario_settings(config, h.name, settings);
+    map_file = config.map_file;
+    h.scenario = std::move(spec);
+  }
+  if (!initial.is_none()) ctx.start = pose_of(initial, "initial");
+  if (!seed.is_none()) ctx.seed = seed.cast<std::uint64_t>();
   if (!map.is_none()) {
     if (!py::isinstance<OccupancyMapHandle>(map)) throw Error("expected a starnav.OccupancyMap", {}, 0, "map");
     h.map = map.cast<const OccupancyMapHandle&>().loaded;
+  } else if (def.info.has(Capability::NeedsMap) && !map_file.empty()) {
+    h.map = std::make_shared<const LoadedMap>(load_map(map_file));
+    if (h.map->is_elevation()) throw Error("an elevation map; " + h.name + " needs an occupancy map", map_file, 0, "localization.map");
+  }
+  if (h.map) {
     ctx.map = &h.map->occupancy();
     ctx.thresholds = h.map->thresholds();
   }
-  h.laser_in_base = pose_of(laser_in_base, "laser_in_base");
-  ctx.laser_in_base = h.laser_in_base;
+  if (!laser_in_base.is_none()) ctx.laser_in_base = pose_of(laser_in_base, "laser_in_base");
+  h.laser_in_base = ctx.laser_in_base;
   if (!laser_range.is_none()) {
     const auto r = laser_range.cast<std::pair<double, double>>();
     ctx.laser_range_min_m = r.first;
     ctx.laser_range_max_m = r.second;
   }
-  const std::vector<ParamSetting> settings = settings_of(params);
   h.localizer = def.make(ctx, settings);
   return h;
 }
@@ -457,7 +476,8 @@ void bind_estimation(py::module_& m) {
 
   py::class_<LocalizerHandle>(m, "Localizer", "A localizer of the registry fed message by message (the Localizer role).")
       .def(py::init(&make_localizer_handle), py::arg("name"), py::arg("map"), py::arg("initial"), py::arg("seed"),
-           py::arg("laser_in_base"), py::arg("laser_range"), py::arg("params"))
+           py::arg("laser_in_base"), py::arg("laser_range"), py::arg("scenario_path"), py::arg("scenario_text"),
+           py::arg("scenario_file"), py::arg("params"))
       .def_property_readonly("name", [](const LocalizerHandle& h) { return h.name; }, "the registry's name")
       .def(
           "on_odometry",

@@ -190,6 +190,7 @@ PYBIND11_MODULE(_starnav, m) {
   starnav::python::bind_terrain(m);
   starnav::python::bind_planning(m);
   starnav::python::bind_cloud(m);
+  starnav::python::bind_mapping3d(m);
   starnav::python::bind_simulation(m);
   starnav::python::bind_estimation(m);
   starnav::python::bind_experiments(m);

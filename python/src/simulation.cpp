@@ -18,6 +18,7 @@
 #include "bindings.hpp"
 #include "starnav/control/local_controller.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/harness/lidar_frame_recorder.hpp"
 #include "starnav/harness/localization_chain.hpp"
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/harness/route_drive.hpp"
@@ -26,10 +27,6 @@
 #include "starnav/sim/simulation.hpp"
 
 namespace starnav::python {
-
-namespace {
-
-// ---- scenarios ----------------------------------------------------------------------------------------
 
 std::vector<ScenarioOverride> overrides_of(const py::object& sets) {
   std::vector<ScenarioOverride> out;
@@ -42,12 +39,16 @@ std::vector<ScenarioOverride> overrides_of(const py::object& sets) {
   return out;
 }
 
-// A scenario from a file, or from YAML text that names itself `file` in errors.
 ScenarioSpec scenario_of(const py::object& path, const py::object& text, const std::string& file, const py::object& sets) {
   const std::vector<ScenarioOverride> overrides = overrides_of(sets);
   if (!text.is_none()) return parse_scenario(text.cast<std::string>(), file, overrides);
   return load_scenario(py::str(path).cast<std::string>(), overrides);
 }
+
+namespace {
+
+// ---- scenarios ----------------------------------------------------------------------------------------
+
 
 // A YAML scalar as Python reads it: quoted -> str; plain -> bool, int, float or str as it parses.
 py::object scalar_of(const YAML::Node& n) {
@@ -277,6 +278,36 @@ void check_signals() {
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
 }
 
+// The localization chain's records (estimate.csv's rows at full precision): t, scan (bool), truth
+// (N, 3), pose (N, 3), covariance (N, 3, 3), particles, updates, converged.
+py::dict estimates_dict(const std::vector<EstimateRecord>& records) {
+  const auto n = static_cast<py::ssize_t>(records.size());
+  std::vector<double> t, truth, pose, cov;
+  std::vector<std::uint8_t> scan, converged;
+  std::vector<std::int64_t> particles, updates;
+  for (const EstimateRecord& r : records) {
+    t.push_back(r.t_s);
+    scan.push_back(r.scan ? 1 : 0);
+    truth.insert(truth.end(), {r.truth.x, r.truth.y, r.truth.yaw});
+    pose.insert(pose.end(), {r.estimate.pose.x, r.estimate.pose.y, r.estimate.pose.yaw});
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) cov.push_back(r.estimate.covariance(i, k));
+    particles.push_back(r.estimate.particles);
+    updates.push_back(static_cast<std::int64_t>(r.estimate.updates));
+    converged.push_back(r.estimate.converged ? 1 : 0);
+  }
+  py::dict d;
+  d["t"] = owning_array(std::move(t), {n});
+  d["scan"] = owning_array(std::move(scan), {n}).attr("astype")("bool");
+  d["truth"] = owning_array(std::move(truth), {n, 3});
+  d["pose"] = owning_array(std::move(pose), {n, 3});
+  d["covariance"] = owning_array(std::move(cov), {n, 3, 3});
+  d["particles"] = owning_array(std::move(particles), {n});
+  d["updates"] = owning_array(std::move(updates), {n});
+  d["converged"] = owning_array(std::move(converged), {n}).attr("astype")("bool");
+  return d;
+}
+
 // ---- the simulation -------------------------------------------------------------------------------------
 
 struct SimulationHandle {
@@ -289,6 +320,7 @@ struct SimulationHandle {
   PyObject* controller = nullptr;    // run(controller=...): called at every step (borrowed for the run)
   PyObject* self = nullptr;
   bool broken = false;  // an exception ended a step midway: the state is no longer a run's
+  std::unique_ptr<LidarFrameRecorder> lidar_frames;  // outputs.lidar_frames, into a folder given from Python
 
   explicit SimulationHandle(const ScenarioSpec& spec) {
     sim = std::make_unique<Simulation>(spec);
@@ -334,6 +366,7 @@ struct SimulationHandle {
       throw;
     }
     controller = nullptr;
+    if (lidar_frames) lidar_frames->finish();  // frames.csv as far as the run went
   }
 };
 
@@ -539,10 +572,17 @@ followed, (N, 2) read-only (None without one).)doc")
       .def_property_readonly("path", [](const ControlInputView& v) { return v.path; });
 
   py::class_<SimulationHandle>(m, "_Simulation")
-      .def(py::init([](const py::object& path, const py::object& text, const std::string& file, const py::object& sets) {
-             return std::make_unique<SimulationHandle>(scenario_of(path, text, file, sets));
+      .def(py::init([](const py::object& path, const py::object& text, const std::string& file, const py::object& sets,
+                       const py::object& lidar_frames) {
+             auto h = std::make_unique<SimulationHandle>(scenario_of(path, text, file, sets));
+             if (!lidar_frames.is_none()) {
+               // As `starnav sim --out` records outputs.lidar_frames (every scan unless the scenario says).
+               const int every = std::max(1, h->sim->spec().outputs.lidar_frames_every_n_scans);
+               h->lidar_frames = std::make_unique<LidarFrameRecorder>(*h->sim, path_of(lidar_frames), every);
+             }
+             return h;
            }),
-           py::arg("path"), py::arg("text"), py::arg("file"), py::arg("sets"))
+           py::arg("path"), py::arg("text"), py::arg("file"), py::arg("sets"), py::arg("lidar_frames"))
       .def_property_readonly("name", [](const SimulationHandle& h) { return h.sim->spec().name; })
       .def_property_readonly("time", [](const SimulationHandle& h) { return h.sim->time(); })
       .def_property_readonly("dt", [](const SimulationHandle& h) { return h.sim->spec().dt_s; })
@@ -580,6 +620,10 @@ followed, (N, 2) read-only (None without one).)doc")
       .def("odometry", [](const SimulationHandle& h) -> py::object {
         if (!h.recorder.has_odometry()) return py::none();
         return odometry_array(h.recorder.odometry());
+      })
+      .def("estimates", [](const SimulationHandle& h) -> py::object {
+        if (!h.chain) return py::none();
+        return estimates_dict(h.chain->records());
       })
       .def("lidar", [](const SimulationHandle& h, const std::string& stream) { return lidar_dict(h.recorder.lidar(stream)); })
       .def("latest_scan", [](const SimulationHandle& h, const std::string& stream) { return latest_scan_dict(h.recorder.lidar(stream)); })

@@ -29,7 +29,9 @@ from ._starnav import (  # noqa: E402
     MissingFileError,
     OccupancyMap,
     PlanBatch,
+    Octree,
     PlanResult,
+    Slam3dRun,
     SlamRun,
     TerrainAnalysis,
     __version__,
@@ -37,7 +39,7 @@ from ._starnav import (  # noqa: E402
     load_map,
     load_scenarios,
 )
-from . import cloud, experiments, localization, matchers, planners, simulation, slam, terrain  # noqa: E402
+from . import cloud, experiments, localization, matchers, planners, simulation, slam, slam3d, terrain  # noqa: E402
 from .cloud import Registration, register  # noqa: E402
 from .localization import Amcl, Ekf, Localizer, localize, read_log  # noqa: E402
 from .planners import plan, plan_many  # noqa: E402
@@ -46,8 +48,8 @@ from ._generate import components  # noqa: E402
 
 __all__ = [
     "Amcl", "ControlInput", "Ekf", "ElevationMap", "FileError", "InputError", "LocalizeRun", "Localizer",
-    "MissingFileError", "Navigation", "OccupancyMap", "PlanBatch", "PlanResult", "Registration", "Simulation",
-    "SlamRun", "TerrainAnalysis", "__version__", "build_info", "cloud", "components", "experiments", "load_map",
+    "MissingFileError", "Navigation", "OccupancyMap", "Octree", "PlanBatch", "PlanResult", "Registration", "Simulation",
+    "Slam3dRun", "SlamRun", "TerrainAnalysis", "__version__", "build_info", "cloud", "components", "experiments", "load_map",
     "load_scenarios", "localization", "localize", "matchers", "navigate", "plan", "plan_many", "planners", "read_log",
-    "register", "scenario_document", "scenario_yaml", "simulation", "slam", "terrain",
+    "register", "scenario_document", "scenario_yaml", "simulation", "slam", "slam3d", "terrain",
 ]

@@ -9,7 +9,7 @@ import numpy as np
 from . import _starnav
 from ._generate import table_function
 from ._starnav import Matcher as _Matcher
-from ._starnav import crop, read_cloud, remove_radius_outliers, voxel_downsample, write_cloud, pose_matrix
+from ._starnav import Octree, crop, read_cloud, remove_radius_outliers, voxel_downsample, write_cloud, pose_matrix
 
 
 @dataclass(frozen=True)
@@ -72,5 +72,5 @@ prefilter = table_function(
     "The three filters in Ou et al. 2022's order (range window, voxel grid, radius outliers): (points, counts),\n"
     "counts the points after each step {raw, windowed, voxelised, kept}.")
 
-__all__ = ["Matcher", "Registration", "crop", "pose_matrix", "prefilter", "read_cloud", "register",
+__all__ = ["Matcher", "Octree", "Registration", "crop", "pose_matrix", "prefilter", "read_cloud", "register",
            "remove_radius_outliers", "voxel_downsample", "write_cloud"]

@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _starnav
 from ._generate import components, parameter_lines
+from .simulation import _source as _scenario_source
 
 READ_OPTIONS = ("scan_topic", "odom_topic", "imu_topic", "truth_topic", "range_max", "flaser_angles")
 
@@ -65,13 +66,21 @@ class Localizer:
 
     estimate() -> dict t, pose (3,), covariance (3, 3), valid, particles, updates, converged;
     pose, covariance: the same as arrays; particles: the belief's samples (K, 3) (particle filters).
-    initial: the start pose (x, y, yaw); seed: the run's seed (each localizer draws from its own
-    stream of it); map: a starnav.OccupancyMap (kept alive by the localizer); laser_in_base: the
-    2D LiDAR's mount; laser_range: (min, max) of its valid ranges."""
+    initial: the start pose (x, y, yaw), default (0, 0, 0); seed: the run's seed (each localizer
+    draws from its own stream of it), default 0; map: a starnav.OccupancyMap (kept alive by the
+    localizer); laser_in_base: the 2D LiDAR's mount, default (0, 0, 0); laser_range: (min, max) of
+    its valid ranges. scenario (a file or a dict, relative paths of a dict from base_dir): build it
+    as that scenario's localization chain does, with the scenario's start, seed, robot (the
+    kinematics the EKF predicts with), LiDAR mount and map (when the localizer needs one and none
+    is given), and the scenario's localization settings for this localizer (localization.<section>.*,
+    when the scenario runs it or filters its odometry with it); the keywords replace them."""
 
-    def __init__(self, name, map=None, *, initial=(0.0, 0.0, 0.0), seed=0, laser_in_base=(0.0, 0.0, 0.0),  # noqa: A002
-                 laser_range=None, **params):
-        self._localizer = _starnav.Localizer(name, map, tuple(initial), seed, tuple(laser_in_base), laser_range, params)
+    def __init__(self, name, map=None, *, scenario=None, initial=None, seed=None, laser_in_base=None,  # noqa: A002
+                 laser_range=None, base_dir=None, **params):
+        path, text, file = (None, None, "") if scenario is None else _scenario_source(scenario, base_dir)
+        self._localizer = _starnav.Localizer(name, map, None if initial is None else tuple(initial), seed,
+                                             None if laser_in_base is None else tuple(laser_in_base), laser_range,
+                                             path, text, file, params)
 
     @property
     def name(self):
@@ -111,8 +120,8 @@ class Ekf(Localizer):
     """The registry's ekf localizer: wheel odometry increments predict, IMU yaw readings update
     (docs/localization.md). state: the pose (x, y, yaw); covariance: its 3 x 3."""
 
-    def __init__(self, *, initial=(0.0, 0.0, 0.0), seed=0, **params):
-        super().__init__("ekf", None, initial=initial, seed=seed, **params)
+    def __init__(self, *, scenario=None, initial=None, seed=None, base_dir=None, **params):
+        super().__init__("ekf", None, scenario=scenario, initial=initial, seed=seed, base_dir=base_dir, **params)
 
     @property
     def state(self):
@@ -123,10 +132,10 @@ class Amcl(Localizer):
     """The registry's amcl localizer (Nav2's AMCL) on `map`, with Nav2's online defaults (a log's
     run, localize(), takes its own: see docs/localization.md)."""
 
-    def __init__(self, map, *, initial=(0.0, 0.0, 0.0), seed=0, laser_in_base=(0.0, 0.0, 0.0), laser_range=None,  # noqa: A002
-                 **params):
-        super().__init__("amcl", map, initial=initial, seed=seed, laser_in_base=laser_in_base, laser_range=laser_range,
-                         **params)
+    def __init__(self, map=None, *, scenario=None, initial=None, seed=None, laser_in_base=None, laser_range=None,  # noqa: A002
+                 base_dir=None, **params):
+        super().__init__("amcl", map, scenario=scenario, initial=initial, seed=seed, laser_in_base=laser_in_base,
+                         laser_range=laser_range, base_dir=base_dir, **params)
 
 
 def _document():

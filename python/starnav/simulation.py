@@ -120,7 +120,10 @@ class Simulation:
     `scenario` is a file's path or a dict of the same keys (turned into YAML text and read by the
     same parser: errors are starnav.InputError naming the file, line and field; a dict's file is
     "<dict>" and its lines those of scenario_yaml(dict)). `set` holds dotted keys with values, as
-    `starnav sim --set KEY=VALUE` gives them (e.g. {"sim.seed": 3}).
+    `starnav sim --set KEY=VALUE` gives them (e.g. {"sim.seed": 3}). lidar_frames: a folder to
+    record the first LiDAR's frames into as `starnav sim --out` records outputs.lidar_frames into
+    OUT/lidar (sensor-frame PCDs, sensor.yaml, frames.csv rewritten after every step() / run();
+    every scan unless the scenario's outputs.lidar_frames says), a recording starnav.slam3d.run maps.
 
     The robot follows the scenario's command script (or its route) until command() is called, then
     the last command, until command(None) gives it back to the script; run(controller=f) asks a
@@ -137,9 +140,10 @@ class Simulation:
     where a ray returned nothing; latest_scan(stream) its last scan; lidar_summary() (N, 9) as lidar.csv; state() the current row of
     trajectory(); pose (x, y, yaw)."""
 
-    def __init__(self, scenario, *, set=None, base_dir=None):  # noqa: A002 (the CLI's --set)
+    def __init__(self, scenario, *, set=None, base_dir=None, lidar_frames=None):  # noqa: A002 (the CLI's --set)
         path, text, file = _source(scenario, base_dir)
-        self._sim = _starnav._Simulation(path, text, file, set)
+        self._sim = _starnav._Simulation(path, text, file, set,
+                                         None if lidar_frames is None else os.fspath(lidar_frames))
 
     # ---- the clock --------------------------------------------------------------------------------
     @property
@@ -232,6 +236,14 @@ class Simulation:
 
     def odometry(self):
         return self._sim.odometry()
+
+    def estimates(self):
+        """The localization chain's estimate at every odometry message and every scan (estimate.csv's
+        rows at full precision), a dict of arrays: t (N,), scan (N,) bool (recorded after a scan,
+        else after an odometry message), truth (N, 3) and pose (N, 3) x, y, yaw, covariance
+        (N, 3, 3), particles, updates (N,) int64, converged (N,) bool. None without a chain (no
+        localization section and no encoders)."""
+        return self._sim.estimates()
 
     def lidar(self, stream="lidar"):
         return self._sim.lidar(stream)

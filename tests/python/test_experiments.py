@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import starnav
-from conftest import cli_error, progress_while, run_cli
+from conftest import cli_error, message_after_field, progress_while, run_cli, source
 
 # A short navigation scenario: a box between the start and the goal in a 6 x 4 m room.
 SCENARIO = {
@@ -96,3 +96,52 @@ def test_the_bench_releases_the_gil(scenario_file):
     result, share, seconds = progress_while(lambda: starnav.experiments.bench_nav(scenario_file, 2))
     assert len(result.table["seed"]) == 4
     assert share > 0.05, "the main thread kept %.3f of its speed during the %.2f s bench" % (share, seconds)
+
+
+# The other benches over seeds: each Python call against the CLI's files on the same inputs,
+# shortened by the same scenario override so that a run takes a fraction of a second.
+BENCHES = {
+    "ekf-square": (lambda set: starnav.experiments.bench_ekf_square(source("scenarios", "ekf_square.yaml"), 2, seed_base=5, set=set),
+                   ["--scenario", source("scenarios", "ekf_square.yaml"), "--seeds", "2", "--seed-base", "5"],
+                   {"sim.duration_s": 85.0}),
+    "amcl": (lambda set: starnav.experiments.bench_amcl(source("scenarios", "amcl_indoor.yaml"), 2, seed_base=1, set=set),
+             [source("scenarios", "amcl_indoor.yaml"), "--seeds", "2", "--seed-base", "1"], {"sim.duration_s": 6.0}),
+    "ren-table4": (lambda set: starnav.experiments.bench_ren_table4(source("scenarios", "ren_table4.yaml"), 1, set=set),
+                   ["--scenario", source("scenarios", "ren_table4.yaml"), "--seeds", "1"], {"sim.duration_s": 20.0}),
+    "dwa": (lambda set: starnav.experiments.bench_dwa("sideways", 1, scenario=source("scenarios", "dwa_sideways.yaml"), set=set),
+            ["--case", "sideways", "--scenario", source("scenarios", "dwa_sideways.yaml"), "--seeds", "1"], {}),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(BENCHES))
+def test_the_other_benches_are_the_clis(kind, tmp_path):
+    call, args, sets = BENCHES[kind]
+    result = call(sets)
+    set_args = [a for k, v in sets.items() for a in ("--set", "%s=%s" % (k, v))]
+    out = tmp_path / "out"
+    run_cli("bench", kind, *args, *set_args, "--out", out, "--quiet", expect=0 if result.ok else 1)
+    assert result.files and "runs.csv" in result.files
+    for name, text in result.files.items():
+        assert text == (out / name).read_text(), name
+        table = result.tables[name]
+        lines = text.splitlines()
+        assert list(table) == lines[0].split(",") and all(len(v) == len(lines) - 1 for v in table.values())
+    assert result.csv == result.files["runs.csv"] and result.table is result.tables["runs.csv"]
+    doc = json.loads(run_cli("bench", kind, *args, *set_args, "--json", "--quiet", expect=0 if result.ok else 1))
+    assert result.summary == doc
+    assert len(result.table[list(result.table)[0]]) >= 1
+
+
+def test_the_other_benches_check_their_input():
+    with pytest.raises(starnav.InputError) as e:
+        starnav.experiments.bench_ekf_square(source("scenarios", "ekf_square.yaml"), 0)
+    assert e.value.field == "seeds"
+    with pytest.raises(starnav.InputError) as e:
+        starnav.experiments.bench_ekf_square(source("scenarios", "ekf_square.yaml"), 1, set={"sim.dt_s": -1})
+    assert e.value.field == "sim.dt_s (--set)"
+    with pytest.raises(starnav.MissingFileError):
+        starnav.experiments.bench_ren_table4("no_such_scenario.yaml", 1)
+    with pytest.raises(starnav.InputError) as e:
+        starnav.experiments.bench_dwa("no_such_case", 1)
+    line = cli_error("bench", "dwa", "--case", "no_such_case", "--seeds", "1")
+    assert message_after_field(str(e.value), "case") == message_after_field(line, "--case")

@@ -111,6 +111,64 @@ def test_ekf_yaw_update_is_the_scalar_kalman_update():
     assert np.allclose(ekf.state[:2], prior[:2] + p[:2, 2] / (p[2, 2] + r) * (z - prior[2]), atol=1e-12)
 
 
+# The square of Ren et al. 2022 Fig. 5 (scenarios/ekf_square.yaml) to the end of its first side:
+# the 60 s at rest, 16.7 s driving with slipping wheels, the first turn; the EKF with the gyro bias.
+EKF_SQUARE_SETS = {"sim.duration_s": 82.0, "sim.seed": 3}
+
+
+def ekf_messages(sim):
+    """The chain's messages of a run in the order it delivered them: per step the IMU reading
+    before the encoders' odometry (the simulation publishes its IMU sample first), each a
+    (t, kind, row)."""
+    imu, odometry = sim.imu(), sim.odometry()
+    messages = [(row[0], 0, row) for row in imu] + [(row[0], 1, row) for row in odometry]
+    messages.sort(key=lambda m: (m[0], m[1]))
+    return messages
+
+
+def test_ekf_fed_a_simulator_runs_messages_is_the_scenarios_ekf(tmp_path):
+    scenario = source("scenarios", "ekf_square.yaml")
+    sim = starnav.Simulation(scenario, set=EKF_SQUARE_SETS).run()
+    chain = sim.estimates()
+    assert len(chain["t"]) == len(sim.odometry()) > 2000 and not chain["scan"].any()
+    # The ekf localizer built from the scenario (its robot's kinematics, start, seed and
+    # localization.ekf settings) and fed from Python: the chain's estimate after every odometry
+    # message, to the bit.
+    ekf = starnav.Ekf(scenario=scenario, seed=EKF_SQUARE_SETS["sim.seed"])
+    poses, covariances = [], []
+    for t, kind, row in ekf_messages(sim):
+        if kind == 0:
+            ekf.on_imu(t, yaw=row[2], angular_velocity=(0.0, 0.0, row[1]))
+        else:
+            ekf.on_odometry(t, row[1:4], row[4:7])
+            e = ekf.estimate()
+            poses.append(e["pose"])
+            covariances.append(e["covariance"])
+    assert np.array_equal(np.array(poses), chain["pose"])
+    assert np.array_equal(np.array(covariances), chain["covariance"])
+    # It is not the odometry: the IMU corrected it (the wheels slip 5 %).
+    assert np.abs(chain["pose"] - sim.odometry()[:, 1:4]).max() > 1e-3
+    # And the chain's estimate is `starnav sim`'s estimate.csv (6 decimals; covariances 7 digits).
+    out = tmp_path / "sim"
+    run_cli("sim", scenario, "--out", out, "--quiet", *[a for k, v in EKF_SQUARE_SETS.items() for a in ("--set", "%s=%s" % (k, v))])
+    written = np.genfromtxt(out / "estimate.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+    assert len(written) == len(chain["t"])
+    assert np.allclose(written["t_s"], chain["t"], rtol=0, atol=5e-7)
+    for i, name in enumerate(("x_m", "y_m", "yaw_rad")):
+        assert np.allclose(written[name], chain["pose"][:, i], rtol=0, atol=5e-7), name
+    assert np.allclose(written["cov_xx"], chain["covariance"][:, 0, 0], rtol=1e-6, atol=0)
+    assert np.allclose(written["cov_yawyaw"], chain["covariance"][:, 2, 2], rtol=1e-6, atol=0)
+    # A keyword replaces the scenario's setting of the same key: without the bias state the same
+    # messages give another estimate.
+    other = starnav.Ekf(scenario=scenario, seed=EKF_SQUARE_SETS["sim.seed"], bias_state=False)
+    for t, kind, row in ekf_messages(sim):
+        if kind == 0:
+            other.on_imu(t, yaw=row[2], angular_velocity=(0.0, 0.0, row[1]))
+        else:
+            other.on_odometry(t, row[1:4], row[4:7])
+    assert not np.array_equal(other.covariance, chain["covariance"][-1])
+
+
 def test_localizers_by_name_and_their_parameters():
     names = {c["name"] for c in starnav.components("localizer")}
     assert {"ekf", "amcl"} <= names

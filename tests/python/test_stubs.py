@@ -9,7 +9,7 @@ import starnav
 from starnav import _stubs
 
 PACKAGE = os.path.dirname(starnav.__file__)
-STUBS = ["__init__.pyi", "planners.pyi", "matchers.pyi", "terrain.pyi", "cloud.pyi", "simulation.pyi", "slam.pyi", "localization.pyi",
+STUBS = ["__init__.pyi", "planners.pyi", "matchers.pyi", "terrain.pyi", "cloud.pyi", "simulation.pyi", "slam.pyi", "slam3d.pyi", "localization.pyi",
          "experiments.pyi", "_starnav.pyi"]
 TYPES = {"real": "float", "integer": "int", "boolean": "bool", "choice": "str", "names": "list[Any]", "polygons": "list[Any]"}
 
@@ -43,7 +43,7 @@ def test_extension_stub_types_the_results():
     tree = ast.parse(open(os.path.join(PACKAGE, "_starnav.pyi")).read())
     classes = {n.name: n for n in tree.body if isinstance(n, ast.ClassDef)}
     assert {"OccupancyMap", "ElevationMap", "PlanResult", "PlanBatch", "TerrainAnalysis", "Matcher", "InputError",
-            "FileError", "MissingFileError", "ControlInput"} <= set(classes)
+            "FileError", "MissingFileError", "ControlInput", "Octree", "Slam3dRun"} <= set(classes)
     props = {n.name: ast.unparse(n.returns) for n in classes["PlanResult"].body if isinstance(n, ast.FunctionDef)}
     assert props["path"] == "numpy.ndarray" and props["found"] == "bool" and props["json"] == "str"
     assert "load_map" in functions("_starnav.pyi")

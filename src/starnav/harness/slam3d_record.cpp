@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "starnav/core/error.hpp"
+#include "starnav/core/output_file.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/harness/run_record.hpp"
+#include "starnav/io/ros_map.hpp"
 
 namespace starnav {
 
@@ -92,6 +94,50 @@ void write_slam3d_run_record(const std::string& dir, const std::string& input, c
   method += r.matcher;
   write_log_run_record(dir, "slam3d", name.string(), method, us(r.input.frames.front().t_s),
                        us(r.input.frames[last].t_s), slam3d_steps_jsonl(r, path), map_world_json(grid, true, start_pose));
+}
+
+namespace {
+
+void write_slam3d_text(const std::filesystem::path& path, const std::string& text, const std::string& field) {
+  try {
+    write_file_atomically(path.string(), text);
+  } catch (const Error& e) {
+    throw Error(e.message(), path.string(), 0, field);
+  }
+}
+
+}  // namespace
+
+Slam3dOutputs write_slam3d_outputs(const Slam3dRunResult& r, const std::string& input, const std::string& dir,
+                                   const Slam3dOutputConfig& config) {
+  namespace fs = std::filesystem;
+  Slam3dOutputs out;
+  fs::create_directories(dir);
+  const fs::path d(dir);
+  write_slam3d_text(d / "trajectory.csv", slam3d_trajectory_csv(r), config.field);
+  write_slam3d_text(d / "keyframes.csv", slam3d_keyframes_csv(r), config.field);
+  write_slam3d_text(d / "summary.json", slam3d_summary_json(r), config.field);
+  std::optional<OccupancyGrid> grid;
+  if (config.map) {
+    const OctreeMap octree = slam3d_octree(r.keyframes, config.map_config);
+    octree.write((d / "map.bt").string());
+    grid = octree.project_to_grid(config.map_config.grid);
+    write_ros_map(*grid, (d / "map.yaml").string());
+    if (config.plan_to) {
+      out.plan = slam3d_plan(*grid, r.keyframes.front().pose.translation().head<2>(), *config.plan_to, config.inflation_m);
+      if (out.plan->result.found()) {
+        out.path = out.plan->path();
+        std::string csv = "x_m,y_m\n";
+        for (const Vec2& q : out.path) csv += std::to_string(q.x()) + "," + std::to_string(q.y()) + "\n";
+        write_slam3d_text(d / "path.csv", csv, config.field);
+      }
+    }
+    write_slam3d_picture(r, *grid, out.path, (d / "map.svg").string());
+    write_slam3d_picture(r, *grid, out.path, (d / "map.png").string());
+  }
+  // The run record `starnav view` reads; last, as run.json lists the folder.
+  write_slam3d_run_record(dir, input, r, grid ? &*grid : nullptr, out.path);
+  return out;
 }
 
 }  // namespace starnav

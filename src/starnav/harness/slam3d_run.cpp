@@ -53,7 +53,7 @@ Slam3dRunResult run_slam3d(const std::string& input, const Slam3dRunConfig& conf
   SlamChoice choice;
   choice.method = "graph3d";
   choice.settings = config.settings;
-  choice.matcher = {config.matcher, config.matcher_settings, "--matcher"};
+  choice.matcher = {config.matcher, config.matcher_settings, config.matcher_field};
   std::unique_ptr<Slam> slam = make_slam(choice);
   const LidarRecording recording = open_lidar_recording(input, config.recording);
   r.input = recording.frames;

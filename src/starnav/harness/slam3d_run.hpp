@@ -24,6 +24,7 @@ namespace starnav {
 struct Slam3dRunConfig {
   std::vector<ParamSetting> settings;  // graph3d's (docs/parameters.md)
   std::string matcher = "ndt_mt";
+  std::string matcher_field = "--matcher";  // what an unknown matcher's error names
   std::vector<ParamSetting> matcher_settings;
   int max_frames = 0;  // 0: all
   LidarRecordingOptions recording;
