@@ -141,6 +141,48 @@ TEST(MppiLimits, AckermannSamplesNeverTurnTighterThanTheMinimumRadius) {
   EXPECT_GT(turning, 10000);
 }
 
+TEST(MppiLimits, AckermannCurvatureSamplesKeepTheirSteeringWhateverTheSpeed) {
+  MppiLimits l;
+  l.model = MppiMotionModel::Ackermann;
+  l.min_turning_r = 0.8;
+  Rng rng(11);
+  MppiControls c;
+  c.resize(300, 30);
+  c.curvature.resize(300, 30);
+  for (Eigen::Index j = 0; j < 30; ++j)
+    for (Eigen::Index i = 0; i < 300; ++i) {
+      c.vx(i, j) = static_cast<float>(0.3 * rng.normal());
+      c.curvature(i, j) = static_cast<float>(2.0 * rng.normal());
+      c.wz(i, j) = 5.0f;  // overwritten: the curvature decides
+    }
+  const Eigen::ArrayXXf before = c.curvature;
+  mppi_apply_limits(l, BodyTwist{0.0, 0.0, 0.0}, 0.05, c);
+  int clipped = 0;
+  for (Eigen::Index j = 0; j < 30; ++j)
+    for (Eigen::Index i = 0; i < 300; ++i) {
+      const float k = c.curvature(i, j);
+      ASSERT_LE(std::abs(k), 1.0f / 0.8f + 1e-6f);
+      // The curvature drawn, or its bound when beyond it; the yaw rate its speed times it, in
+      // reverse and through zero alike.
+      const float expect = std::clamp(before(i, j), -1.25f, 1.25f);
+      ASSERT_EQ(k, expect);
+      clipped += std::abs(before(i, j)) > 1.25f ? 1 : 0;
+      ASSERT_EQ(c.wz(i, j), c.vx(i, j) * k);
+      ASSERT_LE(std::abs(c.wz(i, j)), std::abs(c.vx(i, j)) / 0.8f * (1.0f + 1e-6f));
+    }
+  EXPECT_GT(clipped, 1000);
+  // The weighted mean averages the curvature as the other axes (two samples, weights 0.25, 0.75).
+  MppiControls two;
+  two.resize(2, 1);
+  two.curvature.resize(2, 1);
+  two.curvature << 1.0f, -0.6f;
+  Eigen::ArrayXf w(2);
+  w << 0.25f, 0.75f;
+  MppiSequence m;
+  mppi_weighted_mean(two, w, m);
+  EXPECT_NEAR(m.curvature(0), 0.25 * 1.0 - 0.75 * 0.6, 1e-6);
+}
+
 // --- The update ------------------------------------------------------------------------------------
 
 TEST(MppiUpdate, SoftmaxWeightedMeanMatchesAHandComputation) {
@@ -314,6 +356,19 @@ TEST(MppiCritics, PathFollowPathAlignAndPathAngleMeasureFromThePath) {
   b.scene.pose = Pose2(2.8, 0.0, kPi);
   EXPECT_EQ(b.score(MppiPathFollowCritic(5.0, 1, 1.4, 6)).abs().maxCoeff(), 0.0f);
   EXPECT_EQ(b.score(MppiPathAlignCritic(10.0, 1, o)).abs().maxCoeff(), 0.0f);
+  // On a stretch of a path of poses the switch is the length of the stretch left, and
+  // path_align needs the batch to reach at most the stretch's last point: the same robot 0.2 m
+  // from the goal with 2 m of a winding stretch left still follows it.
+  b.scene.path_left_m = 2.0;
+  EXPECT_GT(b.score(MppiPathFollowCritic(5.0, 1, 1.4, 6)).abs().maxCoeff(), 0.0f);
+  b.scene.pose = Pose2(0.0, 0.0, 0.0);
+  b.scene.path.resize(11);  // a stretch of 0.5 m: 11 points, the batch reaches past its end
+  b.scene.path_free.assign(b.scene.path.size(), 1);
+  b.scene.furthest_cache.reset();
+  b.scene.path_left_m.reset();
+  EXPECT_EQ(b.score(MppiPathAlignCritic(10.0, 1, o)).abs().maxCoeff(), 0.0f);  // 20 points never reached
+  b.scene.path_left_m = 0.6;
+  EXPECT_GT(b.score(MppiPathAlignCritic(10.0, 1, o)).abs().maxCoeff(), 0.0f);
 }
 
 TEST(MppiCritics, ConstraintPreferForwardAndTwirlingInClosedForm) {
@@ -493,6 +548,47 @@ TEST(MppiController, SameSeedSameCommandsAnotherSeedOthers) {
     differs = differs || a[k].vx != c[k].vx || a[k].wz != c[k].wz;
   }
   EXPECT_TRUE(differs);
+}
+
+TEST(MppiController, AckermannNoiseIsCorrelatedInTimeWithItsStandardDeviation) {
+  // From rest the samples are the noise itself (rotated in time): per step a standard deviation of
+  // curvature_std_per_m and speed std, and from one step to the next the correlation
+  // exp(-model_dt / noise_correlation_time) of a first-order low-pass.
+  const OccupancyGrid m = empty_map(6.0, 6.0);
+  RobotConfig car = mecanum();
+  car.drive = DriveKind::Ackermann;
+  MppiConfig config;
+  config.curvature_std_per_m = 0.2;  // far inside 1 / R_min (1.37): no clipping
+  config.vx_std_mps = 0.05;
+  config.vx_min_mps = -0.5;
+  config.ax_max_mps2 = 100.0, config.ax_min_mps2 = -100.0;  // no acceleration limit on the noise
+  MppiController c(config, car, 5);
+  c.set_path(std::vector<Vec2>{{1.0, 1.0}, {4.0, 1.0}});
+  c.compute(input_at(Pose2(1.0, 1.0, 0.0), {}, m, {4.0, 1.0}, car));
+  const auto stats = [](const Eigen::ArrayXXf& a) {
+    std::vector<double> sd, corr;
+    for (Eigen::Index j = 0; j + 1 < a.cols(); ++j) {
+      const Eigen::ArrayXf x = a.col(j) - a.col(j).mean(), y = a.col(j + 1) - a.col(j + 1).mean();
+      sd.push_back(std::sqrt(x.square().mean()));
+      corr.push_back((x * y).sum() / std::sqrt(x.square().sum() * y.square().sum()));
+    }
+    std::sort(sd.begin(), sd.end());
+    std::sort(corr.begin(), corr.end());
+    return std::pair{sd[sd.size() / 2], corr[corr.size() / 2]};  // medians (one pair wraps round)
+  };
+  const double rho = std::exp(-0.05 / 0.5);
+  const auto [k_sd, k_corr] = stats(c.samples().curvature);
+  EXPECT_NEAR(k_sd, 0.2, 0.2 * 0.06);  // 2,000 samples: the sd's own error about 1.6 %
+  EXPECT_NEAR(k_corr, rho, 0.02);
+  const auto [v_sd, v_corr] = stats(c.samples().vx);
+  EXPECT_NEAR(v_sd, 0.05, 0.05 * 0.06);
+  EXPECT_NEAR(v_corr, rho, 0.02);
+  // White noise (time constant 0), as Nav2's: no correlation.
+  config.noise_correlation_time_s = 0.0;
+  MppiController white(config, car, 5);
+  white.set_path(std::vector<Vec2>{{1.0, 1.0}, {4.0, 1.0}});
+  white.compute(input_at(Pose2(1.0, 1.0, 0.0), {}, m, {4.0, 1.0}, car));
+  EXPECT_NEAR(stats(white.samples().curvature).second, 0.0, 0.1);
 }
 
 TEST(MppiController, BadParametersGiveOneErrorNamingTheField) {
@@ -727,6 +823,24 @@ TEST(MppiController, TheSidewaysScenarioReachesItsGoalWithMppi) {
   EXPECT_TRUE(metrics.success) << metrics.outcome;
   EXPECT_EQ(metrics.collisions, 0);
   EXPECT_LE(metrics.goal_distance_m, 0.03 + 1e-9);
+}
+
+// The car's scenarios (docs/local_planning.md, "Car-like robots"; they do not reach their goals
+// yet): the first seconds of each, Hybrid-A* planning and MPPI driving the Ackermann robot
+// through its first stretches with its body never touching an obstacle.
+TEST(MppiController, TheAckermannScenariosDriveWithoutCollision) {
+  for (const char* name : {"ackermann_parking.yaml", "ackermann_three_point_turn.yaml"}) {
+    const std::vector<ScenarioOverride> sets = {parse_scenario_override("sim.duration_s=8")};
+    const ScenarioSpec spec = parse_scenario(read_text(scenario_path(name)), scenario_path(name), sets);
+    NavigationOptions o;
+    o.record_steps = false;
+    NavigationRun run(spec, o);
+    run.run();
+    const NavigationMetrics metrics = run.metrics();
+    EXPECT_GE(metrics.plans, 1) << name;
+    EXPECT_GT(metrics.distance_m, 0.3) << name;
+    EXPECT_EQ(metrics.collisions, 0) << name;
+  }
 }
 
 }  // namespace mppi_test

@@ -81,6 +81,14 @@ const ParamTable<MppiConfig>& mppi_params() {
     t.real("control_period_s", &C::control_period_s, open(0.0, 10.0), "s", "time between two commands (the command is held)");
     t.real("ackermann_constraints.min_turning_r_m", &C::min_turning_r_m, non_negative(), "m",
            "Ackermann: the samples' minimum turning radius; 0: the robot's (wheelbase / tan(max_steer_rad))");
+    t.boolean("ackermann_constraints.sample_curvature", &C::sample_curvature,
+              "Ackermann: sample speed and curvature (yaw rate = speed x curvature, the steering kept through a stop and in reverse); "
+              "false: Nav2's speed and yaw-rate samples, the yaw rate clipped to |speed| / R_min");
+    t.real("ackermann_constraints.curvature_std_per_m", &C::curvature_std_per_m, non_negative(), "1/m",
+           "Ackermann with sample_curvature: standard deviation of the curvature noise; 0: half of 1 / R_min");
+    t.real("ackermann_constraints.noise_correlation_time_s", &C::noise_correlation_time_s, non_negative(), "s",
+           "Ackermann with sample_curvature: time constant of the speed and curvature noises (a first-order low-pass of white "
+           "noise, the same standard deviation); 0: white, as Nav2's");
     t.real("trajectory_validator.collision_lookahead_time_s", &C::collision_lookahead_time_s, non_negative(), "s",
            "the optimal trajectory must be collision-free this long (0: not checked)");
     t.boolean("trajectory_validator.consider_footprint", &C::validator_consider_footprint,
@@ -228,12 +236,29 @@ void MppiController::draw_noise() {
   };
   fill(noise_.vx, config_.vx_std_mps);
   if (model_ == MppiMotionModel::Omni) fill(noise_.vy, config_.vy_std_mps);
-  fill(noise_.wz, config_.wz_std_radps);
+  if (curvature_sampling()) {
+    noise_.curvature.resize(noise_.vx.rows(), noise_.vx.cols());
+    fill(noise_.curvature, curvature_std());
+    // Correlated in time: n_t = rho n_(t-1) + sqrt(1 - rho^2) e_t keeps the standard deviation.
+    if (config_.noise_correlation_time_s > 0.0) {
+      const float rho = static_cast<float>(std::exp(-config_.model_dt_s / config_.noise_correlation_time_s));
+      const float keep = std::sqrt(1.0f - rho * rho);
+      for (Eigen::ArrayXXf* a : {&noise_.vx, &noise_.curvature})
+        for (Eigen::Index j = 1; j < a->cols(); ++j) a->col(j) = rho * a->col(j - 1) + keep * a->col(j);
+    }
+  } else {
+    fill(noise_.wz, config_.wz_std_radps);
+  }
+}
+
+double MppiController::curvature_std() const {
+  return config_.curvature_std_per_m > 0.0 ? config_.curvature_std_per_m : 0.5 / limits_.min_turning_r;
 }
 
 void MppiController::reset_optimizer() {
   sequence_.reset(config_.time_steps);
   history_ = {};
+  curvature_history_ = {};
   last_t_s_.reset();
 }
 
@@ -241,7 +266,7 @@ void MppiController::shift_sequence(int steps) {
   const Eigen::Index n = sequence_.vx.size();
   steps = std::clamp(steps, 0, static_cast<int>(n) - 1);
   if (steps == 0) return;
-  for (Eigen::ArrayXf* a : {&sequence_.vx, &sequence_.vy, &sequence_.wz}) {
+  for (Eigen::ArrayXf* a : {&sequence_.vx, &sequence_.vy, &sequence_.wz, &sequence_.curvature}) {
     const Eigen::ArrayXf old = *a;
     a->head(n - steps) = old.tail(n - steps);
     a->tail(steps).setConstant(old(n - 1));
@@ -391,7 +416,12 @@ bool MppiController::iterate(MppiScene& s, const BodyTwist& velocity) {
   noised(noise_.vx, sequence_.vx, samples_.vx);
   if (omni) noised(noise_.vy, sequence_.vy, samples_.vy);
   else samples_.vy.setZero(noise_.vx.rows(), steps);
-  noised(noise_.wz, sequence_.wz, samples_.wz);
+  if (curvature_sampling()) {
+    noised(noise_.curvature, sequence_.curvature, samples_.curvature);
+    samples_.wz.resize(noise_.vx.rows(), steps);
+  } else {
+    noised(noise_.wz, sequence_.wz, samples_.wz);
+  }
   mppi_apply_limits(s.limits, velocity, config_.model_dt_s, samples_);
   mppi_integrate(s.pose, config_.model_dt_s, samples_, trajectories_);
   s.controls = &samples_;
@@ -408,7 +438,8 @@ bool MppiController::iterate(MppiScene& s, const BodyTwist& velocity) {
   };
   control_cost(samples_.vx, sequence_.vx, config_.vx_std_mps);
   if (omni) control_cost(samples_.vy, sequence_.vy, config_.vy_std_mps);
-  control_cost(samples_.wz, sequence_.wz, config_.wz_std_radps);
+  if (curvature_sampling()) control_cost(samples_.curvature, sequence_.curvature, curvature_std());
+  else control_cost(samples_.wz, sequence_.wz, config_.wz_std_radps);
   if (costs_.failed) return false;
   mppi_softmax_weights(costs_.total, config_.temperature, weights_);
   mppi_weighted_mean(samples_, weights_, sequence_);
@@ -496,13 +527,23 @@ ControlOutput MppiController::compute(const ControlInput& in) {
   s.circumscribed_radius_m = fm.bounding_radius_m();
   update_progress(p);
   build_local_path(s);
+  if (pose_path_ && path_.size() >= 2) {
+    const Vec2 on = closest_on(p, path_[segment_], path_[segment_ + 1]);
+    s.path_left_m = along_.back() - along_[segment_] - (on - path_[segment_]).norm();
+  } else if (pose_path_) {
+    s.path_left_m = to_goal;
+  }
 
   // Keep the mean within this step's limits before sampling round it.
   const auto bound_sequence = [&] {
     sequence_.vx = sequence_.vx.cwiseMax(static_cast<float>(limits.vx_min)).cwiseMin(static_cast<float>(limits.vx_max));
     sequence_.vy = sequence_.vy.cwiseMax(static_cast<float>(-limits.vy_max)).cwiseMin(static_cast<float>(limits.vy_max));
     sequence_.wz = sequence_.wz.cwiseMax(static_cast<float>(-limits.wz_max)).cwiseMin(static_cast<float>(limits.wz_max));
-    if (model_ == MppiMotionModel::Ackermann) {
+    if (curvature_sampling()) {
+      const float k_max = static_cast<float>(1.0 / limits.min_turning_r);
+      sequence_.curvature = sequence_.curvature.cwiseMax(-k_max).cwiseMin(k_max);
+      sequence_.wz = sequence_.vx * sequence_.curvature;
+    } else if (model_ == MppiMotionModel::Ackermann) {
       const Eigen::ArrayXf bound = sequence_.vx.abs() * static_cast<float>(1.0 / limits.min_turning_r);
       sequence_.wz = sequence_.wz.cwiseMax(-bound).cwiseMin(bound);
     }
@@ -525,6 +566,7 @@ ControlOutput MppiController::compute(const ControlInput& in) {
     mean.vx = sequence_.vx.transpose();
     mean.vy = sequence_.vy.transpose();
     mean.wz = sequence_.wz.transpose();
+    if (curvature_sampling()) mean.curvature = sequence_.curvature.transpose();
     mppi_apply_limits(limits, in.velocity, config_.model_dt_s, mean);
     mppi_integrate(in.pose, config_.model_dt_s, mean, optimal);
     if (steps_checked > 0 && trajectory_collides(s, optimal, steps_checked)) ok = false;
@@ -545,11 +587,16 @@ ControlOutput MppiController::compute(const ControlInput& in) {
   }
   mppi_savitzky_golay(sequence_.vx, hx);
   if (model_ == MppiMotionModel::Omni) mppi_savitzky_golay(sequence_.vy, hy);
-  mppi_savitzky_golay(sequence_.wz, hw);
+  if (curvature_sampling()) mppi_savitzky_golay(sequence_.curvature, curvature_history_);
+  else mppi_savitzky_golay(sequence_.wz, hw);
   bound_sequence();
   const BodyTwist command{sequence_.vx(0), sequence_.vy(0), sequence_.wz(0)};
   for (std::size_t i = 0; i + 1 < 4; ++i) history_[i] = history_[i + 1];
   history_[3] = command;
+  if (curvature_sampling()) {
+    for (std::size_t i = 0; i + 1 < 4; ++i) curvature_history_[i] = curvature_history_[i + 1];
+    curvature_history_[3] = sequence_.curvature(0);
+  }
   // A path with reversals: stopped short of a stretch's end (the motion model cannot turn tight
   // enough to reach its pose from here) for stall_time_s, a new plan from here is asked for.
   constexpr double kStoppedMps = 0.02;

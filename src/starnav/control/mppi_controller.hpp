@@ -56,6 +56,14 @@ struct MppiConfig {
   double stall_time_s = 1.0;
   double control_period_s = 0.05;
   double min_turning_r_m = 0.0;  // Ackermann; 0: the robot's own (wheelbase / tan(max steer))
+  // Ackermann: samples of (vx, curvature) with wz = vx x curvature (false: Nav2's (vx, wz) samples
+  // with wz clipped to |vx| / R_min); the curvature noise's standard deviation (0: half of 1 / R_min).
+  bool sample_curvature = true;
+  double curvature_std_per_m = 0.0;
+  // ... and both noises correlated in time (a first-order low-pass of white noise with this time
+  // constant, the same standard deviation): white noise over 56 steps averages out, so every
+  // sample would turn about as much as the mean; a car's manoeuvre is an arc held for a while.
+  double noise_correlation_time_s = 0.5;
   double collision_lookahead_time_s = 2.0;
   bool validator_consider_footprint = false;
   int diagnostics_samples = 64;
@@ -125,6 +133,9 @@ class MppiController final : public LocalController {
   void build_local_path(MppiScene& scene) const;
   // One iteration: sample, roll out, score, average. False when every sample collides.
   bool iterate(MppiScene& scene, const BodyTwist& velocity);
+  // An Ackermann controller sampling in curvature (vx, curvature; wz = vx x curvature).
+  bool curvature_sampling() const { return model_ == MppiMotionModel::Ackermann && config_.sample_curvature; }
+  double curvature_std() const;
   bool trajectory_collides(const MppiScene& scene, const MppiTrajectories& t, int steps) const;
   void record(const ControlInput& in, const MppiScene& scene, const ControlOutput& out);
 
@@ -153,6 +164,7 @@ class MppiController final : public LocalController {
 
   MppiSequence sequence_;
   std::array<BodyTwist, 4> history_{};
+  std::array<float, 4> curvature_history_{};
   std::optional<double> last_t_s_;
   MppiControls noise_, samples_;
   MppiTrajectories trajectories_;

@@ -91,24 +91,27 @@ void MppiConstraintCritic::score(const MppiScene& s, MppiCosts& costs) const {
 }
 
 void MppiGoalCritic::score(const MppiScene& s, MppiCosts& costs) const {
-  if (s.distance_to_goal_m() >= threshold_m_) return;
+  if (s.path_gate_m() >= threshold_m_) return;
   const MppiTrajectories& t = *s.trajectories;
   const Eigen::ArrayXXf d = ((t.x - static_cast<float>(s.goal.x())).square() + (t.y - static_cast<float>(s.goal.y())).square()).sqrt();
   add(d.rowwise().mean(), costs);
 }
 
 void MppiGoalAngleCritic::score(const MppiScene& s, MppiCosts& costs) const {
-  if (!s.goal_yaw || s.distance_to_goal_m() >= threshold_m_) return;
+  if (!s.goal_yaw || s.path_gate_m() >= threshold_m_) return;
   const MppiTrajectories& t = *s.trajectories;
   const Eigen::ArrayXXf goal = Eigen::ArrayXXf::Constant(t.yaw.rows(), t.yaw.cols(), static_cast<float>(*s.goal_yaw));
   add(mppi_angle_difference(t.yaw, goal).abs().rowwise().mean(), costs);
 }
 
 void MppiPathAlignCritic::score(const MppiScene& s, MppiCosts& costs) const {
-  if (s.path.size() < 2 || s.distance_to_goal_m() < o_.threshold_m) return;
+  if (s.path.size() < 2 || s.path_gate_m() < o_.threshold_m) return;
   const std::size_t reached = s.furthest_reached();
-  // Only once the batch is well along the path (not while the robot first turns onto it).
-  if (reached < static_cast<std::size_t>(o_.offset_from_furthest)) return;
+  // Only once the batch is well along the path (not while the robot first turns onto it); on a
+  // stretch of poses shorter than that, once it reaches the stretch's end.
+  std::size_t needed = static_cast<std::size_t>(o_.offset_from_furthest);
+  if (s.path_left_m) needed = std::min(needed, s.path.size() - 1);
+  if (reached < needed) return;
   // Not when obstacles block much of the path up to there: the obstacle and follow critics lead.
   std::size_t blocked = 0;
   for (std::size_t i = 0; i < reached; ++i) blocked += s.path_free[i] ? 0 : 1;
@@ -146,7 +149,7 @@ void MppiPathAlignCritic::score(const MppiScene& s, MppiCosts& costs) const {
 }
 
 void MppiPathFollowCritic::score(const MppiScene& s, MppiCosts& costs) const {
-  if (s.path.size() < 2 || s.distance_to_goal_m() < threshold_m_) return;
+  if (s.path.size() < 2 || s.path_gate_m() < threshold_m_) return;
   std::size_t target = offset_point(s, offset_);
   // Past an obstacle on the path rather than into it.
   while (target + 2 < s.path.size() && !s.path_free[target]) ++target;
@@ -159,7 +162,7 @@ void MppiPathFollowCritic::score(const MppiScene& s, MppiCosts& costs) const {
 }
 
 void MppiPathAngleCritic::score(const MppiScene& s, MppiCosts& costs) const {
-  if (s.path.size() < 2 || s.distance_to_goal_m() < threshold_m_) return;
+  if (s.path.size() < 2 || s.path_gate_m() < threshold_m_) return;
   const Vec2 target = s.path[offset_point(s, offset_)];
   const Vec2 to = target - s.pose.translation();
   // On a stretch the planner drives in reverse the rear faces the path: the bearing turned by pi.
@@ -179,7 +182,7 @@ void MppiPathAngleCritic::score(const MppiScene& s, MppiCosts& costs) const {
 }
 
 void MppiPreferForwardCritic::score(const MppiScene& s, MppiCosts& costs) const {
-  if (s.distance_to_goal_m() < threshold_m_) return;
+  if (s.path_gate_m() < threshold_m_) return;
   const float dt = static_cast<float>(s.model_dt_s);
   // The direction the path ahead is driven in: forward, or reverse on a planner's reverse stretch.
   const float sign = s.reversing ? 1.0f : -1.0f;

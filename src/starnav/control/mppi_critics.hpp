@@ -4,7 +4,8 @@
 // the sample's steps, >= 0), times its weight, to the power cost_power: (weight * term)^power. A
 // critic whose condition does not hold at this step adds nothing. Distances in metres, angles in
 // radians; "the goal" is the path's end, "near" compares the robot's distance to it with the
-// critic's threshold_to_consider_m.
+// critic's threshold_to_consider_m (for path_align, path_follow, path_angle and prefer_forward on
+// a path of poses: the length of the stretch left, MppiScene::path_left_m).
 //
 //   constraint      sum over steps of dt x the speed beyond [vx_min, vx_max] (omni: the signed
 //                   speed |(vx, vy)| beyond the combined bounds; Ackermann: also R_min - |vx / wz|
@@ -69,7 +70,15 @@ struct MppiScene {
   double inscribed_radius_m = 0.0;
   double circumscribed_radius_m = 0.0;
 
+  // A path of poses (a planner's, cut at its cusps): the length of the stretch left from the
+  // robot's place on it. Its path critics are switched by this length instead of the distance to
+  // the goal, and path_align's offset_from_furthest is at most the points left: a stretch is often
+  // shorter than Nav2's thresholds, tuned for long paths, and a car must follow it to its end.
+  std::optional<double> path_left_m;
+
   double distance_to_goal_m() const { return (pose.translation() - goal).norm(); }
+  // What the path critics' threshold_to_consider_m is compared with.
+  double path_gate_m() const { return path_left_m ? *path_left_m : distance_to_goal_m(); }
   // The largest over the samples of the index of the path point nearest the sample's last pose
   // (Nav2's furthest reached path point); computed once per batch.
   std::size_t furthest_reached() const;

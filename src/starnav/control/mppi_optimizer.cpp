@@ -55,6 +55,13 @@ void mppi_apply_limits(const MppiLimits& l, const BodyTwist& current, double dt,
   limit_axis(c.vx, l.vx_min, l.vx_max, current.vx, l.ax_max, l.ax_min, dt);
   if (l.holonomic()) limit_axis(c.vy, -l.vy_max, l.vy_max, current.vy, l.ay_max, l.ay_min, dt);
   else c.vy.setZero();
+  if (l.model == MppiMotionModel::Ackermann && c.curvature.size() == c.vx.size() && c.vx.size() > 0) {
+    // Sampled in curvature: the radius is kept by construction, the yaw rate follows the speed.
+    const float k_max = static_cast<float>(1.0 / l.min_turning_r);
+    c.curvature = c.curvature.cwiseMax(-k_max).cwiseMin(k_max);
+    c.wz = c.vx * c.curvature;
+    return;
+  }
   limit_axis(c.wz, -l.wz_max, l.wz_max, current.wz, l.az_max, -l.az_max, dt);
   if (l.model == MppiMotionModel::Ackermann) {
     // The radius has the last word: |vx / wz| >= R_min for every sample and step.
@@ -102,6 +109,7 @@ void mppi_weighted_mean(const MppiControls& c, const Eigen::ArrayXf& w, MppiSequ
   out.vx = (c.vx.colwise() * w).colwise().sum().transpose();
   out.vy = (c.vy.colwise() * w).colwise().sum().transpose();
   out.wz = (c.wz.colwise() * w).colwise().sum().transpose();
+  if (c.curvature.size() == c.vx.size() && c.vx.size() > 0) out.curvature = (c.curvature.colwise() * w).colwise().sum().transpose();
 }
 
 void mppi_savitzky_golay(Eigen::ArrayXf& seq, const std::array<float, 4>& history) {

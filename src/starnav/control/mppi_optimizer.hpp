@@ -7,7 +7,8 @@
 //   limits      each sample's velocities within the motion model's limits: speed bounds, then the
 //               acceleration bounds step by step from the robot's current velocity (ax_max raises
 //               the speed's magnitude, ax_min lowers it), then for Ackermann |wz| <= |vx| / R_min
-//               (the turning radius never below R_min, whatever the noise)
+//               (the turning radius never below R_min, whatever the noise); an Ackermann batch
+//               sampled in curvature has its curvature cut to 1 / R_min and wz = vx x curvature
 //   integrate   the poses after each step, each step an exact arc of its constant twist
 //   softmax     weights exp(-(c - c_min) / temperature), normalised
 //   smoothing   Nav2's 9-point quadratic Savitzky-Golay filter of the sequence, the four last
@@ -35,8 +36,11 @@ struct MppiLimits {
 };
 
 // Controls of a batch: row = sample, column = time step (the velocity held over that step).
+// `curvature` (1/m) is used by an Ackermann batch sampled in curvature (empty otherwise): it
+// decides wz = vx x curvature, so that a sample keeps its steering whatever its speed, through
+// zero and in reverse, as a car's steering does.
 struct MppiControls {
-  Eigen::ArrayXXf vx, vy, wz;
+  Eigen::ArrayXXf vx, vy, wz, curvature;
   void resize(int batch, int steps) {
     vx.setZero(batch, steps);
     vy.setZero(batch, steps);
@@ -51,16 +55,18 @@ struct MppiTrajectories {
 
 // One control sequence (the optimiser's mean).
 struct MppiSequence {
-  Eigen::ArrayXf vx, vy, wz;
+  Eigen::ArrayXf vx, vy, wz, curvature;  // curvature: as MppiControls'
   void reset(int steps) {
     vx.setZero(steps);
     vy.setZero(steps);
     wz.setZero(steps);
+    curvature.setZero(steps);
   }
 };
 
 // `c` within `limits` from the current body velocity `current` (the limits' list above); vy is
-// zeroed for a robot that is not holonomic.
+// zeroed for a robot that is not holonomic. An Ackermann batch with curvatures: |curvature| <=
+// 1 / R_min, then wz = vx x curvature (wz's own limits do not apply: the steering decides it).
 void mppi_apply_limits(const MppiLimits& limits, const BodyTwist& current, double dt, MppiControls& c);
 
 // The poses after each step of `c` from `start`, every step an exact arc (its chord through the
@@ -71,7 +77,8 @@ void mppi_integrate(const Pose2& start, double dt, const MppiControls& c, MppiTr
 // finite minimum keeps the exponent <= 0, so no overflow.
 void mppi_softmax_weights(const Eigen::ArrayXf& costs, double temperature, Eigen::ArrayXf& weights);
 
-// The weighted mean over the samples of each step's controls (weights summing to 1).
+// The weighted mean over the samples of each step's controls (weights summing to 1), the
+// curvature's too when the batch has one.
 void mppi_weighted_mean(const MppiControls& c, const Eigen::ArrayXf& weights, MppiSequence& out);
 
 // Nav2's Savitzky-Golay smoothing of one axis of a sequence (left unchanged below 21 steps);
