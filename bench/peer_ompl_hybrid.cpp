@@ -67,6 +67,8 @@ struct Options {
   double radius_m = 2.5;
   std::uint64_t seed = 45;
   int only = -1;  // >= 0: run only this query of the sequence
+  bool hybrid_only = false;  // skip OMPL (Hybrid-A*'s columns alone, for quick timing)
+  int repeat = 1;            // Hybrid-A*'s time: the median of this many runs of each query
   std::string csv;
   bool json = false;
   bool quiet = false;
@@ -251,11 +253,16 @@ struct HybridRun {
   bool free = true;
 };
 
-HybridRun run_hybrid(MapCase& mc, const Query& q) {
+HybridRun run_hybrid(MapCase& mc, const Query& q, int repeat) {
   HybridRun out;
-  const double t0 = thread_cpu_s();
-  const PlanResult r = mc.planner->plan(q.start, q.goal);
-  out.time_s = thread_cpu_s() - t0;
+  PlanResult r;
+  std::vector<double> times;
+  for (int k = 0; k < repeat; ++k) {
+    const double t0 = thread_cpu_s();
+    r = mc.planner->plan(q.start, q.goal);
+    times.push_back(thread_cpu_s() - t0);
+  }
+  out.time_s = sample_stats(std::move(times)).median;
   out.found = r.found();
   out.status = plan_status_reason(r.status);
   if (!out.found) return out;
@@ -552,9 +559,11 @@ int run(const Options& o) {
     r.index = i;
     r.query = queries[i];
     MapCase& mc = *maps[static_cast<std::size_t>(r.query.map)];
-    r.hybrid = run_hybrid(mc, r.query);
-    r.rrt = run_peer(mc, r.query, Peer::RRTstar, o);
-    r.bit = run_peer(mc, r.query, Peer::BITstar, o);
+    r.hybrid = run_hybrid(mc, r.query, o.repeat);
+    if (!o.hybrid_only) {
+      r.rrt = run_peer(mc, r.query, Peer::RRTstar, o);
+      r.bit = run_peer(mc, r.query, Peer::BITstar, o);
+    }
     if (!o.quiet)
       std::fprintf(stderr, "query %zu/%zu %s: hybrid_astar %s, rrtstar %s, bitstar %s (first solution, CPU s)\n", i + 1,
                    queries.size(), mc.name.c_str(), r.hybrid.found ? num(r.hybrid.time_s).c_str() : r.hybrid.status.c_str(),
@@ -591,6 +600,9 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.seed, "seed of the queries (and of OMPL's sampler)");
   app.add_option("--only", o.only, "run only query INDEX (from 0) of the sequence, to look at one again")
       ->check(CLI::NonNegativeNumber);
+  app.add_flag("--hybrid-only", o.hybrid_only, "run Hybrid-A* alone (OMPL's columns empty, its ratios 'no data')");
+  app.add_option("--repeat", o.repeat, "Hybrid-A*'s time is the median of this many runs of each query (profiling)")
+      ->check(CLI::Range(1, 100000));
   app.add_option("--csv", o.csv, "per-query results to this CSV file");
   app.add_flag("--json", o.json, "the summary as JSON");
   app.add_flag("--quiet", o.quiet, "no progress lines on stderr");

@@ -230,6 +230,44 @@ TEST(FootprintChecker, AgreesWithBruteForceOnRandomMaps) {
   EXPECT_LT(hits, n - n / 10);
 }
 
+// The exact test alone (the scanline over the cells under the outline) against brute force over
+// every obstacle of the window, poses near the outline's edge included: denser maps, a window
+// whose map is rotated, bodies ahead of base_link, poses partly beyond the padded window.
+TEST(FootprintChecker, TheExactTestIsBruteForcesAnswer) {
+  Rng rng(19);
+  int hits = 0, n = 0;
+  for (int trial = 0; trial < test::scaled(12); ++trial) {
+    OccupancyGrid m = random_map(rng, 5.0, 5.0, rng.uniform(0.003, 0.03));
+    m.mutable_geometry().origin = Pose2(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), trial % 2 ? rng.uniform(-kPi, kPi) : 0.0);
+    ClearanceWindow local;
+    const Vec2 mid = m.geometry().grid_to_world({2.5, 2.5});
+    local.build(m, mid, 1.5, 0.6);
+    for (const int shape : {0, 1, 2}) {
+      FootprintModel fm;
+      fm.circle = shape == 0;
+      fm.radius_m = rng.uniform(0.1, 0.35);
+      fm.half_length_m = rng.uniform(0.1, 0.5);
+      fm.half_width_m = rng.uniform(0.1, 0.3);
+      fm.center_x_m = shape == 2 ? rng.uniform(-0.5, 0.5) : 0.0;
+      const FootprintChecker check(fm, rng.uniform(0.0, 0.03));
+      for (int k = 0; k < 150; ++k) {
+        const Vec2 q = m.geometry().grid_to_world({rng.uniform(0.8, 4.2), rng.uniform(0.8, 4.2)});
+        const Pose2 p(q.x(), q.y(), rng.uniform(-kPi, kPi));
+        const Cell c = local.cell_of(q);
+        if (!local.contains(c.x, c.y)) continue;
+        const double extra = rng.uniform(-0.02, 0.05);
+        const Vec2 heading(std::cos(p.yaw), std::sin(p.yaw));
+        const bool got = check.exact_test(local, p, heading, extra);
+        EXPECT_EQ(got, check.collides_brute_force(local, p, extra)) << trial << " " << shape << " " << k;
+        hits += got;
+        ++n;
+      }
+    }
+  }
+  EXPECT_GT(hits, n / 10);
+  EXPECT_LT(hits, n - n / 10);
+}
+
 TEST(FootprintChecker, AnOutlineAheadOfBaseLinkIsTheCentredOneMovedForward) {
   // A car's body centred 0.35 m ahead of its rear axle (base_link): every answer equals the
   // centred outline's at the pose moved 0.35 m along the heading, and brute force's.

@@ -620,6 +620,32 @@ TEST(HybridAStar, TheRoleGivesPosesAndGridPlannersIgnoreThem) {
   EXPECT_TRUE(a.path_poses.empty());
 }
 
+// The role keeps its planner while the map is unchanged, and answers for the new map once it
+// changes: the same query in the same role object equals a fresh planner's answer on each map.
+TEST(HybridAStar, TheRolePlansOnTheMapItIsGivenEachTime) {
+  OccupancyGrid open_map = empty_grid(80, 60, 0.1);
+  OccupancyGrid walled = open_map;
+  block_rect(walled, 3.5, 0.0, 4.5, 4.0);
+  const std::vector<ParamSetting> settings = {{"minimum_turning_radius_m", "1.0", "", 0, ""}};
+  const auto role = find_global_planner("hybrid_astar").make(GlobalPlannerContext{}, settings);
+  HybridAStarOptions o;
+  o.minimum_turning_radius_m = 1.0;
+  PlanQuery q;
+  q.start_pose = Pose2(1.05, 1.05, 0.0);
+  q.goal_pose = Pose2(7.05, 1.05, 0.0);
+  q.start = {10, 10};
+  q.goal = {70, 10};
+  for (const OccupancyGrid* map : {&open_map, &walled, &walled, &open_map}) {
+    const PlanResult got = role->plan_poses(PlanningLayers{map, nullptr}, q, {});
+    HybridAStar fresh(*map, o);
+    const PlanResult want = fresh.plan(q.start_pose, q.goal_pose);
+    ASSERT_TRUE(got.found());
+    EXPECT_EQ(got.length, want.length);
+    EXPECT_EQ(got.path_poses.size(), want.path_poses.size());
+  }
+  EXPECT_GT(HybridAStar(walled, o).plan(q.start_pose, q.goal_pose).length, 6.5);  // round the wall
+}
+
 // Navigation with a planner between poses needs the goal's heading: refused before the run, naming
 // the scenario's line and key.
 TEST(HybridAStar, NavigationRefusesAGoalWithoutHeading) {

@@ -78,6 +78,11 @@ class ClearanceWindow {
   // centres (for exact footprint tests).
   template <class F>
   void for_each_obstacle_near(const Vec2& p, double r, F&& f) const;
+  // Whether `f(centre)` holds for an occupied cell of window row `iy` (padding included: from
+  // -pad) with a column in [ix0, ix1], stopping at the first; rows and columns beyond the padded
+  // window hold none.
+  template <class F>
+  bool any_obstacle_in_row(int iy, int ix0, int ix1, F&& f) const;
 
   // Shortest 8-connected distance (m; steps of one cell and sqrt(2) cells) from the seed cells to
   // every window cell through free cells whose clearance is at least `pass_clearance_m` (the seeds
@@ -121,6 +126,19 @@ void ClearanceWindow::for_each_obstacle_near(const Vec2& p, double r, F&& f) con
     const auto last = row_columns_.begin() + row_start_[static_cast<std::size_t>(y) + 1];
     for (auto it = std::lower_bound(first, last, x0); it != last && *it <= x1; ++it) f(cell_center(*it - pad_, y - pad_));
   }
+}
+
+template <class F>
+bool ClearanceWindow::any_obstacle_in_row(int iy, int ix0, int ix1, F&& f) const {
+  const int y = iy + pad_;
+  if (y < 0 || y >= padded_height_) return false;
+  const int x0 = std::max(ix0 + pad_, 0), x1 = std::min(ix1 + pad_, padded_width_ - 1);
+  if (x0 > x1) return false;
+  const auto first = row_columns_.begin() + static_cast<std::ptrdiff_t>(row_start_[static_cast<std::size_t>(y)]);
+  const auto last = row_columns_.begin() + static_cast<std::ptrdiff_t>(row_start_[static_cast<std::size_t>(y) + 1]);
+  for (auto it = std::lower_bound(first, last, x0); it != last && *it <= x1; ++it)
+    if (f(cell_center(*it - pad_, iy))) return true;
+  return false;
 }
 
 }  // namespace starnav

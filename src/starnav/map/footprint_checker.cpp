@@ -10,6 +10,10 @@
 
 namespace starnav {
 
+namespace {
+constexpr double kFootprintScanBig = 1e300;
+}  // namespace
+
 double FootprintModel::bounding_radius_m() const {
   const double off = std::abs(center_x_m);
   return circle ? radius_m + off : std::hypot(half_length_m + off, half_width_m);
@@ -76,10 +80,63 @@ FootprintTest FootprintChecker::quick_test(const ClearanceWindow& map, const Pos
 
 bool FootprintChecker::exact_test(const ClearanceWindow& map, const Pose2& pose, const Vec2& heading, double extra_m) const {
   const double grow = std::max(0.0, grow_m_ + extra_m + map.resolution() * std::sqrt(0.5));
-  bool hit = false;
-  map.for_each_obstacle_near(pose.translation(), bounding_m_ + grow,
-                             [&](const Vec2& o) { hit = hit || holds(pose, heading, o, grow); });
-  return hit;
+  // Only the obstacle cells whose centres lie in a polygon holding the grown outline are tested:
+  // row by row (in the window's cell coordinates, where a cell's centre is (ix + 0.5, iy + 0.5)),
+  // the columns between the polygon's edges. The rectangle grown by `grow` on each side holds the
+  // rounded one; the circle is cut exactly. A margin of 1e-6 cell keeps rounding on the safe side.
+  constexpr double kMargin = 1e-6;
+  const auto test = [&](const Vec2& o) { return holds(pose, heading, o, grow); };
+  const double c = heading.x(), s = heading.y();
+  const Vec2 centre(pose.x + c * model_.center_x_m, pose.y + s * model_.center_x_m);
+  if (model_.circle) {
+    const Vec2 q = map.continuous_cell(centre);
+    const double rr = (model_.radius_m + grow) / map.resolution() + kMargin;
+    const int y0 = static_cast<int>(std::ceil(q.y() - rr - 0.5)), y1 = static_cast<int>(std::floor(q.y() + rr - 0.5));
+    for (int iy = y0; iy <= y1; ++iy) {
+      const double dy = iy + 0.5 - q.y();
+      const double half = std::sqrt(std::max(0.0, rr * rr - dy * dy));
+      if (map.any_obstacle_in_row(iy, static_cast<int>(std::ceil(q.x() - half - 0.5)),
+                                  static_cast<int>(std::floor(q.x() + half - 0.5)), test))
+        return true;
+    }
+    return false;
+  }
+  const double hl = model_.half_length_m + grow, hw = model_.half_width_m + grow;
+  Vec2 corner[4];
+  const double u[4] = {hl, -hl, -hl, hl}, v[4] = {hw, hw, -hw, -hw};
+  double ylo = kFootprintScanBig, yhi = -kFootprintScanBig;
+  for (int k = 0; k < 4; ++k) {
+    corner[k] = map.continuous_cell(Vec2(centre.x() + c * u[k] - s * v[k], centre.y() + s * u[k] + c * v[k]));
+    ylo = std::min(ylo, corner[k].y());
+    yhi = std::max(yhi, corner[k].y());
+  }
+  const int y0 = static_cast<int>(std::ceil(ylo - kMargin - 0.5)), y1 = static_cast<int>(std::floor(yhi + kMargin - 0.5));
+  for (int iy = y0; iy <= y1; ++iy) {
+    const double yc = iy + 0.5;
+    double xlo = kFootprintScanBig, xhi = -kFootprintScanBig;
+    for (int k = 0; k < 4; ++k) {
+      const Vec2& a = corner[k];
+      const Vec2& b = corner[(k + 1) % 4];
+      const double lo = std::min(a.y(), b.y()) - kMargin, hi = std::max(a.y(), b.y()) + kMargin;
+      if (yc < lo || yc > hi) continue;
+      const double dy = b.y() - a.y();
+      // An edge (nearly) along the row: both its ends; otherwise where it crosses the row.
+      if (std::abs(dy) < kMargin) {
+        xlo = std::min({xlo, a.x(), b.x()});
+        xhi = std::max({xhi, a.x(), b.x()});
+      } else {
+        const double t = std::clamp((yc - a.y()) / dy, 0.0, 1.0);
+        const double x = a.x() + t * (b.x() - a.x());
+        xlo = std::min(xlo, x);
+        xhi = std::max(xhi, x);
+      }
+    }
+    if (xlo > xhi) continue;
+    if (map.any_obstacle_in_row(iy, static_cast<int>(std::ceil(xlo - kMargin - 0.5)),
+                                static_cast<int>(std::floor(xhi + kMargin - 0.5)), test))
+      return true;
+  }
+  return false;
 }
 
 bool FootprintChecker::collides(const ClearanceWindow& map, const Pose2& pose, double extra_m) const {

@@ -247,8 +247,21 @@ struct HybridAStar::Impl {
   double collision_step = 0.0;
   std::vector<float> multiplier;       // per window cell: 1 + cost_penalty * normalised cost
   std::vector<std::uint8_t> passable;  // per window cell: the robot's centre may be in it
-  // The obstacle distance from the goal: per window corner (width + 1 by height + 1).
-  std::vector<double> corner_distance;
+  // The obstacle distance from the goal per window corner (width + 1 by height + 1), found lazily:
+  // an A* from the goal's corner toward the start's (a reverse resumable A*, Silver 2005), resumed
+  // whenever a corner not yet settled is asked for. Its heuristic (the octile distance to the
+  // start's corner) is consistent, so every settled corner has its exact distance; a query plans
+  // only as much of the map as its search touches. Stamps mark the corners of this query.
+  struct CornerEntry {
+    double f;
+    std::uint32_t corner;
+    bool operator>(const CornerEntry& o) const { return f > o.f || (f == o.f && corner > o.corner); }
+  };
+  std::vector<double> corner_g;
+  std::vector<std::uint32_t> corner_seen, corner_settled;  // == corner_stamp: this query's
+  std::uint32_t corner_stamp = 0;
+  std::vector<CornerEntry> corner_open;  // a binary heap (std::push_heap with std::greater)
+  int corner_target_i = 0, corner_target_j = 0;
   double goal_corner_offset = 0.0;
   Pose2 goal;
   bool has_goal = false;
@@ -294,7 +307,7 @@ struct HybridAStar::Impl {
   }
 
   // The obstacle distance bound at `p` (+inf where the centre cannot go).
-  double obstacle_bound(const Pose2& p) const {
+  double obstacle_bound(const Pose2& p) {
     bool inside = false;
     cell_index(p, inside);
     if (!inside) return kHybridInf;
@@ -303,8 +316,8 @@ struct HybridAStar::Impl {
     double best = -kHybridInf;
     for (int dy = 0; dy <= 1; ++dy)
       for (int dx = 0; dx <= 1; ++dx) {
-        const double d = corner_distance[static_cast<std::size_t>(c.y + dy) * static_cast<std::size_t>(w1) +
-                                         static_cast<std::size_t>(c.x + dx)];
+        const double d = corner_distance(static_cast<std::size_t>(c.y + dy) * static_cast<std::size_t>(w1) +
+                                         static_cast<std::size_t>(c.x + dx));
         if (d == kHybridInf) continue;  // another corner may still reach
         const Vec2 cw = corner_world(c.x + dx, c.y + dy);
         const double e = std::hypot(cw.x() - p.x, cw.y() - p.y);
@@ -328,12 +341,31 @@ struct HybridAStar::Impl {
     return c.length;
   }
 
-  // Dijkstra over the window's cell corners from the goal's nearest corner: a horizontal or
-  // vertical step along a cell edge needs one of the two cells beside it passable, a diagonal
-  // step across a cell needs that cell passable.
-  void corner_wavefront(const Pose2& g) {
-    const int w = window.width(), h = window.height(), w1 = w + 1, h1 = h + 1;
-    corner_distance.assign(static_cast<std::size_t>(w1) * static_cast<std::size_t>(h1), kHybridInf);
+  // The corner graph: a horizontal or vertical step along a cell edge needs one of the two cells
+  // beside it passable, a diagonal step across a cell needs that cell passable.
+  bool pass(int x, int y) const {
+    return x >= 0 && y >= 0 && x < window.width() && y < window.height() && passable[window.index(x, y)] != 0;
+  }
+
+  // Octile distance (m) from corner (i, j) to the start's corner: consistent for the corner graph.
+  double corner_h(int i, int j) const {
+    const double dx = std::abs(i - corner_target_i), dy = std::abs(j - corner_target_j);
+    const double res = window.resolution();
+    return res * (std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));
+  }
+
+  // Starts the distances from the goal's nearest corner toward the start's; nothing is expanded.
+  void reset_corner_field(const Pose2& g, const Pose2& s) {
+    const int w1 = window.width() + 1, h1 = window.height() + 1;
+    const std::size_t corners = static_cast<std::size_t>(w1) * static_cast<std::size_t>(h1);
+    if (corner_g.size() != corners || corner_stamp == std::numeric_limits<std::uint32_t>::max()) {
+      corner_g.assign(corners, kHybridInf);
+      corner_seen.assign(corners, 0);
+      corner_settled.assign(corners, 0);
+      corner_stamp = 0;
+    }
+    ++corner_stamp;
+    corner_open.clear();
     const Cell gc = window.cell_of({g.x, g.y});
     int bi = gc.x, bj = gc.y;
     double be = kHybridInf;
@@ -344,28 +376,42 @@ struct HybridAStar::Impl {
         if (e < be) be = e, bi = gc.x + dx, bj = gc.y + dy;
       }
     goal_corner_offset = be;
-    const auto pass = [&](int x, int y) {
-      return x >= 0 && y >= 0 && x < w && y < h && passable[window.index(x, y)] != 0;
-    };
+    const Cell sc = window.cell_of({s.x, s.y});
+    corner_target_i = std::clamp(sc.x, 0, w1 - 1);
+    corner_target_j = std::clamp(sc.y, 0, h1 - 1);
+    const auto k = static_cast<std::uint32_t>(static_cast<std::size_t>(bj) * static_cast<std::size_t>(w1) + static_cast<std::size_t>(bi));
+    corner_g[k] = 0.0;
+    corner_seen[k] = corner_stamp;
+    corner_open.push_back({corner_h(bi, bj), k});
+  }
+
+  // The exact obstacle distance of corner k from the goal's corner (+inf: unreachable), expanding
+  // the A* until k is settled or nothing is left.
+  double corner_distance(std::size_t k) {
+    const int w1 = window.width() + 1, h1 = window.height() + 1;
     const double res = window.resolution(), diag = res * std::sqrt(2.0);
-    using Entry = std::pair<double, std::int64_t>;
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
-    const auto at = [&](int i, int j) { return static_cast<std::size_t>(j) * static_cast<std::size_t>(w1) + static_cast<std::size_t>(i); };
-    corner_distance[at(bi, bj)] = 0.0;
-    open.emplace(0.0, static_cast<std::int64_t>(at(bi, bj)));
-    while (!open.empty()) {
-      const double d = open.top().first;
-      const std::int64_t k = open.top().second;
-      open.pop();
-      if (d > corner_distance[static_cast<std::size_t>(k)]) continue;
-      const int i = static_cast<int>(k % w1), j = static_cast<int>(k / w1);
+    while (corner_settled[k] != corner_stamp) {
+      if (corner_open.empty()) return kHybridInf;
+      std::pop_heap(corner_open.begin(), corner_open.end(), std::greater<>());
+      const std::uint32_t u = corner_open.back().corner;
+      corner_open.pop_back();
+      if (corner_settled[u] == corner_stamp) continue;  // a stale entry
+      corner_settled[u] = corner_stamp;
+      const double d = corner_g[u];
+      const int i = static_cast<int>(u % static_cast<std::uint32_t>(w1)), j = static_cast<int>(u / static_cast<std::uint32_t>(w1));
       const auto relax = [&](int ni, int nj, double step) {
         if (ni < 0 || nj < 0 || ni >= w1 || nj >= h1) return;
+        const auto v = static_cast<std::uint32_t>(static_cast<std::size_t>(nj) * static_cast<std::size_t>(w1) + static_cast<std::size_t>(ni));
+        if (corner_settled[v] == corner_stamp) return;
+        if (corner_seen[v] != corner_stamp) {
+          corner_seen[v] = corner_stamp;
+          corner_g[v] = kHybridInf;
+        }
         const double nd = d + step;
-        double& cur = corner_distance[at(ni, nj)];
-        if (nd < cur) {
-          cur = nd;
-          open.emplace(nd, static_cast<std::int64_t>(at(ni, nj)));
+        if (nd < corner_g[v]) {
+          corner_g[v] = nd;
+          corner_open.push_back({nd + corner_h(ni, nj), v});
+          std::push_heap(corner_open.begin(), corner_open.end(), std::greater<>());
         }
       };
       if (pass(i, j - 1) || pass(i, j)) relax(i + 1, j, res);
@@ -377,6 +423,7 @@ struct HybridAStar::Impl {
       if (pass(i, j - 1)) relax(i + 1, j - 1, diag);
       if (pass(i - 1, j - 1)) relax(i - 1, j - 1, diag);
     }
+    return corner_g[k];
   }
 };
 
@@ -483,7 +530,7 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
   if (m.collides(goal)) return finish(PlanStatus::GoalBlocked);
   m.goal = goal;
   m.has_goal = true;
-  m.corner_wavefront(goal);
+  m.reset_corner_field(goal, start);
 
   const HybridAStarOptions& o = options_;
   const HybridCostModel cost{&options_};
@@ -600,19 +647,25 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
   std::priority_queue<HybridOpenEntry, std::vector<HybridOpenEntry>, std::greater<>> open;
   std::uint64_t seq = 0;
   bool inside = false;
-  const double h0 = heuristic(start);
-  if (h0 == kHybridInf) return finish(PlanStatus::NoPath);  // the centre cannot reach the goal's cells
   nodes.push_back({start, 0.0, -1, kHybridNoMotion, false});
-  index.emplace(key_of(start, inside), 0);
-  const double w = o.heuristic_weight;
-  open.push({w * h0, 0.0, seq++, 0});
   r.generated = 1;
-
   std::vector<HybridMotion> curve;
   double curve_cost = 0.0;
   std::int32_t reached = -1;
-  int since_analytic = std::numeric_limits<int>::max() / 2;  // try at the first expansion
-  while (!open.empty()) {
+  // The curve from the start first, as the search's first expansion would try it: when it is
+  // free, no heuristic is needed at all (the easy queries answer in the time of one curve check).
+  if (analytic(start, nullptr, curve, curve_cost)) {
+    r.expanded = 1;
+    reached = 0;
+  } else {
+    const double h0 = heuristic(start);
+    if (h0 == kHybridInf) return finish(PlanStatus::NoPath);  // the centre cannot reach the goal's cells
+    index.emplace(key_of(start, inside), 0);
+    open.push({o.heuristic_weight * h0, 0.0, seq++, 0});
+  }
+  const double w = o.heuristic_weight;
+  int since_analytic = 0;
+  while (reached < 0 && !open.empty()) {
     const HybridOpenEntry e = open.top();
     open.pop();
     HybridSearchNode& n = nodes[static_cast<std::size_t>(e.node)];
@@ -634,9 +687,10 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
     const HybridMotion* before = came_by != kHybridNoMotion ? &before_motion : nullptr;
 
     // Analytic expansion, more often near the goal (Nav2: every max(1, h / ratio) expansions, h in cells).
+    // (The start's was tried before the search.)
     const double h = (e.f - g) / w;
     const int every = std::max(1, static_cast<int>(std::floor(h / res / o.analytic_expansion_ratio)));
-    if (++since_analytic >= every) {
+    if (id != 0 && ++since_analytic >= every) {
       since_analytic = 0;
       if (analytic(pose, before, curve, curve_cost)) {
         reached = id;
@@ -694,7 +748,9 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
     for (std::size_t i = 0; i < ms.size(); ++i) c += cost(ms[i], i > 0 ? &ms[i - 1] : nullptr, mu[i]);
     return c;
   };
-  if (o.smooth && motions_.size() > 1) {
+  // One shortest curve from the start needs no shortcut: every part of it is already the shortest
+  // curve between its ends.
+  if (o.smooth && motions_.size() > 1 && chain.size() > 1) {
     // Shortcuts: from each anchor, the farthest later pose (tried at halving distances) that the
     // shortest free curve reaches more cheaply replaces the motions between them.
     std::size_t i = 0;
@@ -774,12 +830,29 @@ class HybridAStarGlobalPlanner final : public GlobalPlanner {
     if (!layers.occupancy) throw Error("planner 'hybrid_astar' needs an occupancy layer", {}, 0, "planner");
     if (!query.goal_heading)
       throw Error("planner 'hybrid_astar' plans to a goal pose: give the goal's heading", {}, 0, "goal.yaw_deg");
-    HybridAStar planner(*layers.occupancy, options_);  // the map may have changed since the last call
-    return planner.plan(query.start_pose, query.goal_pose);
+    // The distance field and costs are built once per map: kept while the map is unchanged.
+    const OccupancyGrid& map = *layers.occupancy;
+    if (!planner_ || !same_map(map)) {
+      planner_.reset();
+      planner_ = std::make_unique<HybridAStar>(map, options_);
+      built_for_ = map;
+    }
+    return planner_->plan(query.start_pose, query.goal_pose);
   }
 
  private:
+  bool same_map(const OccupancyGrid& map) const {
+    const GridGeometry &a = map.geometry(), &b = built_for_.geometry();
+    if (a.width != b.width || a.height != b.height || a.resolution != b.resolution || a.y_down != b.y_down ||
+        a.origin.x != b.origin.x || a.origin.y != b.origin.y || a.origin.yaw != b.origin.yaw)
+      return false;
+    const std::span<const std::int8_t> x = map.data(), y = built_for_.data();
+    return std::equal(x.begin(), x.end(), y.begin(), y.end());
+  }
+
   HybridAStarOptions options_;
+  std::unique_ptr<HybridAStar> planner_;
+  OccupancyGrid built_for_;  // the map planner_ was built on
 };
 
 }  // namespace

@@ -17,7 +17,9 @@
 // curve to the goal pose (plan/car_curves.hpp), or the straight-line distance for the models that
 // turn on the spot, and (b) the 8-connected obstacle distance to the goal from a Dijkstra on the
 // cells the robot's centre can occupy, divided by the octile/Euclidean ratio and less one cell
-// diagonal (docs/planning.md says why each is a lower bound). A path reaches the goal pose exactly:
+// diagonal (docs/planning.md says why each is a lower bound); that Dijkstra runs lazily, only as
+// far as the search asks (an A* from the goal toward the start, resumed on demand), and the curve
+// from the start is tried before any of it. A path reaches the goal pose exactly:
 // the search ends with an analytic expansion (the obstacle-free curve from a state to the goal,
 // footprint-checked), tried every N expansions with N shrinking near the goal as Nav2 does.
 //
