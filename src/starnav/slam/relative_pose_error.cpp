@@ -125,6 +125,7 @@ nlohmann::ordered_json stats_json(const SampleStats& s) {
 nlohmann::ordered_json error_json(const RelativePoseError& e) {
   nlohmann::ordered_json j;
   j["translation_m"] = stats_json(e.translation_m);
+  j["translation_m"]["p95"] = e.translation_p95_m;
   j["rotation_deg"] = stats_json(e.rotation_deg);
   j["relations"] = e.relations;
   j["unmatched"] = e.unmatched;
@@ -137,10 +138,12 @@ std::string rpe_text(const RelativePoseError& base, const std::optional<Relative
   std::ostringstream out;
   out << "relations:   " << base.relations << " (" << base.translation_m.n << " evaluated, " << base.unmatched
       << " with an end not in the trajectory)\n";
-  out << "base:        translation " << stats_text(base.translation_m, 4, "m") << ", rotation "
+  out << "base:        translation " << stats_text(base.translation_m, 4, "m") << ", p95 " << format_fixed(base.translation_p95_m, 4)
+      << " m, rotation "
       << stats_text(base.rotation_deg, 3, "deg") << "\n";
   if (laser)
-    out << "laser:       translation " << stats_text(laser->translation_m, 4, "m") << ", rotation "
+    out << "laser:       translation " << stats_text(laser->translation_m, 4, "m") << ", p95 "
+        << format_fixed(laser->translation_p95_m, 4) << " m, rotation "
         << stats_text(laser->rotation_deg, 3, "deg") << " (mount " << format_number(offset.x) << ", "
         << format_number(offset.y) << " m, " << format_number(rad_to_deg(offset.yaw)) << " deg)\n";
   return out.str();
