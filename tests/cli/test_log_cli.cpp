@@ -178,7 +178,7 @@ TEST(CliSlamBenchmark, AShortRouteOfAGeneratedBuildingReadsBackAndIsBenchmarked)
   EXPECT_EQ(log.scans.size(), 101u);  // 20 s at 5 Hz and the scan at 0
   EXPECT_EQ(log.truth.size(), log.scans.size());
   ASSERT_FALSE(log.scans.empty());
-  EXPECT_EQ(log.scans[0].ranges.size(), 541u);
+  EXPECT_EQ(log.scans[0].ranges_m.size(), 541u);
   ASSERT_TRUE(log.laser_in_base.has_value());
   EXPECT_DOUBLE_EQ(log.laser_in_base->x, 0.12);
   const Pose2 last = log.truth.back().pose;
