@@ -18,9 +18,8 @@
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/io/ros_map.hpp"
-#include "starnav/logs/log_file.hpp"
+#include "starnav/harness/slam_report.hpp"
 #include "starnav/sim/building_generator.hpp"
-#include "starnav/slam/benchmark_relations.hpp"
 
 namespace starnav::cli {
 
@@ -105,8 +104,7 @@ struct RelationsOptions {
 void run_relations(const RelationsOptions& o, Context& ctx) {
   check_output_path(o.out, o.force, "--out");
   check_distinct_files({{o.log, "LOG", false}, {o.out, "--out"}});
-  const RobotLog log = read_robot_log(o.log, log_read_options(o.read));
-  const BenchmarkRelations r = make_benchmark_relations(log_truth_at_scans(log), o.rule);
+  const BenchmarkRelations r = log_benchmark_relations(o.log, log_read_options(o.read), o.rule);
   if (r.relations.empty()) throw Error("the truth is too short for a relation (" + std::to_string(r.key_poses) + " key poses)", o.log, 0, "LOG");
   write_text_file(o.out, relations_text(r.relations), "--out");
   std::cout << "wrote " << o.out << ": " << r.relations.size() << " relations (" << r.local << " between neighbouring key poses, " << r.loops

@@ -110,6 +110,10 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   return r;
 }
 
+BenchmarkRelations log_benchmark_relations(const std::string& log, const LogReadOptions& read, const RelationRule& rule) {
+  return make_benchmark_relations(log_truth_at_scans(read_robot_log(log, read)), rule);
+}
+
 nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
   nlohmann::ordered_json j;
   j["log"] = r.log;

@@ -16,6 +16,7 @@
 #include "starnav/core/params.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/robot_log.hpp"
+#include "starnav/slam/benchmark_relations.hpp"
 #include "starnav/slam/relative_pose_error.hpp"
 #include "starnav/slam/log_mapping.hpp"
 #include "starnav/slam/slam.hpp"
@@ -68,6 +69,10 @@ struct SlamRunResult {
 
 SlamRunResult run_slam_on_file(const SlamRunRequest& request,
                                const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+// `starnav slam relations`: a simulated log read and its truth at every scan (the laser's pose)
+// made into relations by the benchmark's rule (slam/benchmark_relations.hpp).
+BenchmarkRelations log_benchmark_relations(const std::string& log, const LogReadOptions& read, const RelationRule& rule);
 
 nlohmann::ordered_json slam_summary_json(const SlamRunResult& r);
 // A relative-pose error as summary.json and bench slam's JSON write it: translation_m and
