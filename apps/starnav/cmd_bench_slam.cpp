@@ -38,7 +38,12 @@ void run_bench_slam(const SlamBenchOptions& o, Context& ctx) {
       bool found = false;
       for (const SlamBenchmarkLog& l : c.logs)
         if (l.name == name) chosen.push_back(l), found = true;
-      if (!found) throw Error("unknown log '" + name + "' (intel, fr079, aces, mit-csail)", {}, 0, "--logs");
+      // Any other name is a `starnav sim` output folder under --data (log.clf), its relations
+      // NAME/log.relations under --relations: the generated buildings (docs/slam.md).
+      if (!found && !name.empty() && fs::is_regular_file(fs::path(o.data) / name / "log.clf"))
+        chosen.push_back({name, (fs::path(name) / "log.clf").string(), (fs::path(name) / "log.relations").string(), {}}), found = true;
+      if (!found)
+        throw Error("unknown log '" + name + "' (intel, fr079, aces, mit-csail, or a folder under --data holding log.clf)", {}, 0, "--logs");
     }
     c.logs = chosen;
   }
@@ -81,7 +86,9 @@ void register_bench_slam(CLI::App& app, Context& ctx) {
       "CPU and wall time, real-time factor and peak memory (docs/slam.md)");
   cmd->add_option("--data", o->data, "the raw logs' folder (../shared/datasets/carmen_raw)")->required();
   cmd->add_option("--relations", o->relations, "the relation files' folder (../shared/datasets/slam_benchmark_relations)")->required();
-  cmd->add_option("--logs", o->logs, "a comma-separated subset of intel,fr079,aces,mit-csail");
+  cmd->add_option("--logs", o->logs,
+                  "a comma-separated subset of intel,fr079,aces,mit-csail, or simulated runs: NAME is --data/NAME/log.clf with "
+                  "--relations/NAME/log.relations (slam make-benchmark)");
   cmd->add_option("--method", o->method, "the SLAM method")->default_str("graph");
   cmd->add_option("--set", o->sets, "a parameter key=value for every log (repeatable)")->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--out", o->out, "folder for slam.md, slam.json and each log's trajectory, map and pose graph");

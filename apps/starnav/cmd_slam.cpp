@@ -193,6 +193,7 @@ void register_slam_commands(CLI::App& app, Context& ctx) {
     std::cout << "wrote " << od->out << " (" << t.size() << " poses)\n";
     ctx.exit_code = 0;
   });
+  register_slam_benchmark_commands(slam, ctx);
 }
 
 }  // namespace starnav::cli

@@ -27,6 +27,7 @@ void register_sim_commands(CLI::App& app, Context& ctx);      // cmd_sim.cpp
 void register_params_command(CLI::App& app, Context& ctx);    // cmd_params.cpp
 void register_log_commands(CLI::App& app, Context& ctx);      // cmd_log.cpp
 void register_slam_commands(CLI::App& app, Context& ctx);     // cmd_slam.cpp
+void register_slam_benchmark_commands(CLI::App* slam, Context& ctx);  // cmd_slam_benchmark.cpp (called by register_slam_commands)
 void register_localize_command(CLI::App& app, Context& ctx);  // cmd_localize.cpp
 void register_slam3d_command(CLI::App& app, Context& ctx);    // cmd_slam3d.cpp
 void register_view_command(CLI::App& app, Context& ctx);      // cmd_view.cpp

@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "starnav/io/ros_map.hpp"
+#include "starnav/logs/log_file.hpp"
 #include "support/test_support.hpp"
 
 namespace starnav {
@@ -151,6 +153,54 @@ commands:
   const auto w = nlohmann::json::parse(walls.out);
   EXPECT_GE(w["distances"].size(), 6u);
   EXPECT_LT(w["mean_abs_error_m"][0].get<double>(), 0.06);
+}
+
+// The benchmark of scale end to end on a short drive: make-benchmark writes a building and its
+// scenario, `starnav sim` drives the start of the route (cut to 20 s) into log.clf, the log reader
+// reads it back (scans of the LMS151 at 5 Hz, truth at each), `slam relations` makes a relation
+// file from its truth that `slam eval` scores zero against that truth, and bench slam runs it by name.
+TEST(CliSlamBenchmark, AShortRouteOfAGeneratedBuildingReadsBackAndIsBenchmarked) {
+  const test::ScratchDir dir;
+  const test::CliResult make = test::run_cli({"slam", "make-benchmark", "--kind", "ladder", "--seed", "3", "--length-km", "0.05",
+                                              "--out", dir.file("b"), "--json"});
+  ASSERT_EQ(make.exit_code, 0) << make.err;
+  const auto m = nlohmann::json::parse(make.out);
+  EXPECT_EQ(m["name"], "building_ladder_3");
+  EXPECT_GE(m["size_m"][0].get<double>(), 150.0);
+  EXPECT_GE(m["size_m"][1].get<double>(), 80.0);
+  EXPECT_EQ(m["loops"], 6);
+  EXPECT_EQ(test::run_cli({"slam", "make-benchmark", "--kind", "ladder", "--seed", "3", "--out", dir.file("b")}).exit_code, 2);  // exists
+  EXPECT_EQ(test::run_cli({"slam", "make-benchmark", "--kind", "castle", "--out", dir.file("c")}).exit_code, 2);
+  const std::string run = dir.file("b/building_ladder_3");
+  const test::CliResult sim = test::run_cli({"sim", dir.file("b/building_ladder_3.yaml"), "--out", run, "--duration", "20", "--quiet"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const RobotLog log = read_robot_log(run + "/log.clf");
+  EXPECT_EQ(log.scans.size(), 101u);  // 20 s at 5 Hz and the scan at 0
+  EXPECT_EQ(log.truth.size(), log.scans.size());
+  ASSERT_FALSE(log.scans.empty());
+  EXPECT_EQ(log.scans[0].ranges_m.size(), 541u);
+  ASSERT_TRUE(log.laser_in_base.has_value());
+  EXPECT_DOUBLE_EQ(log.laser_in_base->x, 0.12);
+  const Pose2 last = log.truth.back().pose;
+  EXPECT_GT(std::hypot(last.x - log.truth.front().pose.x, last.y - log.truth.front().pose.y), 5.0);  // it drove
+  const test::CliResult rel = test::run_cli({"slam", "relations", run + "/log.clf", "--out", run + "/log.relations"});
+  ASSERT_EQ(rel.exit_code, 0) << rel.err;
+  const test::CliResult truth = test::run_cli({"map", "build", run + "/log.clf", "--poses", "truth", "--out", dir.file("t.yaml"),
+                                               "--trajectory-out", dir.file("truth.csv")});
+  ASSERT_EQ(truth.exit_code, 0) << truth.err;
+  const test::CliResult eval = test::run_cli({"slam", "eval", dir.file("truth.csv"), run + "/log.relations", "--log", run + "/log.clf", "--json"});
+  ASSERT_EQ(eval.exit_code, 0) << eval.err;
+  const auto e = nlohmann::json::parse(eval.out);
+  EXPECT_GT(e["laser"]["translation_m"]["count"].get<int>(), 10);
+  EXPECT_LT(e["laser"]["translation_m"]["max"].get<double>(), 1e-5);
+  const test::CliResult bench = test::run_cli({"bench", "slam", "--data", dir.file("b"), "--relations", dir.file("b"), "--logs",
+                                               "building_ladder_3", "--json", "--quiet"});
+  ASSERT_EQ(bench.exit_code, 0) << bench.err;
+  const auto bj = nlohmann::json::parse(bench.out);
+  EXPECT_EQ(bj["logs"][0]["evaluated_pose"], "laser");
+  EXPECT_GE(bj["logs"][0]["rpe"]["translation_m"]["p95"].get<double>(), 0.0);
+  EXPECT_TRUE(bj["logs"][0].contains("worse_than_odometry"));
+  EXPECT_EQ(test::run_cli({"bench", "slam", "--data", dir.file("b"), "--relations", dir.file("b"), "--logs", "nothing"}).exit_code, 2);
 }
 
 }  // namespace

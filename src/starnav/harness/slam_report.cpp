@@ -25,7 +25,7 @@ namespace starnav {
 
 nlohmann::ordered_json rpe_summary_json(const RelativePoseError& e) {
   nlohmann::ordered_json j;
-  j["translation_m"] = {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"max", e.translation_m.max}};
+  j["translation_m"] = {{"mean", e.translation_m.mean}, {"sd", e.translation_m.sd}, {"p95", e.translation_p95_m}, {"max", e.translation_m.max}};
   j["rotation_deg"] = {{"mean", e.rotation_deg.mean}, {"sd", e.rotation_deg.sd}, {"max", e.rotation_deg.max}};
   j["count"] = e.translation_m.n;
   j["relations"] = e.relations;
@@ -103,8 +103,15 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
   if (!relations.empty()) {
     r.rpe = relative_pose_error(r.trajectory, relations);
     if (!is_zero(r.laser_in_base)) r.rpe_laser = relative_pose_error(r.trajectory, relations, r.laser_in_base);
+    r.rpe_odometry = relative_pose_error(odometry_trajectory(log), relations, r.rpe_laser ? r.laser_in_base : Pose2());
+    r.worse_than_odometry = relations_worse_than(r.rpe_evaluated(), *r.rpe_odometry);
+    r.worse_than_odometry_by_1m = relations_worse_than(r.rpe_evaluated(), *r.rpe_odometry, 1.0);
   }
   return r;
+}
+
+BenchmarkRelations log_benchmark_relations(const std::string& log, const LogReadOptions& read, const RelationRule& rule) {
+  return make_benchmark_relations(log_truth_at_scans(read_robot_log(log, read)), rule);
 }
 
 nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
@@ -134,6 +141,11 @@ nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
   if (r.ate_odometry) j["ate_odometry"] = ate(*r.ate_odometry);
   if (r.rpe) j["rpe_base"] = rpe_summary_json(*r.rpe);
   if (r.rpe_laser) j["rpe_laser"] = rpe_summary_json(*r.rpe_laser);
+  if (r.rpe_odometry) {
+    j["rpe_odometry"] = rpe_summary_json(*r.rpe_odometry);
+    j["worse_than_odometry"] = r.worse_than_odometry;
+    j["worse_than_odometry_by_1m"] = r.worse_than_odometry_by_1m;
+  }
   return j;
 }
 
@@ -146,7 +158,8 @@ std::string slam_summary_text(const SlamRunResult& r) {
   const auto line = [&](const char* what, const RelativePoseError& e) {
     o << "rpe (" << what << "): translation " << format_fixed(e.translation_m.mean, 4) << " m (sd " << format_fixed(e.translation_m.sd, 4)
       << "), rotation " << format_fixed(e.rotation_deg.mean, 3) << " deg (sd " << format_fixed(e.rotation_deg.sd, 3) << ") over "
-      << e.translation_m.n << " relations";
+      << e.translation_m.n << " relations, p95 " << format_fixed(e.translation_p95_m, 4) << " m, max " << format_fixed(e.translation_m.max, 4)
+      << " m";
     if (e.unmatched) o << ", " << e.unmatched << " unmatched";
     o << "\n";
   };
@@ -159,6 +172,10 @@ std::string slam_summary_text(const SlamRunResult& r) {
   if (r.ate_odometry) ate_line("odometry", *r.ate_odometry);
   if (r.rpe) line("base", *r.rpe);
   if (r.rpe_laser) line("laser", *r.rpe_laser);
+  if (r.rpe_odometry) {
+    line(r.rpe_laser ? "odometry, laser" : "odometry", *r.rpe_odometry);
+    o << "relations worse than the odometry's: " << r.worse_than_odometry << " (by more than 1 m: " << r.worse_than_odometry_by_1m << ")\n";
+  }
   return o.str();
 }
 

@@ -16,6 +16,7 @@
 #include "starnav/core/params.hpp"
 #include "starnav/logs/log_file.hpp"
 #include "starnav/logs/robot_log.hpp"
+#include "starnav/slam/benchmark_relations.hpp"
 #include "starnav/slam/relative_pose_error.hpp"
 #include "starnav/slam/log_mapping.hpp"
 #include "starnav/slam/slam.hpp"
@@ -55,6 +56,11 @@ struct SlamRunResult {
   std::size_t peak_rss_bytes = 0;        // of the process while reading, running and mapping
   Pose2 laser_in_base;
   std::optional<RelativePoseError> rpe, rpe_laser;  // with relations; laser: when the mount is not zero
+  // With relations: the odometry alone on them, evaluated as the run's evaluated pose is (the
+  // laser's where the log states a mount), and the relations SLAM gets wrong by more than it.
+  std::optional<RelativePoseError> rpe_odometry;
+  std::size_t worse_than_odometry = 0, worse_than_odometry_by_1m = 0;
+  const RelativePoseError& rpe_evaluated() const { return rpe_laser ? *rpe_laser : *rpe; }
   // Logs with ground truth (simulated): the absolute trajectory error of SLAM and of the odometry.
   std::optional<AbsoluteTrajectoryError> ate, ate_odometry;
   std::vector<SlamViewStep> steps;       // with record_steps, in log order
@@ -64,9 +70,13 @@ struct SlamRunResult {
 SlamRunResult run_slam_on_file(const SlamRunRequest& request,
                                const std::function<void(std::size_t, std::size_t)>& progress = {});
 
+// `starnav slam relations`: a simulated log read and its truth at every scan (the laser's pose)
+// made into relations by the benchmark's rule (slam/benchmark_relations.hpp).
+BenchmarkRelations log_benchmark_relations(const std::string& log, const LogReadOptions& read, const RelationRule& rule);
+
 nlohmann::ordered_json slam_summary_json(const SlamRunResult& r);
 // A relative-pose error as summary.json and bench slam's JSON write it: translation_m and
-// rotation_deg (mean, sd, max), count, relations, unmatched.
+// rotation_deg (mean, sd, max; the translation's 95th percentile too), count, relations, unmatched.
 nlohmann::ordered_json rpe_summary_json(const RelativePoseError& e);
 std::string slam_summary_text(const SlamRunResult& r);
 // nodes (t_s, x, y, yaw), edges (from, to, kind, measurement, score), submap anchors.

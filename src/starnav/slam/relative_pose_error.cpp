@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <utility>
@@ -82,17 +83,32 @@ RelativePoseError relative_pose_error(const std::vector<TrajectoryPose>& traject
     const TrajectoryPose* b = nearest(sorted, r.t_j_us, r.tolerance_us);
     if (!a || !b) {
       ++e.unmatched;
+      e.translation_each_m.push_back(std::numeric_limits<double>::quiet_NaN());
       continue;
     }
     const Pose2 xi = a->pose.compose(offset), xj = b->pose.compose(offset);
     const Pose2 delta = xi.inverse().compose(xj);
     const Pose2 err = r.delta.inverse().compose(delta);
     trans.push_back(std::hypot(err.x, err.y));
+    e.translation_each_m.push_back(trans.back());
     rot.push_back(rad_to_deg(std::abs(wrap_angle(err.yaw))));
   }
+  std::vector<double> sorted_trans = trans;
+  std::sort(sorted_trans.begin(), sorted_trans.end());
+  e.translation_p95_m = quantile_sorted(sorted_trans, 0.95);
   e.translation_m = sample_stats(std::move(trans));
   e.rotation_deg = sample_stats(std::move(rot));
   return e;
+}
+
+std::size_t relations_worse_than(const RelativePoseError& e, const RelativePoseError& reference, double margin_m) {
+  if (e.translation_each_m.size() != reference.translation_each_m.size())
+    throw Error("the two errors were evaluated on different relations (" + std::to_string(e.translation_each_m.size()) + " and " +
+                std::to_string(reference.translation_each_m.size()) + ")");
+  std::size_t worse = 0;
+  for (std::size_t i = 0; i < e.translation_each_m.size(); ++i)
+    if (e.translation_each_m[i] > reference.translation_each_m[i] + margin_m) ++worse;  // NaN on either side: not counted
+  return worse;
 }
 
 namespace {
@@ -109,6 +125,7 @@ nlohmann::ordered_json stats_json(const SampleStats& s) {
 nlohmann::ordered_json error_json(const RelativePoseError& e) {
   nlohmann::ordered_json j;
   j["translation_m"] = stats_json(e.translation_m);
+  j["translation_m"]["p95"] = e.translation_p95_m;
   j["rotation_deg"] = stats_json(e.rotation_deg);
   j["relations"] = e.relations;
   j["unmatched"] = e.unmatched;
@@ -121,10 +138,12 @@ std::string rpe_text(const RelativePoseError& base, const std::optional<Relative
   std::ostringstream out;
   out << "relations:   " << base.relations << " (" << base.translation_m.n << " evaluated, " << base.unmatched
       << " with an end not in the trajectory)\n";
-  out << "base:        translation " << stats_text(base.translation_m, 4, "m") << ", rotation "
+  out << "base:        translation " << stats_text(base.translation_m, 4, "m") << ", p95 " << format_fixed(base.translation_p95_m, 4)
+      << " m, rotation "
       << stats_text(base.rotation_deg, 3, "deg") << "\n";
   if (laser)
-    out << "laser:       translation " << stats_text(laser->translation_m, 4, "m") << ", rotation "
+    out << "laser:       translation " << stats_text(laser->translation_m, 4, "m") << ", p95 "
+        << format_fixed(laser->translation_p95_m, 4) << " m, rotation "
         << stats_text(laser->rotation_deg, 3, "deg") << " (mount " << format_number(offset.x) << ", "
         << format_number(offset.y) << " m, " << format_number(rad_to_deg(offset.yaw)) << " deg)\n";
   return out.str();

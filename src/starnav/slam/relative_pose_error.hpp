@@ -36,9 +36,16 @@ std::vector<PoseRelation> read_relations(const std::string& path);
 struct RelativePoseError {
   SampleStats translation_m;  // of the evaluated relations (n of them)
   SampleStats rotation_deg;
+  double translation_p95_m = 0;  // the 95th percentile (linear between order statistics)
   std::size_t relations = 0;   // in the file
   std::size_t unmatched = 0;   // relations with an end not in the trajectory
+  std::vector<double> translation_each_m;  // per relation in file order; NaN where unmatched
 };
+
+// How many relations `e` gets wrong by more than `reference` does plus `margin_m` (translation),
+// both evaluated on the same relations (a SLAM run against the odometry's). Throws when the two
+// were not made from the same relations.
+std::size_t relations_worse_than(const RelativePoseError& e, const RelativePoseError& reference, double margin_m = 0.0);
 
 // `trajectory`: one pose per scan (any order; stamps unique). `offset` moves every pose by it
 // before comparing (base -> laser: the laser's mount on the base).
