@@ -189,6 +189,52 @@ TEST(NavigationPictures, SceneOutlinesTheTrueObstaclesThatAppearedDuringTheRun) 
   EXPECT_NE(with.find("true obstacle, dynamic"), std::string::npos);
 }
 
+// A car's trail by hand: 1 m forward along x, then 0.5 m back; its outline (0.6 x 0.4 m,
+// centred 0.2 m ahead of the rear axle) every 0.25 m, at the change of direction and at the end.
+TEST(NavigationPictures, TheFootprintTrailMarksEveryChangeOfDirection) {
+  std::vector<TrajectorySample> trajectory;
+  const auto sample = [&](double x, double vx) {
+    TrajectorySample s;
+    s.t_s = static_cast<double>(trajectory.size()) * 0.01;
+    s.position = Vec3(x, 1.0, 0.0);
+    s.rpy = Vec3(0.0, 0.0, 0.5);
+    s.twist.vx = vx;
+    trajectory.push_back(s);
+  };
+  // Steps of 1/16 m (exact in binary, so the 0.25 m spacing falls on samples).
+  for (int i = 0; i <= 16; ++i) sample(0.0625 * i, i == 0 ? 0.0 : 0.2);
+  sample(1.0, 0.0);  // at rest at the cusp: no direction
+  for (int i = 1; i <= 8; ++i) sample(1.0 - 0.0625 * i, -0.2);
+  FootprintModel body;
+  body.circle = false;
+  body.half_length_m = 0.3;
+  body.half_width_m = 0.2;
+  body.center_x_m = 0.2;
+  const FootprintTrail t = footprint_trail(trajectory, body);
+  ASSERT_EQ(t.reversals.size(), 1u);
+  EXPECT_NEAR(t.reversals[0].x(), 0.9375, 1e-12);
+  // The start; 0.25, 0.5, 0.75 and 1 m forward; the reversal (at 0.9375 m); 0.25 m after it;
+  // the end (0.1875 m after that).
+  EXPECT_EQ(t.outlines.size(), 8u);
+  for (const std::vector<Vec2>& o : t.outlines) {
+    ASSERT_EQ(o.size(), 5u);
+    EXPECT_NEAR((o[0] - o[4]).norm(), 0.0, 1e-12);  // closed
+    EXPECT_NEAR((o[1] - o[0]).norm(), 0.6, 1e-9);
+    EXPECT_NEAR((o[2] - o[1]).norm(), 0.4, 1e-9);
+    // The rectangle's centre 0.2 m ahead along the heading (0.5 rad) of a pose on y = 1.
+    const Vec2 centre = 0.5 * (o[0] + o[2]);
+    EXPECT_NEAR(centre.y() - 1.0, 0.2 * std::sin(0.5), 1e-9);
+  }
+  // Drawn as one outline layer each and a marker layer for the reversal.
+  Fixture f;
+  const std::size_t lines = count(navigation_scene_picture(f.data).svg_string(), "class=\"layer-polyline\"");
+  f.data.footprints = t.outlines;
+  f.data.reversals = t.reversals;
+  const std::string svg = navigation_scene_picture(f.data).svg_string();
+  EXPECT_EQ(count(svg, "class=\"layer-polyline\""), lines + t.outlines.size());
+  EXPECT_NE(svg.find("change of driving direction"), std::string::npos);
+}
+
 TEST(NavigationPictures, Lidar2DMapsAreOneGrey) {
   Fixture f(NodeMapMode::Lidar2D);
   const std::string svg = navigation_scene_picture(f.data).svg_string();

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <queue>
 #include <string>
@@ -115,7 +116,7 @@ struct PathCheck {
 // and turns the heading by 2a; p1's heading must be that. The footprint is tested every 1 cm
 // along that arc.
 PathCheck check_path(const OccupancyGrid& grid, const Body& body, const std::vector<Pose2>& poses,
-                     const std::vector<std::uint8_t>& reversing) {
+                     const std::vector<std::uint8_t>& reversing, const std::function<void(const Pose2&)>& visit = {}) {
   PathCheck out;
   for (std::size_t i = 0; i + 1 < poses.size(); ++i) {
     const Pose2& p0 = poses[i];
@@ -145,7 +146,8 @@ PathCheck check_path(const OccupancyGrid& grid, const Body& body, const std::vec
              p0.y - (std::cos(travel0 + k * s) - std::cos(travel0)) / k, p0.yaw + k * s};
       }
       ++out.checks;
-      if (body_collides(grid, body, q)) ++out.collisions;
+      if (visit) visit(q);
+      else if (body_collides(grid, body, q)) ++out.collisions;
     }
   }
   return out;
@@ -448,6 +450,68 @@ TEST(HybridAStar, ReverseParkingIntoABay) {
   HybridAStar dubins(grid, o);
   const PlanResult d = dubins.plan(start, goal);
   EXPECT_FALSE(d.found()) << d.length;
+}
+
+// The distance from `point` to the rectangle body at `p` (0 inside).
+double distance_to_body(const Body& b, const Pose2& p, double x, double y) {
+  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
+  const double u = c * (x - p.x) + s * (y - p.y), v = -s * (x - p.x) + c * (y - p.y);
+  return std::hypot(std::max(std::abs(u) - b.half_length, 0.0), std::max(std::abs(v) - b.half_width, 0.0));
+}
+
+// The nearest obstacle cell centre to the body at `p` (brute force over the map).
+double nearest_cell_centre(const OccupancyGrid& grid, const Body& b, const Pose2& p) {
+  const double res = grid.resolution();
+  double best = 1e300;
+  for (int y = 0; y < grid.height(); ++y)
+    for (int x = 0; x < grid.width(); ++x)
+      if (grid(x, y) != kFreeOccupancy) best = std::min(best, distance_to_body(b, p, (x + 0.5) * res, (y + 0.5) * res));
+  return best;
+}
+
+// A car in a bay nearer a sensed side than the checker's rule allows (the rule grows the body by
+// half a cell's diagonal) but with no obstacle cell centre under the body: it may drive out, by
+// poses no nearer the cell centres than the start (to within the half collision step between the
+// planner's samples), and once the rule clears it stays clear. A body that holds a cell centre
+// stays blocked.
+TEST(HybridAStar, AStartNearerAWallThanTheRuleMayLeaveButNotAStartOnIt) {
+  const double res = 0.05, half_diagonal = 0.5 * std::sqrt(2.0) * res;
+  OccupancyGrid grid = empty_grid(120, 100, res);
+  // The bay's sides: cell centres up to x = 1.975 and from x = 2.725, 1.2 m deep.
+  block_rect(grid, 0.0, 0.0, 2.0, 1.2);
+  block_rect(grid, 2.7, 0.0, 6.0, 1.2);
+  HybridAStarOptions o = car_options(HybridMotionModel::ReedsShepp);
+  o.minimum_turning_radius_m = 0.85;
+  const Body body = body_of(o);
+  // The body's left side 3 cm from the nearest cell centres: inside the rule, outside the body.
+  const Pose2 start(1.975 + 0.03 + 0.2, 0.6, kPi / 2), goal(4.0, 3.0, 0.0);
+  ASSERT_NEAR(nearest_cell_centre(grid, body, start), 0.03, 1e-9);
+  ASSERT_LT(nearest_cell_centre(grid, body, start), half_diagonal);
+  HybridAStar planner(grid, o);
+  const PlanResult r = planner.plan(start, goal);
+  ASSERT_TRUE(r.found()) << plan_status_reason(r.status);
+  const double start_distance = nearest_cell_centre(grid, body, start);
+  const double half_step = 0.25 * res;  // the planner's samples are half a cell apart
+  bool out_of_band = false;
+  int band_poses = 0, reentries = 0, on_centre = 0, nearer = 0;
+  const PathCheck c = check_path(grid, body, r.path_poses, r.path_reversing, [&](const Pose2& q) {
+    const double d = nearest_cell_centre(grid, body, q);
+    if (d <= 0.0) ++on_centre;
+    if (d < start_distance - half_step - 1e-9) ++nearer;
+    if (d > half_diagonal) out_of_band = true;
+    else if (out_of_band) ++reentries;
+    else ++band_poses;
+  });
+  EXPECT_GT(c.checks, 0);
+  EXPECT_EQ(on_centre, 0);
+  EXPECT_EQ(nearer, 0);
+  EXPECT_EQ(reentries, 0);
+  EXPECT_TRUE(out_of_band);
+  EXPECT_GT(band_poses, 0);
+  EXPECT_LE(c.max_curvature, 1.0 / o.minimum_turning_radius_m + 1e-6);
+  // 1 cm nearer: the body holds the cell centres of the side.
+  const Pose2 on_side(1.975 - 0.01 + 0.2, 0.6, kPi / 2);
+  EXPECT_EQ(planner.plan(on_side, goal).status, PlanStatus::StartBlocked);
 }
 
 // A robot that turns on the spot (diff) turns round in a box where a forward-only car cannot.

@@ -16,6 +16,7 @@
 #include <variant>
 #include <vector>
 
+#include "starnav/control/local_controller.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/map/occupancy_grid.hpp"
 #include "starnav/sim/outline.hpp"
@@ -35,6 +36,8 @@ const viz::Rgba kStart{0, 158, 115, 255};  // bluish green
 const viz::Rgba kGoal{213, 94, 0, 255};    // vermillion
 const viz::Rgba kStaticObstacle{60, 60, 60, 255};
 const viz::Rgba kUnobserved{250, 250, 250, 255};
+const viz::Rgba kFootprint{0, 114, 178, 255};  // blue
+const viz::Rgba kReversal{240, 228, 66, 255};  // yellow
 
 // Plans take the Okabe-Ito colours without vermillion (the goal; close to the red blocked cells)
 // and yellow (unreadable on white), so P_k looks the same in both pictures.
@@ -247,6 +250,51 @@ void add_obstacle_outlines(viz::MapPicture& pic, std::span<const Obstacle> obsta
   }
 }
 
+FootprintTrail footprint_trail(std::span<const TrajectorySample> trajectory, const FootprintModel& body, double spacing_m,
+                               double moving_mps) {
+  FootprintTrail t;
+  const auto outline = [&](const TrajectorySample& s) {
+    const double yaw = s.rpy.z(), c = std::cos(yaw), sn = std::sin(yaw);
+    std::vector<Vec2> pts;
+    const auto at = [&](double u, double v) {
+      pts.emplace_back(s.position.x() + c * u - sn * v, s.position.y() + sn * u + c * v);
+    };
+    if (body.circle) {
+      constexpr int kSides = 24;
+      for (int i = 0; i <= kSides; ++i) {
+        const double a = 2.0 * std::numbers::pi * i / kSides;
+        at(body.center_x_m + body.radius_m * std::cos(a), body.radius_m * std::sin(a));
+      }
+    } else {
+      const double x0 = body.center_x_m - body.half_length_m, x1 = body.center_x_m + body.half_length_m;
+      const double w = body.half_width_m;
+      at(x0, -w), at(x1, -w), at(x1, w), at(x0, w), at(x0, -w);
+    }
+    t.outlines.push_back(std::move(pts));
+  };
+  if (trajectory.empty()) return t;
+  outline(trajectory.front());
+  double travelled = 0.0;
+  int direction = 0;  // +1 forward, -1 reversing, 0 not yet moving
+  for (std::size_t i = 1; i < trajectory.size(); ++i) {
+    const TrajectorySample& s = trajectory[i];
+    travelled += (s.position.head<2>() - trajectory[i - 1].position.head<2>()).norm();
+    const double vx = s.twist.vx;
+    const int d = vx > moving_mps ? 1 : vx < -moving_mps ? -1 : 0;
+    if (d != 0 && direction != 0 && d != direction) {
+      t.reversals.push_back(s.position.head<2>());
+      outline(s);
+      travelled = 0.0;
+    } else if (travelled >= spacing_m) {
+      outline(s);
+      travelled = 0.0;
+    }
+    if (d != 0) direction = d;
+  }
+  if (trajectory.size() > 1) outline(trajectory.back());
+  return t;
+}
+
 NavigationPictureData navigation_picture_data(const NavigationRun& run) {
   const Simulation& sim = run.simulation();
   const Navigator& nav = run.navigator();
@@ -270,6 +318,12 @@ NavigationPictureData navigation_picture_data(const NavigationRun& run) {
   d.goal = nav.goal();
   d.goal_tolerance_m = nav.config().goal_tolerance_m;
   d.obstacles = sim.world().obstacles();
+  const bool pose_plans = std::any_of(d.plans.begin(), d.plans.end(), [](const NavPlan& p) { return !p.poses.empty(); });
+  if (pose_plans) {
+    FootprintTrail trail = footprint_trail(sim.trajectory(), body_footprint_model(run.spec().vehicle.robot));
+    d.footprints = std::move(trail.outlines);
+    d.reversals = std::move(trail.reversals);
+  }
   return d;
 }
 
@@ -303,7 +357,11 @@ viz::MapPicture navigation_scene_picture(const NavigationPictureData& d) {
     if (p.points.size() < 2) continue;  // a failed plan has no path to draw
     pic.add_polyline(p.points, {plan_colour(k), 2.0, 0.9, false}, plan_legend(d, k, true));
   }
+  for (std::size_t k = 0; k < d.footprints.size(); ++k)
+    pic.add_polyline(d.footprints[k], {kFootprint, 1.0, 0.8, false}, k == 0 ? "robot's outline along the way" : "");
   if (!d.trajectory.empty()) pic.add_polyline(d.trajectory, {kBlack, 3.0, 1.0, false}, "executed trajectory");
+  if (!d.reversals.empty())
+    pic.add_points(d.reversals, {kReversal, 5.0, kBlack, 1.0, 1.0}, "change of driving direction");
   if (d.goal_tolerance_m > 0.0) pic.add_circle(d.goal, d.goal_tolerance_m, {kBlack, 1.0, 1.0, true}, std::nullopt, "goal tolerance");
   pic.add_pose(d.start, 0.06 * span, {kBlack, 1.5, 1.0, false});
   pic.add_points({d.start.translation()}, {kStart, 5.0, kBlack, 1.0, 1.0}, "start");

@@ -18,6 +18,7 @@
 #include "starnav/harness/navigation_run.hpp"
 #include "starnav/nav/navigator.hpp"
 #include "starnav/costmap/layered_costmap.hpp"
+#include "starnav/map/footprint_checker.hpp"
 #include "starnav/sim/obstacles.hpp"
 #include "starnav/viz/map_picture.hpp"
 #include "starnav/viz/plot_svg.hpp"
@@ -36,7 +37,21 @@ struct NavigationPictureData {
   Vec2 goal = Vec2::Zero();
   double goal_tolerance_m = 0.0;        // 0: no circle
   std::span<const Obstacle> obstacles;  // true obstacles (empty: none drawn)
+  // The robot's outline along the executed trajectory and where its driving direction changed
+  // (drawn for runs planned between poses, where the body's fit is the point; empty: none).
+  std::vector<std::vector<Vec2>> footprints;  // closed outlines in the map frame
+  std::vector<Vec2> reversals;
 };
+
+// Outlines of `body` at poses of `trajectory` every `spacing_m` of travel, at every change of
+// driving direction and at the end, and the places of those changes. The direction is the sign of
+// the body's forward speed where it moves faster than `moving_mps`.
+struct FootprintTrail {
+  std::vector<std::vector<Vec2>> outlines;
+  std::vector<Vec2> reversals;
+};
+FootprintTrail footprint_trail(std::span<const TrajectorySample> trajectory, const FootprintModel& body,
+                               double spacing_m = 0.25, double moving_mps = 0.01);
 
 // The true obstacles' outlines from above (sim/outline), as both scene pictures draw them (this
 // one and starnav sim's scripted scene.svg): an obstacle that appears after `end_time_s` is left

@@ -346,8 +346,9 @@ void Navigator::plan(const Pose2& pose, double t, const std::string& cause) {
   p.cost_m = r.cost;
   p.time_ms = r.time_ms;
   if (!r.found()) {
-    const std::string reason = r.status == PlanStatus::GoalBlocked
-                                   ? "the goal lies in an obstacle or its expansion band"
+    const std::string reason = r.status == PlanStatus::GoalBlocked ? "the goal lies in an obstacle or its expansion band"
+                               : r.status == PlanStatus::StartBlocked
+                                   ? "the robot's footprint holds obstacle cells of the current map"
                                    : "the goal is cut off by obstacles on the current map (unknown cells counted as free)";
     return fail(p.status, reason);
   }

@@ -282,9 +282,18 @@ struct HybridAStar::Impl {
 
   bool collides(const Pose2& p) const { return checker.collides(window, p); }
 
+  // The checker's growth below its rule down to the footprint itself (the rule grows it by half a
+  // cell's diagonal): a start whose footprint holds an obstacle cell centre is blocked.
+  double footprint_extra_m = 0.0;
+
   // Whether motion `m` keeps the footprint clear at every collision step after its start (its
   // start is known clear); `mean_multiplier` gets the mean costmap multiplier over those samples.
-  bool motion_clear(const HybridMotion& m, double& mean_multiplier) const {
+  // With a finite `escape_extra` (the path is still leaving its start, which may lie nearer an
+  // obstacle than the rule allows, or so near that the growth for the motion between the samples
+  // blocks every first step), the samples need only be clear at that growth (the start's own:
+  // no nearer than the start), until the first that clears the rule, which ends the escape
+  // (`escape_extra` becomes infinite: a path never re-enters the band once out of it).
+  bool motion_clear(const HybridMotion& m, double& mean_multiplier, double* escape_extra = nullptr) const {
     const double total = std::abs(m.length);
     // The farthest point of the footprint moves farther than base_link: bounding radius * angle
     // turning on the spot, (1 + |curvature| * bounding radius) * length on an arc.
@@ -299,7 +308,12 @@ struct HybridAStar::Impl {
     double sum = 0.0;
     for (int i = 1; i <= n; ++i) {
       const Pose2 p = m.pose_at(total * i / n);
-      if (checker.collides(window, p, between)) return false;
+      if (escape_extra && *escape_extra < kHybridInf) {
+        if (!checker.collides(window, p, between)) *escape_extra = kHybridInf;
+        else if (checker.collides(window, p, *escape_extra)) return false;
+      } else if (checker.collides(window, p, between)) {
+        return false;
+      }
       sum += cell_multiplier(p);
     }
     mean_multiplier = sum / n;
@@ -436,6 +450,7 @@ HybridAStar::HybridAStar(const OccupancyGrid& grid, const HybridAStarOptions& op
   const double res = m.geometry.resolution;
   const FootprintModel model = options_.footprint();
   m.checker = FootprintChecker(model, 0.0);
+  m.footprint_extra_m = -0.5 * std::sqrt(2.0) * res;
   m.inscribed_m = model.inscribed_radius_m();
   m.collision_step = options_.collision_step_m > 0.0 ? std::min(options_.collision_step_m, 0.5 * res) : 0.5 * res;
   m.model = options_.motion_model;
@@ -493,6 +508,7 @@ struct HybridSearchNode {
   std::int32_t parent = -1;
   std::uint8_t motion = kHybridNoMotion;
   bool closed = false;
+  double escape_extra = kHybridInf;  // still leaving the start's band (motion_clear)
 };
 
 struct HybridOpenEntry {
@@ -526,7 +542,21 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
   m.has_goal = false;
   if (!m.geometry.world_to_cell({start.x, start.y})) return finish(PlanStatus::StartOutsideMap);
   if (!m.geometry.world_to_cell({goal.x, goal.y})) return finish(PlanStatus::GoalOutsideMap);
-  if (m.collides(start)) return finish(PlanStatus::StartBlocked);
+  // A start the rule calls blocked but whose footprint itself holds no obstacle cell centre (a
+  // robot beside a sensed wall, nearer than the rule's half cell) is not: the path may leave it
+  // by poses no nearer than it (motion_clear). Its margin: the largest growth it is clear at,
+  // to 1/64 of the rule's.
+  if (m.checker.collides(m.window, start, m.footprint_extra_m)) return finish(PlanStatus::StartBlocked);
+  double start_escape = m.footprint_extra_m;
+  if (!m.collides(start)) {
+    start_escape = 0.0;
+  } else {
+    double hi = 0.0;  // collides at hi, clear at start_escape
+    for (int k = 0; k < 6; ++k) {
+      const double mid = 0.5 * (start_escape + hi);
+      (m.checker.collides(m.window, start, mid) ? hi : start_escape) = mid;
+    }
+  }
   if (m.collides(goal)) return finish(PlanStatus::GoalBlocked);
   m.goal = goal;
   m.has_goal = true;
@@ -571,25 +601,26 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
   // The curve from `from` to the goal when it is free (and no longer than allowed): its motions
   // and cost after motion `before`.
   // The cost of `ms` after motion `before` when every motion is free (else infinity).
-  const auto free_cost = [&](const std::vector<HybridMotion>& ms, const HybridMotion* before) {
+  const auto free_cost = [&](const std::vector<HybridMotion>& ms, const HybridMotion* before, double escape_extra) {
     double c = 0.0;
     const HybridMotion* prev = before;
     for (const HybridMotion& mo : ms) {
       double mult = 1.0;
-      if (!m.motion_clear(mo, mult)) return kHybridInf;
+      if (!m.motion_clear(mo, mult, &escape_extra)) return kHybridInf;
       c += cost(mo, prev, mult);
       prev = &mo;
     }
     return c;
   };
-  const auto analytic = [&](const Pose2& from, const HybridMotion* before, std::vector<HybridMotion>& out, double& c) {
+  const auto analytic = [&](const Pose2& from, const HybridMotion* before, double escape_extra, std::vector<HybridMotion>& out,
+                            double& c) {
     out.clear();
     c = kHybridInf;
     const CarPath path = o.motion_model == HybridMotionModel::Dubins ? shortest_dubins_path(from, goal, r_turn)
                                                                       : shortest_reeds_shepp_path(from, goal, r_turn);
     if (!(o.analytic_expansion_max_length_m > 0.0 && path.length > o.analytic_expansion_max_length_m)) {
       append_hybrid_curve(path, out);
-      c = free_cost(out, before);
+      c = free_cost(out, before, escape_extra);
     }
     if (hybrid_turns_on_the_spot(o.motion_model)) {
       // Turn towards the goal, drive straight to it, turn to its heading (omni: also straight,
@@ -609,7 +640,7 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
       if (turn2 != 0.0) turn_drive_turn.push_back({HybridMotion::Kind::Rotate, at, 0.0, turn2});
       const bool short_enough = !(o.analytic_expansion_max_length_m > 0.0 && dist > o.analytic_expansion_max_length_m);
       if (short_enough && !turn_drive_turn.empty()) {
-        const double c2 = free_cost(turn_drive_turn, before);
+        const double c2 = free_cost(turn_drive_turn, before, escape_extra);
         if (c2 < c) {
           c = c2;
           out = std::move(turn_drive_turn);
@@ -632,7 +663,7 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
         }
         const double turn = angle_diff(goal.yaw, p.yaw);
         if (turn != 0.0) slide.push_back({HybridMotion::Kind::Rotate, p, 0.0, turn});
-        const double c3 = free_cost(slide, before);
+        const double c3 = free_cost(slide, before, escape_extra);
         if (c3 < c) {
           c = c3;
           out = std::move(slide);
@@ -647,14 +678,14 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
   std::priority_queue<HybridOpenEntry, std::vector<HybridOpenEntry>, std::greater<>> open;
   std::uint64_t seq = 0;
   bool inside = false;
-  nodes.push_back({start, 0.0, -1, kHybridNoMotion, false});
+  nodes.push_back({start, 0.0, -1, kHybridNoMotion, false, start_escape});
   r.generated = 1;
   std::vector<HybridMotion> curve;
   double curve_cost = 0.0;
   std::int32_t reached = -1;
   // The curve from the start first, as the search's first expansion would try it: when it is
   // free, no heuristic is needed at all (the easy queries answer in the time of one curve check).
-  if (analytic(start, nullptr, curve, curve_cost)) {
+  if (analytic(start, nullptr, start_escape, curve, curve_cost)) {
     r.expanded = 1;
     reached = 0;
   } else {
@@ -682,6 +713,7 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
     const double g = n.g;
     const std::int32_t id = e.node;
     const std::uint8_t came_by = n.motion;
+    const double escape_extra = n.escape_extra;
     HybridMotion before_motion;
     if (came_by != kHybridNoMotion) before_motion = make_motion(nodes[static_cast<std::size_t>(n.parent)].pose, came_by);
     const HybridMotion* before = came_by != kHybridNoMotion ? &before_motion : nullptr;
@@ -692,7 +724,7 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
     const int every = std::max(1, static_cast<int>(std::floor(h / res / o.analytic_expansion_ratio)));
     if (id != 0 && ++since_analytic >= every) {
       since_analytic = 0;
-      if (analytic(pose, before, curve, curve_cost)) {
+      if (analytic(pose, before, escape_extra, curve, curve_cost)) {
         reached = id;
         break;
       }
@@ -705,18 +737,19 @@ PlanResult HybridAStar::plan(const Pose2& start, const Pose2& goal, const Search
       const auto found = index.find(key);
       if (found != index.end() && nodes[static_cast<std::size_t>(found->second)].closed) continue;
       double mult = 1.0;
-      if (!m.motion_clear(mo, mult)) continue;
+      double child_escape = escape_extra;
+      if (!m.motion_clear(mo, mult, &child_escape)) continue;
       const double g2 = g + cost(mo, before, mult);
       std::int32_t cid;
       if (found == index.end()) {
         cid = static_cast<std::int32_t>(nodes.size());
-        nodes.push_back({child, g2, id, static_cast<std::uint8_t>(k), false});
+        nodes.push_back({child, g2, id, static_cast<std::uint8_t>(k), false, child_escape});
         index.emplace(key, cid);
       } else {
         cid = found->second;
         HybridSearchNode& c = nodes[static_cast<std::size_t>(cid)];
         if (!(g2 < c.g)) continue;
-        c = {child, g2, id, static_cast<std::uint8_t>(k), false};
+        c = {child, g2, id, static_cast<std::uint8_t>(k), false, child_escape};
       }
       const double hc = heuristic(child);
       if (hc == kHybridInf) continue;
