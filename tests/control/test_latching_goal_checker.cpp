@@ -1,7 +1,7 @@
 // The latching goal checker (the navigation's default), found by its name in the registry: with a
 // goal heading the position latches once the robot is slow within the tolerance and then holds
-// while the heading turns; with a release distance it stops holding once the robot drives that
-// far beyond the tolerance (a car turning its heading by driving), and latches again when back.
+// while the heading turns (Nav2's stateful checker); not stateful, the position must hold when the
+// heading does (a car turning its heading by driving).
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -38,15 +38,14 @@ TEST(LatchingGoalChecker, ThePositionLatchesWhenSlowAndHoldsWhileTheHeadingTurns
   EXPECT_TRUE(g->reached(robot_at(1.5, 0.0, 0.01)));  // far off, heading within: the latch holds (Nav2)
 }
 
-TEST(LatchingGoalChecker, AReleaseDistanceLetsTheLatchGo) {
-  auto g = latching_checker({{"release_distance_m", "0.1", "test.yaml", 3, "navigation.latching_goal_checker.release_distance_m"}});
-  EXPECT_FALSE(g->reached(robot_at(1.05, 0.0, 0.5)));
+TEST(LatchingGoalChecker, NotStatefulThePositionMustHoldWithTheHeading) {
+  auto g = latching_checker({{"stateful", "false", "test.yaml", 3, "navigation.latching_goal_checker.stateful"}});
+  EXPECT_FALSE(g->reached(robot_at(1.05, 0.0, 0.5)));  // within and slow, heading off
   EXPECT_TRUE(g->position_reached());
-  EXPECT_TRUE(g->reached(robot_at(1.19, 0.0, 0.01)));  // 0.19 m: within tolerance + release
-  EXPECT_FALSE(g->reached(robot_at(1.21, 0.0, 0.01)));  // 0.21 m: released
+  EXPECT_FALSE(g->reached(robot_at(1.11, 0.0, 0.01)));  // heading within, but 0.11 m off
   EXPECT_FALSE(g->position_reached());
-  EXPECT_FALSE(g->reached(robot_at(1.15, 0.0, 0.01)));  // back inside the release band, not the tolerance
-  EXPECT_TRUE(g->reached(robot_at(1.08, 0.0, 0.01)));   // within again, slow: reached
+  EXPECT_FALSE(g->reached(robot_at(1.08, 0.2, 0.01)));  // within, heading within, too fast
+  EXPECT_TRUE(g->reached(robot_at(1.08, 0.0, 0.01)));   // within, slow, heading within
 }
 
 }  // namespace

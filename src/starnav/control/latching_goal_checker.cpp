@@ -1,7 +1,7 @@
 // The goal checker the navigation loop has always had: the position is reached within the xy
 // tolerance (with a goal heading, only once the robot is slow there: passing through is not
-// reaching) and then stays reached while the robot turns (unless it drives farther away than a
-// release distance); the goal is reached when the heading, if any, is within its tolerance too.
+// reaching) and then, as Nav2's stateful checker, stays reached while the robot turns (unless
+// `stateful` is false); the goal is reached when the heading, if any, is within its tolerance too.
 #include <cmath>
 
 #include "starnav/control/goal_checker.hpp"
@@ -13,7 +13,7 @@ namespace {
 
 struct LatchingGoalCheckerConfig {
   double latch_speed_mps = 0.05;
-  double release_distance_m = 0.0;
+  bool stateful = true;
 };
 
 const ParamTable<LatchingGoalCheckerConfig>& latching_goal_checker_params() {
@@ -22,9 +22,9 @@ const ParamTable<LatchingGoalCheckerConfig>& latching_goal_checker_params() {
     ParamTable<C> t;
     t.real("latch_speed_mps", &C::latch_speed_mps, non_negative(), "m/s",
            "with a goal heading, the position counts as reached only at or below this speed");
-    t.real("release_distance_m", &C::release_distance_m, non_negative(), "m",
-           "the reached position no longer counts once the robot is this far beyond the xy tolerance (0: never, as "
-           "Nav2's stateful checker; a car corrects its heading by driving, and may leave the tolerance doing so)");
+    t.boolean("stateful", &C::stateful,
+              "the reached position stays reached while the robot turns to the goal heading (Nav2's); false: the "
+              "position must hold when the heading does (a car turns its heading by driving, and may leave it)");
     return t;
   }();
   return table;
@@ -37,9 +37,8 @@ class LatchingGoalChecker final : public GoalChecker {
   void reset() override { position_reached_ = false; }
   bool reached(const GoalCheckInput& in) override {
     const bool heading_ok = !in.goal_yaw || std::abs(wrap_angle(*in.goal_yaw - in.pose.yaw)) <= in.yaw_tolerance_rad;
-    const double distance = (in.pose.translation() - in.goal).norm();
-    const bool within = distance <= in.xy_tolerance_m;
-    if (c_.release_distance_m > 0.0 && distance > in.xy_tolerance_m + c_.release_distance_m) position_reached_ = false;
+    const bool within = (in.pose.translation() - in.goal).norm() <= in.xy_tolerance_m;
+    if (!c_.stateful) position_reached_ = false;
     if (within && (!in.goal_yaw || std::hypot(in.velocity.vx, in.velocity.vy) <= c_.latch_speed_mps)) position_reached_ = true;
     return position_reached_ && heading_ok;
   }
