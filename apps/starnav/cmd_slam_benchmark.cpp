@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -16,6 +17,7 @@
 #include "commands.hpp"
 #include "log_flags.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/number_text.hpp"
 #include "starnav/core/record_format.hpp"
 #include "starnav/io/ros_map.hpp"
 #include "starnav/harness/slam_report.hpp"
@@ -94,6 +96,17 @@ void run_make_benchmark(const MakeBenchmarkOptions& o, Context& ctx) {
   ctx.exit_code = 0;
 }
 
+// A flag's sign, checked as the command line is read (before any file is): "must be > 0".
+CLI::Validator sign_rule(bool zero_allowed) {
+  return CLI::Validator(
+      [zero_allowed](std::string& text) -> std::string {
+        const std::optional<double> v = parse_real_text(text);
+        if (v && (zero_allowed ? *v >= 0.0 : *v > 0.0)) return {};
+        return std::string("must be ") + (zero_allowed ? ">= 0" : "> 0") + ", got '" + text + "'";
+      },
+      "", "");
+}
+
 struct RelationsOptions {
   std::string log, out;
   RelationRule rule;
@@ -138,11 +151,13 @@ void register_slam_benchmark_commands(CLI::App* slam, Context& ctx) {
       "and across loops (poses far apart along the route, close in space); the laser's poses (docs/slam.md)");
   rel->add_option("LOG", r->log, "a log with ground truth (TRUEPOS: starnav sim's log.clf)")->required();
   rel->add_option("--out", r->out, "the relation file")->required();
-  rel->add_option("--key-distance", r->rule.key_distance_m, "travel between key poses, m")->default_str("0.5");
-  rel->add_option("--key-angle", r->rule.key_angle_deg, "... or turning, deg")->default_str("20");
-  rel->add_option("--loop-distance", r->rule.loop_max_distance_m, "a loop relation's poses at most this far apart, m")->default_str("2");
-  rel->add_option("--loop-travel", r->rule.loop_min_travel_m, "... and at least this much travel between them, m")->default_str("50");
-  rel->add_option("--loop-every", r->rule.loop_every, "loop relations from every N-th key pose")->default_str("4");
+  rel->add_option("--key-distance", r->rule.key_distance_m, "travel between key poses, m")->default_str("0.5")->check(sign_rule(false));
+  rel->add_option("--key-angle", r->rule.key_angle_deg, "... or turning, deg")->default_str("20")->check(sign_rule(false));
+  rel->add_option("--loop-distance", r->rule.loop_max_distance_m, "a loop relation's poses at most this far apart, m")->default_str("2")
+      ->check(sign_rule(false));
+  rel->add_option("--loop-travel", r->rule.loop_min_travel_m, "... and at least this much travel between them, m")->default_str("50")
+      ->check(sign_rule(true));
+  rel->add_option("--loop-every", r->rule.loop_every, "loop relations from every N-th key pose")->default_str("4")->check(CLI::Range(1, 1000000));
   add_log_read_flags(rel, r->read);
   rel->add_flag("--force", r->force, "overwrite --out");
   rel->callback([r, &ctx] { run_relations(*r, ctx); });

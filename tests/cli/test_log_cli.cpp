@@ -6,6 +6,8 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -201,6 +203,15 @@ TEST(CliSlamBenchmark, AShortRouteOfAGeneratedBuildingReadsBackAndIsBenchmarked)
   EXPECT_GE(bj["logs"][0]["rpe"]["translation_m"]["p95"].get<double>(), 0.0);
   EXPECT_TRUE(bj["logs"][0].contains("worse_than_odometry"));
   EXPECT_EQ(test::run_cli({"bench", "slam", "--data", dir.file("b"), "--relations", dir.file("b"), "--logs", "nothing"}).exit_code, 2);
+  // A rule out of range is refused by its flag's name before the log is read (the log named here
+  // does not exist).
+  for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
+           {"--key-distance", "0"}, {"--key-angle", "-1"}, {"--loop-distance", "0"}, {"--loop-travel", "-5"}, {"--loop-every", "0"}}) {
+    const test::CliResult bad = test::run_cli({"slam", "relations", dir.file("missing.clf"), "--out", dir.file("x.relations"), flag, value});
+    EXPECT_EQ(bad.exit_code, 2) << flag;
+    EXPECT_NE(bad.err.find(flag), std::string::npos) << bad.err;
+    EXPECT_EQ(bad.err.find("missing.clf"), std::string::npos) << bad.err;
+  }
 }
 
 }  // namespace
