@@ -20,19 +20,25 @@ namespace starnav::python {
 
 namespace {
 
-py::dict bench_nav(const py::object& scenario, std::uint64_t seeds, std::uint64_t seed_base, const py::object& motion_mode,
-                   const py::object& sets) {
-  if (seeds < 1 || seeds > kMaxSeeds) throw Error("must be 1.." + std::to_string(kMaxSeeds) + ", got " + std::to_string(seeds), {}, 0, "seeds");
+struct SeedRange {
+  std::uint64_t seeds = 0, seed_base = 0;
+};
+
+SeedRange seed_range(std::uint64_t seeds, std::uint64_t seed_base, std::uint64_t max_seeds = 10000) {
+  // The CLI's --seeds range.
+  if (seeds < 1 || seeds > max_seeds)
+    throw Error("must be in [1, " + std::to_string(max_seeds) + "], got " + std::to_string(seeds), {}, 0, "seeds");
   if (seed_base > std::numeric_limits<std::uint64_t>::max() - (seeds - 1))
     throw Error("the last seed seed_base + seeds - 1 exceeds 2^64 - 1", {}, 0, "seed_base");
+  return {seeds, seed_base};
+}
+
+py::dict bench_nav(const py::object& scenario, std::uint64_t seeds, std::uint64_t seed_base, const py::object& motion_mode,
+                   const py::object& sets) {
+  const SeedRange r = seed_range(seeds, seed_base, kMaxSeeds);
   NavExperimentConfig config;
-  config.scenario_file = py::module_::import("os").attr("fspath")(scenario).cast<std::string>();
-  std::vector<ScenarioOverride> overrides;
-  if (!sets.is_none())
-    for (const auto& [k, v] : sets.cast<py::dict>()) {
-      const std::string key = py::str(k);
-      overrides.push_back({key, setting_text(v, key)});
-    }
+  config.scenario_file = path_of(scenario);
+  std::vector<ScenarioOverride> overrides = overrides_of(sets);
   std::vector<CommandOwnedKey> owned = {{"navigation.planner", "bench nav runs dstar_lite and astar on every seed"},
                                         {"sim.seed", "seeds and seed_base give each run its seed"}};
   if (!motion_mode.is_none()) {
@@ -44,8 +50,8 @@ py::dict bench_nav(const py::object& scenario, std::uint64_t seeds, std::uint64_
   config.scenario = load_scenario(config.scenario_file, overrides);
   if (!config.scenario.navigation)
     throw Error("not a navigation scenario (no navigation section; see docs/scenarios.md)", config.scenario_file, 0, "navigation");
-  config.seed_base = seed_base;
-  config.seeds = seeds;
+  config.seed_base = r.seed_base;
+  config.seeds = r.seeds;
   NavExperimentResult result;
   std::string csv, doc, timing;
   {
@@ -64,19 +70,6 @@ py::dict bench_nav(const py::object& scenario, std::uint64_t seeds, std::uint64_
 }
 
 // ---- the scenario benches over seeds: ekf-square, amcl, ren-table4, dwa ----------------------------
-
-struct SeedRange {
-  std::uint64_t seeds = 0, seed_base = 0;
-};
-
-SeedRange seed_range(std::uint64_t seeds, std::uint64_t seed_base, std::uint64_t max_seeds = 10000) {
-  // The CLI's --seeds range.
-  if (seeds < 1 || seeds > max_seeds)
-    throw Error("must be in [1, " + std::to_string(max_seeds) + "], got " + std::to_string(seeds), {}, 0, "seeds");
-  if (seed_base > std::numeric_limits<std::uint64_t>::max() - (seeds - 1))
-    throw Error("the last seed seed_base + seeds - 1 exceeds 2^64 - 1", {}, 0, "seed_base");
-  return {seeds, seed_base};
-}
 
 // A bench's reports: the CSV files its --out writes (by name), the --json document, the printed
 // Markdown, and whether every run completed (the CLI's exit 0).
