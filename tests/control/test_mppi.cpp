@@ -759,6 +759,45 @@ TEST(MppiController, APathWithAReversalIsFollowedOneStretchAtATime) {
   EXPECT_THROW(c.set_path_poses(poses, reversing), Error);
 }
 
+// A car held short of its cusp while MPPI keeps commanding (stopping is the stall check's, off
+// here): the stretch is given up, and a new plan asked for, at the first step at or after its
+// time, stretch_time_s plus its length at the top speed; with 0, never.
+TEST(MppiController, AStretchNotDoneInItsTimeIsPlannedAnew) {
+  const OccupancyGrid m = empty_map(6.0, 4.0);
+  RobotConfig car = mecanum();
+  car.drive = DriveKind::Ackermann;
+  std::vector<Pose2> poses;
+  std::vector<std::uint8_t> reversing;
+  forward_then_reverse(poses, reversing);
+  const Vec2 goal = poses.back().translation();
+  MppiConfig config;
+  config.batch_size = 200;
+  config.stall_time_s = 0.0;
+  const double length = 2.0;  // the forward stretch: x from 1 to 3 m
+  const double due = 1.0 + length / std::min(config.vx_max_mps, velocity_limits_of(car).max_vx_mps);
+  const auto first_stop = [&](double stretch_time_s) {
+    config.stretch_time_s = stretch_time_s;
+    MppiController c(config, car, 4);
+    c.set_path_poses(poses, reversing);
+    for (int k = 0; k <= 200; ++k) {
+      ControlInput in = input_at(Pose2(1.5, 2.0, 0.0), {0.2, 0.0, 0.0}, m, goal, car);
+      in.t_s = 0.05 * k;
+      in.goal_yaw = 0.0;
+      const ControlOutput out = c.compute(in);
+      if (out.status != ControlStatus::Tracking) {
+        EXPECT_EQ(out.status, ControlStatus::AtCusp);
+        EXPECT_EQ(out.twist.vx, 0.0);
+        return in.t_s;
+      }
+    }
+    return -1.0;
+  };
+  const double t = first_stop(1.0);
+  EXPECT_GE(t, due - 1e-9);
+  EXPECT_LT(t, due + 0.05);
+  EXPECT_EQ(first_stop(0.0), -1.0);
+}
+
 TEST(MppiController, ADifferentialRobotPassesADoorWithoutTouching) {
   OccupancyGrid m = empty_map(6.0, 4.0);
   fill_box(m, 2.95, 0.0, 3.05, 1.5);  // a wall at x = 3 with a 1 m door from y = 1.5 to 2.5

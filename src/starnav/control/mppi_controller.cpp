@@ -78,6 +78,9 @@ const ParamTable<MppiConfig>& mppi_params() {
               "at a cusp, ask the navigator to plan the rest from the pose reached (false: follow the path's next stretch, Nav2's way)");
     t.real("stall_time_s", &C::stall_time_s, non_negative(), "s",
            "a path with reversals: stopped this long short of a stretch's end, ask for a new plan from here (0: never)");
+    t.real("stretch_time_s", &C::stretch_time_s, non_negative(), "s",
+           "a path with reversals: a stretch not done after this long plus its length at the top speed, ask for a new plan "
+           "from here (0: never; a car creeping back and forth short of a cusp it cannot reach)");
     t.real("control_period_s", &C::control_period_s, open(0.0, 10.0), "s", "time between two commands (the command is held)");
     t.real("ackermann_constraints.min_turning_r_m", &C::min_turning_r_m, non_negative(), "m",
            "Ackermann: the samples' minimum turning radius; 0: the robot's (wheelbase / tan(max_steer_rad))");
@@ -331,6 +334,7 @@ void MppiController::load_stretch(std::size_t k) {
   for (std::size_t i = 1; i < path_.size(); ++i) along_[i] = along_[i - 1] + (path_[i] - path_[i - 1]).norm();
   segment_ = 0;
   stalled_since_s_.reset();
+  stretch_since_s_.reset();
 }
 
 void MppiController::clear() {
@@ -599,10 +603,15 @@ ControlOutput MppiController::compute(const ControlInput& in) {
   }
   // A path with reversals: stopped short of a stretch's end (the motion model cannot turn tight
   // enough to reach its pose from here) for stall_time_s, a new plan from here is asked for.
+  // Or moving, but not done with the stretch in its time.
   constexpr double kStoppedMps = 0.02;
-  if (pose_path_ && config_.stall_time_s > 0.0 && std::abs(command.vx) < kStoppedMps && std::abs(in.velocity.vx) < kStoppedMps) {
+  if (!stretch_since_s_) stretch_since_s_ = in.t_s;
+  const bool overdue = pose_path_ && config_.stretch_time_s > 0.0 &&
+                       in.t_s - *stretch_since_s_ >= config_.stretch_time_s + along_.back() / std::max(stretch_reverse ? -limits_.vx_min : limits_.vx_max, 1e-3);
+  if (overdue ||
+      (pose_path_ && config_.stall_time_s > 0.0 && std::abs(command.vx) < kStoppedMps && std::abs(in.velocity.vx) < kStoppedMps)) {
     if (!stalled_since_s_) stalled_since_s_ = in.t_s;
-    if (in.t_s - *stalled_since_s_ >= config_.stall_time_s) {
+    if (overdue || in.t_s - *stalled_since_s_ >= config_.stall_time_s) {
       stalled_since_s_.reset();
       reset_optimizer();
       const ControlOutput stop{{}, last_stretch ? ControlStatus::CannotReach : ControlStatus::AtCusp};

@@ -54,6 +54,7 @@ struct MppiConfig {
   // stretch of the same path, Nav2's way). Stopped this long short of a stretch's end: the same.
   bool replan_at_cusps = true;
   double stall_time_s = 1.0;
+  double stretch_time_s = 0.0;
   double control_period_s = 0.05;
   double min_turning_r_m = 0.0;  // Ackermann; 0: the robot's own (wheelbase / tan(max steer))
   // Ackermann: samples of (vx, curvature) with wz = vx x curvature (false: Nav2's (vx, wz) samples
@@ -157,6 +158,7 @@ class MppiController final : public LocalController {
   std::size_t stretch_ = 0;
   bool pose_path_ = false;  // set by set_path_poses
   std::optional<double> stalled_since_s_;
+  std::optional<double> stretch_since_s_;  // when the current stretch was first driven
   std::vector<Vec2> path_;       // the stretch followed now
   std::vector<double> along_;
   std::size_t segment_ = 0;
