@@ -1,9 +1,10 @@
-// The recoveries: turn in place, back up, wait. Each moves the robot only while the map-level
+// The recoveries: turn in place, back up, drive an arc (a car's), wait. Each moves the robot only while the map-level
 // footprint check says the motion stays clear, looking at the map at most once per look period
 // (the check looks 0.5 s ahead, ten control periods and more, so one look per period misses
 // nothing).
 #include <optional>
 
+#include "starnav/control/local_controller.hpp"
 #include "starnav/control/recovery.hpp"
 #include "starnav/core/angle.hpp"
 
@@ -102,6 +103,60 @@ class BackUp final : public Recovery {
   LookAhead look_;
 };
 
+struct DriveArcConfig {
+  double distance_m = 0.3;
+  double speed_mps = 0.1;
+  double radius_m = 0.0;
+};
+
+const ParamTable<DriveArcConfig>& drive_arc_params() {
+  static const ParamTable<DriveArcConfig> table = [] {
+    using C = DriveArcConfig;
+    ParamTable<C> t;
+    t.real("distance_m", &C::distance_m, open(0.0, 5.0), "m", "drive this far along the arc (while the footprint stays clear)");
+    t.real("speed_mps", &C::speed_mps, open(0.0, 2.0), "m/s", "driving speed");
+    t.real("radius_m", &C::radius_m, non_negative(), "m",
+           "the arc's radius; 0: the robot's minimum turning radius (0.5 m for a robot that turns in place)");
+    return t;
+  }();
+  return table;
+}
+
+// A car cannot turn in place: it changes its heading, and leaves a place it is stuck in, by arcs.
+// Backwards first (a car is most often stuck nose-in), turning to whichever side is clear for the
+// whole arc, else forwards the same way; nothing when no arc is clear.
+class DriveArc final : public Recovery {
+ public:
+  explicit DriveArc(const DriveArcConfig& c, double robot_radius_m = 0.0)
+      : c_(c), radius_(c.radius_m > 0.0 ? c.radius_m : robot_radius_m > 0.0 ? robot_radius_m : 0.5) {}
+  std::string_view name() const override { return "drive_arc"; }
+  void start(const RecoveryInput& in) override {
+    const double duration = c_.distance_m / c_.speed_mps;
+    end_t_ = in.t_s + duration;
+    look_.forget();
+    twist_.reset();
+    for (const double vx : {-c_.speed_mps, c_.speed_mps})
+      for (const double side : {1.0, -1.0}) {
+        const BodyTwist t{vx, 0.0, side * c_.speed_mps / radius_};
+        if (in.motion == nullptr || in.motion->clear(in.pose, t, duration)) {
+          twist_ = t;
+          return;
+        }
+      }
+  }
+  std::optional<BodyTwist> step(const RecoveryInput& in) override {
+    if (twist_ && in.t_s < end_t_ && look_.clear(in, *twist_)) return *twist_;
+    return std::nullopt;
+  }
+
+ private:
+  DriveArcConfig c_;
+  double radius_ = 0.5;
+  double end_t_ = 0.0;
+  std::optional<BodyTwist> twist_;
+  LookAhead look_;
+};
+
 struct WaitConfig {
   double duration_s = 2.0;
 };
@@ -153,6 +208,15 @@ RecoveryDef rotate_recovery() {
 }
 RecoveryDef back_up_recovery() {
   return recovery_def<BackUpConfig, BackUp>("back_up", "Back up straight while the footprint stays clear", back_up_params);
+}
+RecoveryDef drive_arc_recovery() {
+  RecoveryDef d = recovery_def<DriveArcConfig, DriveArc>(
+      "drive_arc", "Drive an arc (backwards, else forwards; either side) while the footprint stays clear: a car's recovery",
+      drive_arc_params);
+  d.make = [](const RecoveryContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Recovery> {
+    return std::make_unique<DriveArc>(configured(drive_arc_params(), settings, ctx.file), min_turning_radius_of(ctx.robot));
+  };
+  return d;
 }
 RecoveryDef wait_recovery() {
   return recovery_def<WaitConfig, Wait>("wait", "Stand still for a while", wait_params);

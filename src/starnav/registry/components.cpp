@@ -52,6 +52,7 @@ namespace starnav {
 #define STARNAV_RECOVERIES(X)                       \
   X(rotate_recovery)  /* control/recoveries.cpp */ \
   X(back_up_recovery) /* control/recoveries.cpp */ \
+  X(drive_arc_recovery) /* control/recoveries.cpp */ \
   X(wait_recovery)    /* control/recoveries.cpp */
 
 #define STARNAV_COSTMAP_LAYERS(X)                                \
