@@ -699,14 +699,25 @@ void forward_then_reverse(std::vector<Pose2>& poses, std::vector<std::uint8_t>& 
   for (int i = 1; i <= 20; ++i) poses.emplace_back(3.0 - 0.05 * i, 2.0, 0.0), reversing.push_back(1);
 }
 
-TEST(MppiController, APathWithAReversalIsFollowedOneStretchAtATime) {
-  const OccupancyGrid m = empty_map(6.0, 4.0);
-  RobotConfig car = mecanum();
-  car.drive = DriveKind::Ackermann;
+// A car on an empty 6 x 4 m map with the forward-then-reverse path and its end as the goal.
+class MppiCarOnReversingPath : public ::testing::Test {
+ protected:
+  OccupancyGrid m = empty_map(6.0, 4.0);
+  RobotConfig car = [] {
+    RobotConfig r = mecanum();
+    r.drive = DriveKind::Ackermann;
+    return r;
+  }();
   std::vector<Pose2> poses;
   std::vector<std::uint8_t> reversing;
-  forward_then_reverse(poses, reversing);
-  const Vec2 goal = poses.back().translation();
+  Vec2 goal;
+  MppiCarOnReversingPath() {
+    forward_then_reverse(poses, reversing);
+    goal = poses.back().translation();
+  }
+};
+
+TEST_F(MppiCarOnReversingPath, IsFollowedOneStretchAtATime) {
   MppiConfig config;
   config.batch_size = 400;
   // Ten steps from `pose` (held there): the last command and status.
@@ -762,14 +773,7 @@ TEST(MppiController, APathWithAReversalIsFollowedOneStretchAtATime) {
 // A car held short of its cusp while MPPI keeps commanding (stopping is the stall check's, off
 // here): the stretch is given up, and a new plan asked for, at the first step at or after its
 // time, stretch_time_s plus its length at the top speed; with 0, never.
-TEST(MppiController, AStretchNotDoneInItsTimeIsPlannedAnew) {
-  const OccupancyGrid m = empty_map(6.0, 4.0);
-  RobotConfig car = mecanum();
-  car.drive = DriveKind::Ackermann;
-  std::vector<Pose2> poses;
-  std::vector<std::uint8_t> reversing;
-  forward_then_reverse(poses, reversing);
-  const Vec2 goal = poses.back().translation();
+TEST_F(MppiCarOnReversingPath, AStretchNotDoneInItsTimeIsPlannedAnew) {
   MppiConfig config;
   config.batch_size = 200;
   config.stall_time_s = 0.0;

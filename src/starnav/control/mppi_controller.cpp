@@ -602,24 +602,23 @@ ControlOutput MppiController::compute(const ControlInput& in) {
     curvature_history_[3] = sequence_.curvature(0);
   }
   // A path with reversals: stopped short of a stretch's end (the motion model cannot turn tight
-  // enough to reach its pose from here) for stall_time_s, a new plan from here is asked for.
-  // Or moving, but not done with the stretch in its time.
+  // enough to reach its pose from here) for stall_time_s, a new plan from here is asked for; or
+  // moving, but not done with the stretch in its time.
   constexpr double kStoppedMps = 0.02;
+  const bool stopped = pose_path_ && config_.stall_time_s > 0.0 && std::abs(command.vx) < kStoppedMps &&
+                       std::abs(in.velocity.vx) < kStoppedMps;
+  if (!stopped) stalled_since_s_.reset();
+  else if (!stalled_since_s_) stalled_since_s_ = in.t_s;
   if (!stretch_since_s_) stretch_since_s_ = in.t_s;
   const bool overdue = pose_path_ && config_.stretch_time_s > 0.0 &&
-                       in.t_s - *stretch_since_s_ >= config_.stretch_time_s + along_.back() / std::max(stretch_reverse ? -limits_.vx_min : limits_.vx_max, 1e-3);
-  if (overdue ||
-      (pose_path_ && config_.stall_time_s > 0.0 && std::abs(command.vx) < kStoppedMps && std::abs(in.velocity.vx) < kStoppedMps)) {
-    if (!stalled_since_s_) stalled_since_s_ = in.t_s;
-    if (overdue || in.t_s - *stalled_since_s_ >= config_.stall_time_s) {
-      stalled_since_s_.reset();
-      reset_optimizer();
-      const ControlOutput stop{{}, last_stretch ? ControlStatus::CannotReach : ControlStatus::AtCusp};
-      if (keep_) record(in, s, stop);
-      return stop;
-    }
-  } else {
+                       in.t_s - *stretch_since_s_ >= config_.stretch_time_s +
+                                                         along_.back() / std::max(stretch_reverse ? -limits_.vx_min : limits_.vx_max, 1e-3);
+  if (overdue || (stopped && in.t_s - *stalled_since_s_ >= config_.stall_time_s)) {
     stalled_since_s_.reset();
+    reset_optimizer();
+    const ControlOutput stop{{}, last_stretch ? ControlStatus::CannotReach : ControlStatus::AtCusp};
+    if (keep_) record(in, s, stop);
+    return stop;
   }
   const ControlOutput out{command, ControlStatus::Tracking};
   if (keep_) {

@@ -3,6 +3,7 @@
 // (the check looks 0.5 s ahead, ten control periods and more, so one look per period misses
 // nothing).
 #include <optional>
+#include <type_traits>
 
 #include "starnav/control/local_controller.hpp"
 #include "starnav/control/recovery.hpp"
@@ -127,8 +128,8 @@ const ParamTable<DriveArcConfig>& drive_arc_params() {
 // whole arc, else forwards the same way; nothing when no arc is clear.
 class DriveArc final : public Recovery {
  public:
-  explicit DriveArc(const DriveArcConfig& c, double robot_radius_m = 0.0)
-      : c_(c), radius_(c.radius_m > 0.0 ? c.radius_m : robot_radius_m > 0.0 ? robot_radius_m : 0.5) {}
+  DriveArc(const DriveArcConfig& c, const RecoveryContext& ctx)
+      : c_(c), radius_(c.radius_m > 0.0 ? c.radius_m : min_turning_radius_of(ctx.robot) > 0.0 ? min_turning_radius_of(ctx.robot) : 0.5) {}
   std::string_view name() const override { return "drive_arc"; }
   void start(const RecoveryInput& in) override {
     const double duration = c_.distance_m / c_.speed_mps;
@@ -195,7 +196,11 @@ RecoveryDef recovery_def(const char* name, const char* summary, const ParamTable
   d.info.summary = summary;
   d.info.params = params().specs();
   d.make = [params](const RecoveryContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Recovery> {
-    return std::make_unique<Impl>(configured(params(), settings, ctx.file));
+    // A recovery that depends on the robot (drive_arc's radius) is given its context too.
+    if constexpr (std::is_constructible_v<Impl, const Config&, const RecoveryContext&>)
+      return std::make_unique<Impl>(configured(params(), settings, ctx.file), ctx);
+    else
+      return std::make_unique<Impl>(configured(params(), settings, ctx.file));
   };
   return d;
 }
@@ -210,13 +215,9 @@ RecoveryDef back_up_recovery() {
   return recovery_def<BackUpConfig, BackUp>("back_up", "Back up straight while the footprint stays clear", back_up_params);
 }
 RecoveryDef drive_arc_recovery() {
-  RecoveryDef d = recovery_def<DriveArcConfig, DriveArc>(
+  return recovery_def<DriveArcConfig, DriveArc>(
       "drive_arc", "Drive an arc (backwards, else forwards; either side) while the footprint stays clear: a car's recovery",
       drive_arc_params);
-  d.make = [](const RecoveryContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<Recovery> {
-    return std::make_unique<DriveArc>(configured(drive_arc_params(), settings, ctx.file), min_turning_radius_of(ctx.robot));
-  };
-  return d;
 }
 RecoveryDef wait_recovery() {
   return recovery_def<WaitConfig, Wait>("wait", "Stand still for a while", wait_params);

@@ -254,11 +254,9 @@ FootprintTrail footprint_trail(std::span<const TrajectorySample> trajectory, con
                                double moving_mps) {
   FootprintTrail t;
   const auto outline = [&](const TrajectorySample& s) {
-    const double yaw = s.rpy.z(), c = std::cos(yaw), sn = std::sin(yaw);
+    const Pose2 pose(s.position.x(), s.position.y(), s.rpy.z());
     std::vector<Vec2> pts;
-    const auto at = [&](double u, double v) {
-      pts.emplace_back(s.position.x() + c * u - sn * v, s.position.y() + sn * u + c * v);
-    };
+    const auto at = [&](double u, double v) { pts.push_back(pose.transform(Vec2(u, v))); };
     if (body.circle) {
       constexpr int kSides = 24;
       for (int i = 0; i <= kSides; ++i) {
