@@ -80,7 +80,9 @@ struct HybridAStarOptions {
   double analytic_expansion_ratio = 3.5;
   double analytic_expansion_max_length_m = 3.0;  // 0: no limit
   std::uint64_t max_iterations = 1000000;
-  double max_planning_time_s = 5.0;  // 0: no limit
+  // 0: no limit (Nav2: 5 s). A wall-clock limit makes the same query answer differently as the
+  // machine's load changes; max_iterations bounds the search by expansions, the same on any machine.
+  double max_planning_time_s = 0.0;
   bool smooth = true;
   // From the grid options of the context, not declared: unknown cells free or blocked.
   bool unknown_is_free = false;
