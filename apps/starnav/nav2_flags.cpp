@@ -19,7 +19,10 @@ Nav2Target scenario_nav2_target(const ScenarioSpec& spec, const std::string& con
   Nav2Target t;
   t.kind = Nav2Target::Kind::Scenario;
   t.navigation = spec.navigation.has_value();
-  if (spec.navigation) t.controller = controller_flag.empty() ? setting(spec.navigation->settings, "controller", "path_follower") : controller_flag;
+  if (spec.navigation) {
+    t.controller = controller_flag.empty() ? setting(spec.navigation->settings, "controller", "path_follower") : controller_flag;
+    t.goal_checker = setting(spec.navigation->settings, "goal_checker", t.goal_checker);
+  }
   if (spec.localization) t.localizer = setting(spec.localization->settings, "localizer", "ground_truth");
   return t;
 }

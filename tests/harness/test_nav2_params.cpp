@@ -232,6 +232,55 @@ TEST(Nav2Params, EachConversionOnAHandWrittenFile) {
   EXPECT_TRUE(on_dwa.mapped.empty());
 }
 
+// A goal checker's own keys map onto the scenario's goal checker when it stands for that plugin
+// (latching for SimpleGoalChecker, stopped for StoppedGoalChecker), in starnav's units; with the
+// other checker they are ignored and say why.
+TEST(Nav2Params, GoalCheckerKeysMapOntoTheCheckerThatStandsForThePlugin) {
+  const test::ScratchDir dir;
+  const std::string file = dir.file("checkers.yaml");
+  test::write_text(file,
+                   "controller_server:\n"
+                   "  ros__parameters:\n"
+                   "    simple_checker:\n"
+                   "      plugin: \"nav2_controller::SimpleGoalChecker\"\n"
+                   "      stateful: False\n"
+                   "      xy_goal_tolerance: 0.1\n"
+                   "    stopped_checker:\n"
+                   "      plugin: \"nav2_controller::StoppedGoalChecker\"\n"
+                   "      trans_stopped_velocity: 0.1\n"
+                   "      rot_stopped_velocity: 0.5\n");
+  Nav2Target latching = scenario("", "mppi");
+  const Nav2Params a = read_nav2_params(file, latching);
+  auto mapped = by_name(a.mapped), ignored = by_name(a.ignored);
+  ASSERT_TRUE(mapped.count("controller_server.simple_checker.stateful"));
+  EXPECT_EQ(mapped.at("controller_server.simple_checker.stateful")->starnav, "navigation.latching_goal_checker.stateful");
+  EXPECT_EQ(mapped.at("controller_server.simple_checker.stateful")->converted, "false");
+  EXPECT_EQ(mapped.at("controller_server.simple_checker.xy_goal_tolerance")->starnav, "navigation.goal_tolerance_m");
+  ASSERT_TRUE(ignored.count("controller_server.stopped_checker.trans_stopped_velocity"));
+  EXPECT_NE(ignored.at("controller_server.stopped_checker.trans_stopped_velocity")->note.find("latching, not one that stands for Nav2's StoppedGoalChecker"),
+            std::string::npos);
+
+  Nav2Target stopped = latching;
+  stopped.goal_checker = "stopped";
+  const Nav2Params b = read_nav2_params(file, stopped);
+  mapped = by_name(b.mapped), ignored = by_name(b.ignored);
+  EXPECT_TRUE(ignored.count("controller_server.simple_checker.stateful"));
+  ASSERT_TRUE(mapped.count("controller_server.stopped_checker.rot_stopped_velocity"));
+  EXPECT_EQ(mapped.at("controller_server.stopped_checker.trans_stopped_velocity")->starnav,
+            "navigation.stopped_goal_checker.trans_stopped_velocity_mps");
+  EXPECT_EQ(mapped.at("controller_server.stopped_checker.rot_stopped_velocity")->starnav,
+            "navigation.stopped_goal_checker.rot_stopped_velocity_degps");
+  EXPECT_NEAR(std::stod(mapped.at("controller_server.stopped_checker.rot_stopped_velocity")->converted), rad_to_deg(0.5), 1e-9);
+
+  // A bool that is not one names the file, line and both keys.
+  test::write_text(file, "controller_server:\n  ros__parameters:\n    checker:\n      plugin: \"nav2_controller::SimpleGoalChecker\"\n"
+                         "      stateful: maybe\n");
+  const std::string what = test::error_of([&] { read_nav2_params(file, latching); });
+  EXPECT_NE(what.find("checkers.yaml:5:"), std::string::npos) << what;
+  EXPECT_NE(what.find("expected true or false"), std::string::npos) << what;
+  EXPECT_NE(what.find("navigation.latching_goal_checker.stateful"), std::string::npos) << what;
+}
+
 TEST(Nav2Params, ValuesOutOfRangeNameTheFileLineAndBothKeys) {
   const test::ScratchDir dir;
   struct Row {

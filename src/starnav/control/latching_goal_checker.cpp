@@ -57,6 +57,7 @@ GoalCheckerDef latching_goal_checker() {
   d.info.name = "latching";
   d.info.section = "latching_goal_checker";
   d.info.summary = "Reached within the navigation's tolerances; with a heading, the position latches once the robot is slow there";
+  d.info.nav2_counterpart = "nav2_controller::SimpleGoalChecker";
   d.info.params = latching_goal_checker_params().specs();
   d.make = [](const GoalCheckerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GoalChecker> {
     return std::make_unique<LatchingGoalChecker>(configured(latching_goal_checker_params(), settings, ctx.file));

@@ -56,6 +56,7 @@ GoalCheckerDef stopped_goal_checker() {
   d.info.name = "stopped";
   d.info.section = "stopped_goal_checker";
   d.info.summary = "Nav2's StoppedGoalChecker: within the tolerances (the position latches) and stopped (speed and yaw rate limits)";
+  d.info.nav2_counterpart = "nav2_controller::StoppedGoalChecker";
   d.info.params = stopped_goal_checker_params().specs();
   d.make = [](const GoalCheckerContext& ctx, std::span<const ParamSetting> settings) -> std::unique_ptr<GoalChecker> {
     return std::make_unique<StoppedGoalChecker>(configured(stopped_goal_checker_params(), settings, ctx.file));

@@ -89,7 +89,7 @@ std::optional<ParamSpec> spec_of(const std::string& key) {
                       in_navigation = prefixed("navigation.", c.section);
     if (c.role == Role::Localizer && (key.rfind(in_localization, 0) == 0 || key.rfind(own, 0) == 0))
       return find(c.params, key.rfind(own, 0) == 0 ? after(own) : after(in_localization));
-    if (c.role == Role::LocalController && key.rfind(in_navigation, 0) == 0) return find(c.params, after(in_navigation));
+    if ((c.role == Role::LocalController || c.role == Role::GoalChecker) && key.rfind(in_navigation, 0) == 0) return find(c.params, after(in_navigation));
   }
   if (key == "navigation.map.barrier_distance_m") {
     ParamSpec s;
@@ -195,6 +195,8 @@ constexpr std::string_view kNav2Amcl = "nav2_amcl::AmclNode";
 constexpr std::string_view kNav2Dwb = "dwb_core::DWBLocalPlanner";
 constexpr std::string_view kNav2Rpp = "nav2_regulated_pure_pursuit_controller::RegulatedPurePursuitController";
 constexpr std::string_view kNav2Mppi = "nav2_mppi_controller::MPPIController";
+constexpr std::string_view kNav2SimpleGoalChecker = "nav2_controller::SimpleGoalChecker";
+constexpr std::string_view kNav2StoppedGoalChecker = "nav2_controller::StoppedGoalChecker";
 
 // A Nav2 MPPI name in starnav's spelling: CamelCase to snake_case, a critic's "Critic" dropped
 // (GoalCritic: goal; AckermannConstraints: ackermann_constraints; DiffDrive: diff_drive).
@@ -268,6 +270,12 @@ class Mapper {
                         spec->range.text() + (spec->unit.empty() ? "" : " " + spec->unit),
                     p_.file, l.line, nav2 + " (" + key + ")");
     }
+    if (spec && spec->type == ParamType::Boolean) {
+      // YAML's spellings of a ROS 2 bool; starnav's settings write true / false.
+      if (l.value == "true" || l.value == "True" || l.value == "TRUE") converted = "true";
+      else if (l.value == "false" || l.value == "False" || l.value == "FALSE") converted = "false";
+      else throw Error("expected true or false, got '" + printable(l.value, 40) + "'", p_.file, l.line, nav2 + " (" + key + ")");
+    }
     p_.mapped.push_back({nav2, l.line, l.value, key, converted, rule.note});
   }
 
@@ -279,7 +287,10 @@ class Mapper {
   // declared counterpart), else nothing: Nav2's keys for that plugin map onto it.
   std::optional<ComponentInfo> component_standing_for(Role role, const std::string& name, std::string_view plugin) const {
     if (name.empty()) return std::nullopt;
-    ComponentInfo info = find_component(role, name, role == Role::Localizer ? "localization.localizer" : "navigation.controller");
+    ComponentInfo info = find_component(role, name,
+                                        role == Role::Localizer      ? "localization.localizer"
+                                        : role == Role::GoalChecker ? "navigation.goal_checker"
+                                                                    : "navigation.controller");
     if (info.nav2_counterpart != plugin) return std::nullopt;
     return info;
   }
@@ -392,13 +403,35 @@ class Mapper {
       } else if (plugin.find("MPPI") != std::string::npos) {
         mppi_key(node, l, rest, owner, leaves);
       } else if (plugin.find("GoalChecker") != std::string::npos) {
-        if (rest == "xy_goal_tolerance") map(node, l, "navigation.goal_tolerance_m", {});
-        else if (rest == "yaw_goal_tolerance") map(node, l, "navigation.goal_yaw_tolerance_deg", {"", kDeg, "rad -> deg"});
-        else ignore(node, l, "no equivalent in starnav's goal check (navigation.goal_tolerance_m, goal_yaw_tolerance_deg)");
+        goal_checker_key(node, l, rest, plugin);
       } else {
         ignore(node, l, "no starnav equivalent (" + (plugin.empty() ? std::string("no plugin") : printable(plugin, 60)) + ")");
       }
     }
+  }
+
+  // One key of a Nav2 goal checker: the tolerances are the navigation's own; the checker's other
+  // keys map onto the scenario's goal checker when it stands for that plugin (latching: Simple,
+  // stopped: Stopped).
+  void goal_checker_key(const std::string& node, const Leaf& l, const std::string& rest, const std::string& plugin) {
+    if (rest == "xy_goal_tolerance") return map(node, l, "navigation.goal_tolerance_m", {});
+    if (rest == "yaw_goal_tolerance") return map(node, l, "navigation.goal_yaw_tolerance_deg", {"", kDeg, "rad -> deg"});
+    const std::string_view counterpart = plugin.find("StoppedGoalChecker") != std::string::npos ? kNav2StoppedGoalChecker
+                                         : plugin.find("SimpleGoalChecker") != std::string::npos  ? kNav2SimpleGoalChecker
+                                                                                                  : std::string_view();
+    const auto section = counterpart.empty() ? std::nullopt : section_standing_for(Role::GoalChecker, target_.goal_checker, counterpart);
+    if (!section) {
+      ignore(node, l, counterpart.empty() ? "no starnav goal checker stands for " + printable(plugin, 60)
+                                          : "the scenario's goal checker is " + target_.goal_checker + ", not one that stands for Nav2's " +
+                                                std::string(counterpart.substr(counterpart.find("::") + 2)));
+      return;
+    }
+    const std::string root = "navigation." + *section + ".";
+    if (rest == "stateful" && counterpart == kNav2SimpleGoalChecker) map(node, l, root + "stateful", {});
+    else if (rest == "trans_stopped_velocity" && counterpart == kNav2StoppedGoalChecker) map(node, l, root + "trans_stopped_velocity_mps", {});
+    else if (rest == "rot_stopped_velocity" && counterpart == kNav2StoppedGoalChecker)
+      map(node, l, root + "rot_stopped_velocity_degps", {"", kDeg, "rad/s -> deg/s"});
+    else ignore(node, l, "no equivalent in starnav's goal checker " + target_.goal_checker);
   }
 
   // One key of Nav2's MPPI controller: its own keys and its critics' (GoalCritic.cost_weight) under

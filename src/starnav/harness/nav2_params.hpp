@@ -33,6 +33,7 @@ struct Nav2Target {
   bool navigation = false;         // the scenario has a navigation section
   std::string localizer;           // the scenario's localizer ("" without localization)
   std::string controller;          // the scenario's controller
+  std::string goal_checker = "latching";  // the scenario's goal checker
 };
 
 struct Nav2Key {
