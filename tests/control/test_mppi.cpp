@@ -872,7 +872,7 @@ TEST(MppiController, TheSidewaysScenarioReachesItsGoalWithMppi) {
 // yet): the first seconds of each, Hybrid-A* planning and MPPI driving the Ackermann robot
 // through its first stretches with its body never touching an obstacle.
 TEST(MppiController, TheAckermannScenariosDriveWithoutCollision) {
-  for (const char* name : {"ackermann_parking.yaml", "ackermann_three_point_turn.yaml"}) {
+  for (const char* name : {"ackermann_parking.yaml", "ackermann_three_point_turn.yaml", "ackermann_rooms.yaml"}) {
     const std::vector<ScenarioOverride> sets = {parse_scenario_override("sim.duration_s=8")};
     const ScenarioSpec spec = parse_scenario(read_text(scenario_path(name)), scenario_path(name), sets);
     NavigationOptions o;
