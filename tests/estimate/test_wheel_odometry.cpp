@@ -101,6 +101,44 @@ TEST(WheelOdometry, QuantisedTicksStayWithinTheTickResolution) {
   }
 }
 
+// A differential robot driving straight whose left wheel counts (1 + eL) and right wheel (1 + eR)
+// times its travel: the odometry turns at v (eR - eL) / (2 L1) and advances at v (1 + (eL + eR) / 2),
+// the closed form of a systematic odometry error (a wrong tyre radius), the true robot straight.
+TEST(WheelOdometry, ScaleErrorOfTheEncodersBendsAStraightDriveByTheClosedForm) {
+  const World world;
+  VehicleConfig c;
+  c.robot.drive = DriveKind::Differential;
+  c.robot.actuator_lag_s = 0.0;
+  const Pose2 start(0.0, 0.0, 0.0);
+  Vehicle v(world, c, start, Rng(3));
+  WheelOdometry odo(v.model(), 1 << 20, start);
+  EncoderConfig ec;
+  ec.ticks_per_rev = 1 << 20;
+  const double e_left = -0.01, e_right = 0.015;
+  ec.scale_error = {e_left, e_right};
+  WheelEncoders enc(2, ec, Rng(4));
+  odo.add_ticks(enc.sample(v.state().wheel_angle_rad));
+  std::vector<VehicleEvent> events;
+  BodyTwist cmd;
+  cmd.vx = 0.3;
+  for (int k = 0; k < 2000; ++k) {
+    v.step(cmd, 0.01, events);
+    odo.add_ticks(enc.sample(v.state().wheel_angle_rad));
+  }
+  const Pose2 truth = v.state().pose.to_pose2();
+  ASSERT_GT(truth.x, 5.0);
+  EXPECT_NEAR(truth.y, 0.0, 1e-9);
+  EXPECT_NEAR(truth.yaw, 0.0, 1e-9);
+  // The wheels' true travel is d / r each; the odometry's arc has length d (1 + (eL + eR) / 2) and
+  // turns by d (eR - eL) / (2 L1).
+  const double d = truth.x, L1 = c.robot.half_track_m;
+  const double yaw = d * (e_right - e_left) / (2.0 * L1), length = d * (1.0 + 0.5 * (e_left + e_right));
+  const double radius = length / yaw;
+  EXPECT_NEAR(odo.pose().yaw, yaw, 1e-5);
+  EXPECT_NEAR(odo.pose().x, radius * std::sin(yaw), 1e-4);
+  EXPECT_NEAR(odo.pose().y, radius * (1.0 - std::cos(yaw)), 1e-4);
+}
+
 TEST(WheelOdometry, BodyIncrementsOfTheMecanumWheelPatterns) {
   const RobotConfig rc;  // alpha = 45 deg
   const auto model = make_robot_model(rc);

@@ -144,6 +144,36 @@ TEST(WheelEncoders, SlipNoiseIsDeterministicBySeedAndUnbiased) {
   EXPECT_GT(std::abs(total - 100.0), 1e-4);  // slip did something
 }
 
+// A systematic error scales each wheel's count: floor((1 + e_i) * travel * ticks_per_rev / 2 pi)
+// exactly, without slip; the other wheels unchanged.
+TEST(WheelEncoders, ScaleErrorScalesEachWheelsCount) {
+  EncoderConfig c;
+  c.ticks_per_rev = 1000;
+  c.scale_error = {0.02, -0.03, 0.0, 0.5};
+  WheelEncoders e(4, c, Rng(2));
+  const double zero[4] = {0.3, -0.2, 1.0, 0.0};
+  (void)e.sample(zero);
+  const double travel[4] = {10.0, -7.0, 3.0, 2.0};
+  const double now[4] = {0.3 + travel[0], -0.2 + travel[1], 1.0 + travel[2], travel[3]};
+  const std::vector<std::int64_t> ticks = e.sample(now);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto expected = static_cast<std::int64_t>(std::floor((1.0 + c.scale_error[i]) * travel[i] * 1000.0 / (2.0 * kPi)));
+    EXPECT_NEAR(static_cast<double>(ticks[i]), static_cast<double>(expected), 1.0) << i;
+    EXPECT_NEAR(e.ticks_to_rad(ticks[i]), (1.0 + c.scale_error[i]) * travel[i], 2.0 * kPi / 1000.0) << i;
+  }
+  // One value per wheel, each in [-0.5, 0.5].
+  for (const std::vector<double>& bad : {std::vector<double>{0.1, 0.1}, std::vector<double>{0.0, 0.0, 0.0, 0.6}}) {
+    EncoderConfig b;
+    b.scale_error = bad;
+    try {
+      WheelEncoders w(4, b, Rng(1));
+      FAIL();
+    } catch (const Error& err) {
+      EXPECT_EQ(err.field(), "encoders.scale_error");
+    }
+  }
+}
+
 TEST(WheelEncoders, BadInputNamesTheField) {
   EncoderConfig c;
   c.ticks_per_rev = 0;

@@ -10,6 +10,7 @@
 #include "starnav/core/error.hpp"
 #include "starnav/core/rng.hpp"
 #include "starnav/sim/scenario.hpp"
+#include "starnav/sim/simulation.hpp"
 
 namespace starnav {
 namespace {
@@ -269,6 +270,15 @@ TEST(Scenario, ConflictsAndBadNamesAreNamed) {
   expect_error(moving, "outputs.point_clouds.format", 18, "unknown value 'las' (ply, pcd, none)");
   expect_error(std::string(kBase) + "outputs: {point_clouds: {format: ply}}\n", "outputs.point_clouds", 18, "lidar");
   expect_error(std::string(kBase) + "sensors: {lidar: {preset: vlp99}}\n", "sensors.lidar.preset", 18, "unknown LiDAR");
+  expect_error(std::string(kBase) + "sensors: {encoders: {scale_error: [0.01, 0.7, 0, 0]}}\n", "sensors.encoders.scale_error", 18, "[-0.5, 0.5]");
+  {
+    // One value per wheel: the drive decides how many, so the simulation checks the count.
+    const ScenarioSpec two = parse_scenario(std::string(kBase) + "sensors: {encoders: {scale_error: [0.01, -0.01]}}\n", "case.yaml");
+    const std::string what = test::error_of([&] { Simulation sim(two); });
+    EXPECT_NE(what.find("case.yaml:18:"), std::string::npos) << what;
+    EXPECT_NE(what.find("sensors.encoders.scale_error"), std::string::npos) << what;
+    EXPECT_NE(what.find("the drive has 4 wheels"), std::string::npos) << what;
+  }
   expect_error(std::string(kBase) + "sensors: {lidar: {preset: vlp16, range_max_m: 0.1}}\n", "sensors.lidar.range_max_m", 18);
   expect_error(std::string(kBase) + "robot2: {}\n", "robot2", 18, "unknown key");
   // Waypoints: velocity and waypoints together, times not increasing.

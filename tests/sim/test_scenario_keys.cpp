@@ -213,8 +213,9 @@ TEST(ScenarioKeys, ValuesOutsideTheDeclaredRangeAndOfTheWrongTypeAreRefused) {
           refused(yaml, line, field);
           ++ranges;
         }
-      // A list where a value belongs.
-      const auto [yaml, line] = with_value(host, p.key, "[1, 2]");
+      // A list where a value belongs (a mapping where a list belongs).
+      const bool list = p.type == ParamType::Reals || p.type == ParamType::NameList || p.type == ParamType::Polygons;
+      const auto [yaml, line] = with_value(host, p.key, list ? "{a: 1}" : "[1, 2]");
       const std::string what = refused(yaml, line, field);
       EXPECT_NE(what.find("expected"), std::string::npos) << what;
       ++types;

@@ -148,6 +148,24 @@ ParamSetting setting_of(const Value& e, const std::string& key) {
           e.line() > 0 ? e.field() : e.field() + " (--set)"};
 }
 
+// A sequence whose items are scalars or such sequences, at most `depth` levels deep (no
+// parameter nests deeper than polygons' three).
+bool is_value_list(const YAML::Node& node, int depth) {
+  if (depth == 0) return false;
+  for (const YAML::Node& item : node)
+    if (!item.IsScalar() && !(item.IsSequence() && is_value_list(item, depth - 1))) return false;
+  return true;
+}
+
+// `node` (scalars and sequences) as one line of flow text: [[0, 0], [1, 0]].
+std::string flow_text(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  std::string s = "[";
+  for (std::size_t i = 0; i < node.size(); ++i) s.append(i ? ", " : "").append(flow_text(node[i]));
+  s += ']';
+  return s;
+}
+
 std::string resolve_path(const Doc& doc, const std::string& path) {
   const std::filesystem::path p(path);
   return p.is_absolute() ? p.string() : (doc.base_dir / p).lexically_normal().string();

@@ -108,6 +108,12 @@ class Fields {
 Vec3 xyz_or_xy(const Value& v, double z_default, bool* had_z = nullptr);
 // A setting for `key` from value `e` (its full field, "(--set)" when it has no line).
 ParamSetting setting_of(const Value& e, const std::string& key);
+// A sequence whose items are scalars or such sequences, at most `depth` levels deep (no
+// parameter nests deeper than polygons' three).
+bool is_value_list(const YAML::Node& node, int depth = 4);
+// `node` (scalars and sequences) as one line of flow text: [[0, 0], [1, 0]]; a parameter's own
+// parser reads the shape.
+std::string flow_text(const YAML::Node& node);
 // `path` resolved against the scenario's folder.
 std::string resolve_path(const Doc& doc, const std::string& path);
 
@@ -199,7 +205,7 @@ void apply_section(Fields& f, std::initializer_list<const SectionDecl<Config>*> 
     for (const SectionDecl<Config>* d : decls)
       if (d->table.has(k)) owner = d;
     const Value v = *f.take(k.c_str());
-    const ParamSetting s = setting_of(v, k);
+    ParamSetting s = setting_of(v, k);
     if (!owner) {
       std::vector<std::string> known;
       for (const SectionDecl<Config>* d : decls)
@@ -208,8 +214,13 @@ void apply_section(Fields& f, std::initializer_list<const SectionDecl<Config>*> 
       param_unknown_key(s, known);
     }
     if (!v.node().IsScalar())
-      for (const ParamSpec& p : owner->table.specs(owner->defaults))
-        if (p.key == k) v.fail(expected_value(p) + ", found " + node_kind(v.node()));
+      for (const ParamSpec& p : owner->table.specs(owner->defaults)) {
+        if (p.key != k) continue;
+        // A list parameter takes a list of values, in flow text for its own parser.
+        const bool list = p.type == ParamType::Reals || p.type == ParamType::NameList || p.type == ParamType::Polygons;
+        if (!list || !v.node().IsSequence() || !is_value_list(v.node())) v.fail(expected_value(p) + ", found " + node_kind(v.node()));
+        s.value = flow_text(v.node());
+      }
     owner->table.apply(c, s);
   }
 }

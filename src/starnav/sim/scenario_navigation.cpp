@@ -147,24 +147,6 @@ bool is_name_list(const YAML::Node& node) {
   return true;
 }
 
-// A sequence whose items are scalars or such sequences, at most `depth` levels deep (no
-// parameter nests deeper than polygons' three).
-bool is_value_list(const YAML::Node& node, int depth = 4) {
-  if (depth == 0) return false;
-  for (const YAML::Node& item : node)
-    if (!item.IsScalar() && !(item.IsSequence() && is_value_list(item, depth - 1))) return false;
-  return true;
-}
-
-// `node` (scalars and sequences) as one line of flow text: [[0, 0], [1, 0]].
-std::string flow_text(const YAML::Node& node) {
-  if (node.IsScalar()) return node.Scalar();
-  std::string s = "[";
-  for (std::size_t i = 0; i < node.size(); ++i) s.append(i ? ", " : "").append(flow_text(node[i]));
-  s += ']';
-  return s;
-}
-
 // Every value of `f` not taken yet, as a setting with its dotted key (relative to `prefix`) and
 // line, sections recursively; the navigation stack checks them against its components' declared
 // parameters.

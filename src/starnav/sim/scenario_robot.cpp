@@ -185,7 +185,10 @@ const SectionDecl<ScenarioEncoders>& encoders_decl() {
         .integer("ticks_per_rev", [](ScenarioEncoders& e) -> int& { return e.config.ticks_per_rev; }, closed(1, 1 << 30), "",
                  "ticks per wheel revolution")
         .real("slip_sigma", [](ScenarioEncoders& e) -> double& { return e.config.slip_sigma; }, non_negative(), "",
-              "random wheel slip (fraction of the rotation)");
+              "random wheel slip (fraction of the rotation)")
+        .reals("scale_error", [](ScenarioEncoders& e) -> std::vector<double>& { return e.config.scale_error; }, closed(-0.5, 0.5), "",
+               "systematic error of each wheel's count, in the drive's wheel order (Mecanum FL, FR, RL, RR; differential L, R): "
+               "wheel i counts (1 + e_i) times its travel, a wrong tyre radius as odometry sees it ([]: none)");
     return s;
   }();
   return d;

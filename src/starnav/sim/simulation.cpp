@@ -78,7 +78,13 @@ void Simulation::init() {
   for (std::size_t i = 0; i < spec_.other_lidars.size(); ++i)
     lidars_.push_back({spec_.other_lidars[i].stream, Lidar(spec_.other_lidars[i].config, root.fork(20 + i)), {}, 0, {}});
   if (spec_.imu) imu_model_.emplace(spec_.imu->config, root.fork(3), spec_.start.yaw);
-  if (spec_.encoders) encoders_.emplace(vehicle_->model().actuator_count(), spec_.encoders->config, root.fork(4));
+  if (spec_.encoders) {
+    try {
+      encoders_.emplace(vehicle_->model().actuator_count(), spec_.encoders->config, root.fork(4));
+    } catch (const Error& e) {
+      throw Error(e.message(), spec_.file, spec_.encoders->source.line, "sensors." + e.field());
+    }
+  }
 
   last_ = sample_now();
   z_min_ = z_max_ = last_.position.z();
