@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "starnav/harness/navigation_run.hpp"
+
 namespace starnav::cli {
 
 namespace {
@@ -20,8 +22,10 @@ Nav2Target scenario_nav2_target(const ScenarioSpec& spec, const std::string& con
   t.kind = Nav2Target::Kind::Scenario;
   t.navigation = spec.navigation.has_value();
   if (spec.navigation) {
-    t.controller = controller_flag.empty() ? setting(spec.navigation->settings, "controller", "path_follower") : controller_flag;
-    t.goal_checker = setting(spec.navigation->settings, "goal_checker", t.goal_checker);
+    // The navigation section's own defaults when the scenario names no component.
+    const NavigationSettings defaults;
+    t.controller = controller_flag.empty() ? setting(spec.navigation->settings, "controller", defaults.controller) : controller_flag;
+    t.goal_checker = setting(spec.navigation->settings, "goal_checker", defaults.goal_checker);
   }
   if (spec.localization) t.localizer = setting(spec.localization->settings, "localizer", "ground_truth");
   return t;
