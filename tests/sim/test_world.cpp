@@ -80,12 +80,13 @@ TEST(World, BroadPhaseMatchesTestingEveryObject) {
   const World w(random_world(rng, 400));
   int hits = 0, obstacle_hits = 0;
   for (double t : {0.0, 0.5, 2.5, 4.0, 7.0}) {
+    const std::vector<PosedPrimitive> posed = w.primitives_at(t);
     for (int k = 0; k < 1500; ++k) {
       const Vec3 o(rng.uniform(-16, 16), rng.uniform(-13, 15), rng.uniform(-0.5, 3.0));
       const Vec3 d = test::random_unit(rng);
       const double range = rng.uniform(1.0, 40.0);
       const RayHit a = w.cast(o, d, range, t);
-      const RayHit b = w.cast_brute_force(o, d, range, t);
+      const RayHit b = w.cast_brute_force(posed, o, d, range);
       ASSERT_EQ(a.kind, b.kind) << k << " t " << t;
       if (!a.hit()) continue;
       ++hits;

@@ -119,9 +119,14 @@ void World::cast_many(const Vec3& origin, std::span<const Vec3> directions, doub
 }
 
 RayHit World::cast_brute_force(const Vec3& origin, const Vec3& dir, double max_range, double time) const {
+  return cast_brute_force(primitives_at(time), origin, dir, max_range);
+}
+
+RayHit World::cast_brute_force(std::span<const PosedPrimitive> primitives, const Vec3& origin, const Vec3& dir,
+                               double max_range) const {
   RayHit out;
   PrimitiveHit ph;
-  for (const PosedPrimitive& p : primitives_at(time))
+  for (const PosedPrimitive& p : primitives)
     if (intersect(p, origin, dir, max_range, ph) && replaces(out, ph.distance, p.obstacle, p.part))
       out = {ph.distance, ph.normal, HitKind::obstacle, p.obstacle, p.part, ph.inside};
   TerrainHit th;

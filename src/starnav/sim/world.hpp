@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "starnav/map/elevation_map.hpp"
@@ -43,6 +44,10 @@ class World final : public RayCaster {
                  std::span<RayHit> hits) const override;
   // The same answer by testing every primitive that exists at `time` (reference for tests).
   RayHit cast_brute_force(const Vec3& origin, const Vec3& direction, double max_range, double time) const;
+  // The same against `primitives`, which must be primitives_at(time): a caller casting many rays at
+  // one time poses the obstacles once.
+  RayHit cast_brute_force(std::span<const PosedPrimitive> primitives, const Vec3& origin, const Vec3& direction,
+                          double max_range) const;
 
   // Terrain height at (x, y) (NaN outside the terrain or without one).
   double terrain_height(double x, double y) const;
