@@ -13,7 +13,8 @@ changes made to a command before it runs are the ones listed in docs/ci.md ("The
                                                               and so is every later command of its
                                                               block: they may read what it writes)
   --seeds N (N > 2) -> --seeds 2; --queries N (N > 50) -> --queries 50; bench kitti -> --frames 3;
-  bench slam without --logs -> --logs mit-csail            (long benches, shortened; the shortest log)
+  bench slam without --logs -> --logs mit-csail; slam3d on a dataset -> --frames 3
+                                                           (long benches, shortened; the shortest log)
   a server (view without --export)                         -> --port 0, the page fetched, then Ctrl-C
   sim --live / --live-wait                                 -> --port 0; with --live-wait a viewer
                                                               connects to /events
@@ -126,6 +127,8 @@ class Runner:
             cmd += " --frames 3"
         if " bench slam" in cmd and "--logs" not in cmd:
             cmd += " --logs mit-csail"
+        if re.search(r"\bslam3d (\$DATA|\S*datasets)/", cmd) and "--frames" not in cmd:
+            cmd += " --frames 3"
         return cmd
 
     def make_options(self):
