@@ -123,12 +123,11 @@ class Runner:
             cmd += " BUILD=" + shlex.quote(self.build) + self.make_options()
         cmd = re.sub(r"--seeds (\d+)", lambda m: "--seeds " + str(min(int(m.group(1)), 2)), cmd)
         cmd = re.sub(r"--queries (\d+)", lambda m: "--queries " + str(min(int(m.group(1)), 50)), cmd)
-        if " bench kitti" in cmd and "--frames" not in cmd:
+        lidar_dataset_run = " bench kitti" in cmd or re.search(r"\bslam3d (\$DATA|\S*datasets)/", cmd)
+        if lidar_dataset_run and "--frames" not in cmd:
             cmd += " --frames 3"
         if " bench slam" in cmd and "--logs" not in cmd:
             cmd += " --logs mit-csail"
-        if re.search(r"\bslam3d (\$DATA|\S*datasets)/", cmd) and "--frames" not in cmd:
-            cmd += " --frames 3"
         return cmd
 
     def make_options(self):
