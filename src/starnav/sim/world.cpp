@@ -118,10 +118,6 @@ void World::cast_many(const Vec3& origin, std::span<const Vec3> directions, doub
     hits[i] = cast_with(moving.get(), origin, directions[i], max_range, time);
 }
 
-RayHit World::cast_brute_force(const Vec3& origin, const Vec3& dir, double max_range, double time) const {
-  return cast_brute_force(primitives_at(time), origin, dir, max_range);
-}
-
 RayHit World::cast_brute_force(std::span<const PosedPrimitive> primitives, const Vec3& origin, const Vec3& dir,
                                double max_range) const {
   RayHit out;

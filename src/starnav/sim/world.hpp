@@ -42,10 +42,8 @@ class World final : public RayCaster {
   RayHit cast(const Vec3& origin, const Vec3& direction, double max_range, double time) const override;
   void cast_many(const Vec3& origin, std::span<const Vec3> directions, double max_range, double time,
                  std::span<RayHit> hits) const override;
-  // The same answer by testing every primitive that exists at `time` (reference for tests).
-  RayHit cast_brute_force(const Vec3& origin, const Vec3& direction, double max_range, double time) const;
-  // The same against `primitives`, which must be primitives_at(time): a caller casting many rays at
-  // one time poses the obstacles once.
+  // The same answer by testing every primitive in `primitives_at(time)`, given as `primitives`
+  // (reference for tests; a caller casting many rays at one time poses the obstacles once).
   RayHit cast_brute_force(std::span<const PosedPrimitive> primitives, const Vec3& origin, const Vec3& direction,
                           double max_range) const;
 
