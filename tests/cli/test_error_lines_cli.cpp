@@ -164,18 +164,9 @@ TEST(ErrorLinesCli, ConvertingToAFormatThatLosesInformationWarns) {
   EXPECT_EQ(back.err, "");
 }
 
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__has_feature)
-#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
-#elif defined(__has_feature)
-#if !__has_feature(address_sanitizer)
-#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
-#endif
-#endif
 
 TEST(ErrorLinesCli, RunningOutOfMemoryNamesTheFileBeingRead) {
-#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
-  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
-#else
+  if (test::kUnderAddressSanitizer) GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
   test::ScratchDir dir;
   // 8000 x 8000 cells: 64 MB of text, which with its cells is more than a 100 MB address space.
   {
@@ -192,7 +183,6 @@ TEST(ErrorLinesCli, RunningOutOfMemoryNamesTheFileBeingRead) {
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) GTEST_SKIP() << "the map fitted under the limit here";
   EXPECT_EQ(WEXITSTATUS(status), 2) << err;
   EXPECT_EQ(err, "starnav: error: " + dir.file("big.map") + ": out of memory while reading it\n");
-#endif
 }
 
 // A --set that the command would override, or a key given twice, is refused: no setting is

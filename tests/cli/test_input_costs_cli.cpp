@@ -17,13 +17,6 @@
 namespace starnav {
 namespace {
 
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__has_feature)
-#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
-#elif defined(__has_feature)
-#if !__has_feature(address_sanitizer)
-#define STARNAV_TEST_MEMORY_LIMIT_WORKS 1
-#endif
-#endif
 
 struct CostCase {
   std::vector<std::string> args;
@@ -71,9 +64,7 @@ std::string png_head(std::uint32_t width, std::uint32_t height) {
 }
 
 TEST(InputCostsCli, AFileIsJudgedByItsHeadAndSizeBeforeItIsRead) {
-#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
-  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
-#else
+  if (test::kUnderAddressSanitizer) GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
   test::ScratchDir dir;
   const std::uint64_t gib3 = std::uint64_t{3} << 30;
   write_sparse(dir.file("junk.map"), "", gib3);
@@ -107,13 +98,10 @@ TEST(InputCostsCli, AFileIsJudgedByItsHeadAndSizeBeforeItIsRead) {
        dir.file("relations.txt") + ": byte 37 is a NUL: binary data, not a relation file"},
   };
   expect_refused_within(cases, 200 * 1024, dir);
-#endif
 }
 
 TEST(InputCostsCli, LargeYamlIsRefusedBeforeItIsBuiltByEveryReader) {
-#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
-  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
-#else
+  if (test::kUnderAddressSanitizer) GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
   test::ScratchDir dir;
   // 300,000 goals (900,000 nodes) in 2.7 MB: under the size limit, over the node limit.
   std::string goals = "navigation:\n  goals:\n";
@@ -126,15 +114,12 @@ TEST(InputCostsCli, LargeYamlIsRefusedBeforeItIsBuiltByEveryReader) {
       {{"map", "info", dir.file("long.yaml")}, dir.file("long.yaml") + ": is 5242894 bytes, more than the 4194304 read at most"},
   };
   expect_refused_within(cases, 300 * 1024, dir);
-#endif
 }
 
 // Parameters inside their own ranges whose product is the cost: refused naming them, before the
 // window is built.
 TEST(InputCostsCli, ParameterProductsAreBoundedByWhatTheyCost) {
-#ifndef STARNAV_TEST_MEMORY_LIMIT_WORKS
-  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
-#else
+  if (test::kUnderAddressSanitizer) GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
   test::ScratchDir dir;
   std::string log;
   for (int i = 1; i <= 3; ++i) log += "FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 " + std::to_string(i) + ".0 host 0\n";
@@ -159,7 +144,6 @@ TEST(InputCostsCli, ParameterProductsAreBoundedByWhatTheyCost) {
        "400001 cells, more than the 67108864"},
   };
   expect_refused_within(cases, 1024 * 1024, dir);
-#endif
 }
 
 }  // namespace

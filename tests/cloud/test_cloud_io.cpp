@@ -165,13 +165,7 @@ TEST(CloudIo, MalformedFilesNameTheirField) {
 // limit, 800 MB; sparse on disk), and must be refused with its own head's error (1: the reader
 // returned, 2: another error, 3: out of memory: read first).
 TEST(CloudIo, FilesAreJudgedByTheirHeadAndSizeBeforeTheyAreRead) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-  GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
-#endif
-#endif
+  if (test::kUnderAddressSanitizer) GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
   test::ScratchDir dir;
   const std::uint64_t gib3 = std::uint64_t{3} << 30;
   const std::string pcd10 = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 10\nHEIGHT 1\nPOINTS 10\n";

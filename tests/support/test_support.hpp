@@ -68,6 +68,15 @@ inline bool long_tests() {
 }
 inline int scaled(int n) { return long_tests() ? n * 10 : n; }
 
+// Whether this test process runs with AddressSanitizer's runtime (the sanitizer tree). The tests' own
+// code there is compiled without ASan's instrumentation (the library keeps it), so the compiler's
+// __has_feature(address_sanitizer) cannot tell; the build says so instead.
+#ifdef STARNAV_TESTS_UNDER_ASAN
+inline constexpr bool kUnderAddressSanitizer = true;
+#else
+inline constexpr bool kUnderAddressSanitizer = false;
+#endif
+
 // Whether this run must read GeoTIFF: starnav built with its GDAL plugin, and the plugin not turned
 // off with STARNAV_GDAL_PLUGIN=none (the no-GDAL stage of docs/ci.md runs the tests that way).
 inline bool expect_geotiff() {

@@ -72,26 +72,12 @@ class LocalCluster {
   std::string old_conf_;
 };
 
-// Whether this test binary runs under AddressSanitizer (the sanitizer tree).
-constexpr bool kUnderAddressSanitizer =
-#if defined(__SANITIZE_ADDRESS__)
-    true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-    true;
-#else
-    false;
-#endif
-#else
-    false;
-#endif
-
 TEST(SweepSlurmCluster, PlanQueriesOnARealClusterGiveTheLocalTable) {
   // The end-to-end run is an integration test of processes (munge, slurmctld, slurmd, sbatch and
   // starnav under them), run by make test; under the sanitizers' run of the whole suite one array
   // job once exited 2 and could not be reproduced alone or under CPU load: the sanitizer tree
   // keeps the sweep's own tests and leaves this one to the Release tree.
-  if (kUnderAddressSanitizer) GTEST_SKIP() << "the real-cluster run is make test's (Release tree): skipped under the sanitizers";
+  if (test::kUnderAddressSanitizer) GTEST_SKIP() << "the real-cluster run is make test's (Release tree): skipped under the sanitizers";
   for (const char* p : {"munged", "mungekey", "slurmctld", "slurmd", "sbatch", "squeue", "scontrol", "sinfo"})
     if (!on_path(p))
       GTEST_SKIP() << p << " not found: the Slurm end-to-end test needs Debian's slurm-wlm and munge (scripts/install-deps.sh ci): skipped";
