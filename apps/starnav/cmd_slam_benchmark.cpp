@@ -2,7 +2,8 @@
 // "Large buildings"): generated building floors with a route through them, and relation files
 // made from a simulated log's truth by the Freiburg benchmark's rule.
 //
-//   starnav slam make-benchmark --kind grid|ladder|courtyard --seed S --out DIR [--length-km L] [--force] [--json]
+//   starnav slam make-benchmark --kind grid|ladder|courtyard --seed S --out DIR [--length-km L] [--speed V] [--scan-rate HZ]
+//                          [--wheel-scale-error PCT] [--force] [--json]
 //   starnav slam relations LOG --out FILE [--key-distance M] [--loop-distance M] [--loop-travel M] [--loop-every N] [--force]
 #include <cmath>
 #include <filesystem>
@@ -35,6 +36,7 @@ struct MakeBenchmarkOptions {
   double length_km = 3.0;
   double speed_mps = 0.6;
   double scan_rate_hz = 5.0;
+  double wheel_scale_error_pct = 0.5;
   std::string out;
   bool force = false, json = false;
 };
@@ -46,6 +48,7 @@ void run_make_benchmark(const MakeBenchmarkOptions& o, Context& ctx) {
   if (!(o.length_km > 0.0 && o.length_km <= 100.0)) throw Error("must be in (0, 100] km", {}, 0, "--length-km");
   if (!(o.speed_mps > 0.0 && o.speed_mps <= 0.95)) throw Error("must be in (0, 0.95] m/s (the robot's top speed is 0.99 m/s)", {}, 0, "--speed");
   if (!(o.scan_rate_hz > 0.0 && o.scan_rate_hz <= 50.0)) throw Error("must be in (0, 50] Hz (the LMS151's rate)", {}, 0, "--scan-rate");
+  if (!(o.wheel_scale_error_pct >= 0.0 && o.wheel_scale_error_pct <= 10.0)) throw Error("must be in [0, 10] %", {}, 0, "--wheel-scale-error");
   const std::string name = std::string("building_") + building_kind_name(b.kind) + "_" + std::to_string(o.seed);
   const fs::path dir(o.out);
   if (fs::exists(dir) && !fs::is_directory(dir)) throw Error("is not a directory", o.out, 0, "--out");
@@ -60,6 +63,7 @@ void run_make_benchmark(const MakeBenchmarkOptions& o, Context& ctx) {
   s.seed = o.seed;
   s.speed_mps = o.speed_mps;
   s.scan_rate_hz = o.scan_rate_hz;
+  s.wheel_scale_error = o.wheel_scale_error_pct / 100.0;
   const OutputFolder out_folder(o.out, "--out");
   const OutputListing listing(o.out);
   write_ros_map(floor.map, map_yaml.string());
@@ -76,6 +80,7 @@ void run_make_benchmark(const MakeBenchmarkOptions& o, Context& ctx) {
     j["rooms"] = floor.rooms.size();
     j["room_size_m"] = {floor.room_size_m.x(), floor.room_size_m.y()};
     j["corridor_width_m"] = floor.corridor_width_m;
+    j["wheel_scale_error"] = building_wheel_scale_errors(s);
     j["waypoints"] = route.waypoints.size();
     j["laps"] = route.laps;
     j["route_m"] = lap * route.laps;
@@ -139,6 +144,8 @@ void register_slam_benchmark_commands(CLI::App* slam, Context& ctx) {
   make->add_option("--length-km", m->length_km, "the route's length: whole laps (rounded up) or, below one lap, its start")->default_str("3");
   make->add_option("--speed", m->speed_mps, "driving speed, m/s")->default_str("0.6");
   make->add_option("--scan-rate", m->scan_rate_hz, "the laser's logged rate, Hz")->default_str("5");
+  make->add_option("--wheel-scale-error", m->wheel_scale_error_pct,
+                   "each wheel's systematic count error, drawn from the seed within +- this, %")->default_str("0.5");
   make->add_option("--out", m->out, "folder for NAME.yaml (the scenario) and NAME_map.yaml + .pgm")->required();
   make->add_flag("--force", m->force, "overwrite");
   make->add_flag("--json", m->json, "print the summary as one JSON object");

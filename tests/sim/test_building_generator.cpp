@@ -10,7 +10,10 @@
 #include <vector>
 
 #include "starnav/core/error.hpp"
+#include "starnav/io/ros_map.hpp"
 #include "starnav/sim/building_generator.hpp"
+#include "starnav/sim/scenario.hpp"
+#include "support/test_support.hpp"
 
 namespace starnav {
 namespace {
@@ -73,6 +76,47 @@ TEST(BuildingGenerator, SameSeedSameBytesOtherSeedOtherBuilding) {
     EXPECT_FALSE(generate_building(o).map == a.map) << building_kind_name(k);
   }
   EXPECT_THROW(parse_building_kind("castle", "--kind"), Error);
+}
+
+// Each wheel's systematic error is drawn within the bound, both signs occur and fill the range
+// over many seeds, the layout does not depend on it, and the scenario file carries exactly the
+// drawn values to the simulator's encoders (read back through the scenario loader).
+TEST(BuildingGenerator, WheelScaleErrorsAreDrawnWithinTheBoundAndReachTheEncoders) {
+  double lowest = 1.0, highest = -1.0;
+  int differing = 0;
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    BuildingScenarioOptions o{"x", "x_map.yaml", seed, 0.6, 5.0, 0.005};
+    const std::vector<double> e = building_wheel_scale_errors(o);
+    ASSERT_EQ(e.size(), 2u);
+    for (double v : e) {
+      EXPECT_LE(std::abs(v), 0.005);
+      lowest = std::min(lowest, v), highest = std::max(highest, v);
+    }
+    if (e[0] != e[1]) ++differing;
+    EXPECT_EQ(e, building_wheel_scale_errors(o));
+    o.wheel_scale_error = 0.0;
+    EXPECT_EQ(building_wheel_scale_errors(o), (std::vector<double>{0.0, 0.0}));
+  }
+  EXPECT_LT(lowest, -0.0045);
+  EXPECT_GT(highest, 0.0045);
+  EXPECT_EQ(differing, 200);
+  EXPECT_THROW(building_wheel_scale_errors({"x", "x_map.yaml", 1, 0.6, 5.0, -0.001}), Error);
+
+  BuildingOptions b;
+  b.kind = BuildingKind::Courtyard;
+  b.seed = 3;
+  const BuildingFloor floor = generate_building(b);
+  const BuildingRoute route = building_route(floor, 400.0);
+  test::ScratchDir dir;
+  write_ros_map(floor.map, dir.file("x_map.yaml"));
+  const BuildingScenarioOptions o{"x", "x_map.yaml", 3, 0.6, 5.0, 0.004};
+  test::write_text(dir.file("x.yaml"), building_scenario_yaml(floor, route, o));
+  const ScenarioSpec spec = load_scenario(dir.file("x.yaml"));
+  ASSERT_TRUE(spec.encoders.has_value());
+  const std::vector<double> drawn = building_wheel_scale_errors(o);
+  ASSERT_EQ(spec.encoders->config.scale_error.size(), 2u);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(spec.encoders->config.scale_error[i], drawn[i], 5e-7);
+  EXPECT_NEAR(spec.encoders->config.slip_sigma, 0.05, 1e-12);
 }
 
 TEST(BuildingGenerator, SizeLoopsRoomsAndRouteHoldForEveryKind) {

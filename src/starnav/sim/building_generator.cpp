@@ -252,6 +252,15 @@ BuildingRoute building_route(const BuildingFloor& floor, double length_m) {
   return r;
 }
 
+std::vector<double> building_wheel_scale_errors(const BuildingScenarioOptions& o) {
+  if (!(o.wheel_scale_error >= 0.0 && o.wheel_scale_error <= 0.5)) throw Error("must be in [0, 0.5]", {}, 0, "wheel_scale_error");
+  // A stream of its own, so the layout drawn from the same seed does not move with it.
+  Rng rng = Rng(o.seed).fork(0x5CA1E);
+  const double left = rng.uniform(-o.wheel_scale_error, o.wheel_scale_error);
+  const double right = rng.uniform(-o.wheel_scale_error, o.wheel_scale_error);
+  return {left, right};
+}
+
 std::string building_scenario_yaml(const BuildingFloor& f, const BuildingRoute& route, const BuildingScenarioOptions& o) {
   std::ostringstream y;
   const double lap = route_length_m(route.waypoints);
@@ -275,7 +284,9 @@ std::string building_scenario_yaml(const BuildingFloor& f, const BuildingRoute& 
   // benchmark log's rate.
   y << "sensors:\n  lidar:\n    preset: sick_lms151\n    rate_hz: " << format_fixed(o.scan_rate_hz, 3)
     << "\n    mount: {x_m: 0.12, y_m: 0.0, z_m: 0.35}\n    noise_sigma_m: 0.012\n";
-  y << "  encoders:\n    rate_hz: 50.0\n    ticks_per_rev: 2048\n    slip_sigma: 0.05\n  bumper: true\n\n";
+  const std::vector<double> scale = building_wheel_scale_errors(o);
+  y << "  encoders:\n    rate_hz: 50.0\n    ticks_per_rev: 2048\n    slip_sigma: 0.05\n    scale_error: [" << format_fixed(scale[0], 6)
+    << ", " << format_fixed(scale[1], 6) << "]\n  bumper: true\n\n";
   y << "sim:\n  dt_s: 0.01\n  seed: " << o.seed << "\n  duration_s: " << format_fixed(std::ceil(3.0 * driven / o.speed_mps + 600.0), 0) << "\n\n";
   y << "route:\n  speed_mps: " << format_fixed(o.speed_mps, 3) << "\n  laps: " << route.laps << "\n  clearance_m: 0.4\n  waypoints_m:\n";
   for (const Vec2& p : route.waypoints) y << "    - [" << format_fixed(p.x(), 4) << ", " << format_fixed(p.y(), 4) << "]\n";

@@ -81,14 +81,21 @@ BuildingRoute building_route(const BuildingFloor& floor, double length_m);
 
 // A scenario (docs/scenarios.md) that drives `route` through the floor whose map_server files
 // `map_file` names (relative to the scenario): a differential robot like a Pioneer with a SICK
-// LMS151 logged at `scan_rate_hz`, wheel encoders slipping, at `speed_mps`.
+// LMS151 logged at `scan_rate_hz`, wheel encoders slipping, at `speed_mps`. Each wheel's encoder
+// also counts a fixed fraction off its travel (a tyre radius not quite the nominal one), drawn
+// from the seed uniformly within +-`wheel_scale_error` (0.005: 0.5 %): a systematic drift the
+// zero-mean slip does not have, which bends every straight corridor the same way.
 struct BuildingScenarioOptions {
   std::string name;
   std::string map_file;
   std::uint64_t seed = 0;
   double speed_mps = 0.6;
   double scan_rate_hz = 5.0;
+  double wheel_scale_error = 0.005;
 };
+
+// The two wheels' scale errors (left, right) that building_scenario_yaml writes for these options.
+std::vector<double> building_wheel_scale_errors(const BuildingScenarioOptions& options);
 std::string building_scenario_yaml(const BuildingFloor& floor, const BuildingRoute& route, const BuildingScenarioOptions& options);
 
 }  // namespace starnav
