@@ -59,8 +59,13 @@ TEST(CliExportMcap, ARunReadsBackWithEveryMessageDecodingAgainstItsSchema) {
 TEST(CliExportMcap, ANavigationRunWithMovingObstaclesPlansAndMaps) {
   if (!test::have_ros2_tools()) GTEST_SKIP() << "needs Node.js and tools/ros2-convert's npm packages";
   const test::ScratchDir dir;
-  const std::string run = dir.file("e4");
-  const test::CliResult sim = test::run_cli({"sim", test::scenario_path("e4_dynamic_dead_end.yaml"), "--out", run, "--quiet"});
+  // The small navigation world with a box that appears on the way (E4's kind of obstacle, in a run
+  // of a second instead of a minute).
+  test::write_text(dir.file("nav.yaml"),
+                   test::small_nav_scenario(test::kSmallNavWall +
+                                            "    - {name: late, kind: box, position_m: [4.5, 3.2], size_m: [0.3, 0.3, 0.5], appear_s: 3.0}\n"));
+  const std::string run = dir.file("nav");
+  const test::CliResult sim = test::run_cli({"sim", dir.file("nav.yaml"), "--out", run, "--quiet"});
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   for (const bool ros2 : {false, true}) {
     const std::string out = dir.file(ros2 ? "nav-ros2.mcap" : "nav.mcap");

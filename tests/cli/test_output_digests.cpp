@@ -66,6 +66,9 @@ TEST(OutputDigests, E1RecordsAndPicturesAreUnchanged) {
 }
 
 TEST(OutputDigests, E4RecordsAndPicturesAreUnchanged) {
+  // Under the sanitizers E4's minute of navigation runs once, in NavigationRun's test;
+  // its bytes are this test's in the Release tree.
+  if (test::kUnderAddressSanitizer) GTEST_SKIP() << "E4 runs under the sanitizers in NavigationRun.E4LeavesTheDeadEndAndReachesTheGoal";
   expect_outputs_match("e4_dynamic_dead_end.yaml", "e4.sha256");
 }
 
