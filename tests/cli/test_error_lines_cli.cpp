@@ -164,7 +164,6 @@ TEST(ErrorLinesCli, ConvertingToAFormatThatLosesInformationWarns) {
   EXPECT_EQ(back.err, "");
 }
 
-
 TEST(ErrorLinesCli, RunningOutOfMemoryNamesTheFileBeingRead) {
   if (test::kUnderAddressSanitizer) GTEST_SKIP() << "AddressSanitizer reserves more address space than a memory limit allows";
   test::ScratchDir dir;

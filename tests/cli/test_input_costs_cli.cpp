@@ -17,7 +17,6 @@
 namespace starnav {
 namespace {
 
-
 struct CostCase {
   std::vector<std::string> args;
   std::string expected;  // a part of the one error line

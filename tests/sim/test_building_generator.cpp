@@ -79,7 +79,7 @@ TEST(BuildingGenerator, SameSeedSameBytesOtherSeedOtherBuilding) {
 }
 
 // Each wheel's systematic error is drawn within the bound, both signs occur and fill the range
-// over many seeds, the layout does not depend on it, and the scenario file carries exactly the
+// over many seeds, the same seed draws the same values, and the scenario file carries exactly the
 // drawn values to the simulator's encoders (read back through the scenario loader).
 TEST(BuildingGenerator, WheelScaleErrorsAreDrawnWithinTheBoundAndReachTheEncoders) {
   double lowest = 1.0, highest = -1.0;

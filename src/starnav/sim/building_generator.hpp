@@ -93,9 +93,9 @@ struct BuildingScenarioOptions {
   double scan_rate_hz = 5.0;
   double wheel_scale_error = 0.005;
 };
+std::string building_scenario_yaml(const BuildingFloor& floor, const BuildingRoute& route, const BuildingScenarioOptions& options);
 
 // The two wheels' scale errors (left, right) that building_scenario_yaml writes for these options.
 std::vector<double> building_wheel_scale_errors(const BuildingScenarioOptions& options);
-std::string building_scenario_yaml(const BuildingFloor& floor, const BuildingRoute& route, const BuildingScenarioOptions& options);
 
 }  // namespace starnav
