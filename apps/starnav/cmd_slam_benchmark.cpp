@@ -37,6 +37,7 @@ struct MakeBenchmarkOptions {
   double speed_mps = 0.6;
   double scan_rate_hz = 5.0;
   double wheel_scale_error_pct = 0.5;
+  double shut_doors = 0.2;
   std::string out;
   bool force = false, json = false;
 };
@@ -45,10 +46,12 @@ void run_make_benchmark(const MakeBenchmarkOptions& o, Context& ctx) {
   BuildingOptions b;
   b.kind = parse_building_kind(o.kind, "--kind");
   b.seed = o.seed;
+  b.shut_door_probability = o.shut_doors;
   if (!(o.length_km > 0.0 && o.length_km <= 100.0)) throw Error("must be in (0, 100] km", {}, 0, "--length-km");
   if (!(o.speed_mps > 0.0 && o.speed_mps <= 0.95)) throw Error("must be in (0, 0.95] m/s (the robot's top speed is 0.99 m/s)", {}, 0, "--speed");
   if (!(o.scan_rate_hz > 0.0 && o.scan_rate_hz <= 50.0)) throw Error("must be in (0, 50] Hz (the LMS151's rate)", {}, 0, "--scan-rate");
   if (!(o.wheel_scale_error_pct >= 0.0 && o.wheel_scale_error_pct <= 10.0)) throw Error("must be in [0, 10] %", {}, 0, "--wheel-scale-error");
+  if (!(o.shut_doors >= 0.0 && o.shut_doors <= 1.0)) throw Error("must be in [0, 1]", {}, 0, "--shut-doors");
   const std::string name = std::string("building_") + building_kind_name(b.kind) + "_" + std::to_string(o.seed);
   const fs::path dir(o.out);
   if (fs::exists(dir) && !fs::is_directory(dir)) throw Error("is not a directory", o.out, 0, "--out");
@@ -146,6 +149,7 @@ void register_slam_benchmark_commands(CLI::App* slam, Context& ctx) {
   make->add_option("--scan-rate", m->scan_rate_hz, "the laser's logged rate, Hz")->default_str("5");
   make->add_option("--wheel-scale-error", m->wheel_scale_error_pct,
                    "each wheel's systematic count error, drawn from the seed within +- this, %")->default_str("0.5");
+  make->add_option("--shut-doors", m->shut_doors, "each room's chance that its door is wall (1: corridors without openings, featureless along their length)")->default_str("0.2");
   make->add_option("--out", m->out, "folder for NAME.yaml (the scenario) and NAME_map.yaml + .pgm")->required();
   make->add_flag("--force", m->force, "overwrite");
   make->add_flag("--json", m->json, "print the summary as one JSON object");

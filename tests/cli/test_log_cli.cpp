@@ -173,6 +173,9 @@ TEST(CliSlamBenchmark, AShortRouteOfAGeneratedBuildingReadsBackAndIsBenchmarked)
   EXPECT_EQ(m["loops"], 6);
   EXPECT_EQ(test::run_cli({"slam", "make-benchmark", "--kind", "ladder", "--seed", "3", "--out", dir.file("b")}).exit_code, 2);  // exists
   EXPECT_EQ(test::run_cli({"slam", "make-benchmark", "--kind", "castle", "--out", dir.file("c")}).exit_code, 2);
+  const test::CliResult shut = test::run_cli({"slam", "make-benchmark", "--shut-doors", "1.5", "--out", dir.file("c")});
+  EXPECT_EQ(shut.exit_code, 2);
+  EXPECT_NE(shut.err.find("--shut-doors"), std::string::npos) << shut.err;
   const std::string run = dir.file("b/building_ladder_3");
   const test::CliResult sim = test::run_cli({"sim", dir.file("b/building_ladder_3.yaml"), "--out", run, "--duration", "20", "--quiet"});
   ASSERT_EQ(sim.exit_code, 0) << sim.err;

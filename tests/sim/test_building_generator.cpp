@@ -190,5 +190,42 @@ TEST(BuildingGenerator, SizeLoopsRoomsAndRouteHoldForEveryKind) {
   for (double l : lap_lengths) EXPECT_GE(l, 1000.0);
 }
 
+// The shut-door chance: at 1 every room is cut off from the corridors (the corridors' walls run
+// unbroken, nothing along them for a laser to fix the position by), at 0 every room joins them;
+// the layout (blocks, corridors, rooms) is the seed's whatever the chance, and the route stays on
+// the corridors' free space.
+TEST(BuildingGenerator, ShutDoorChanceCutsRoomsOffAndKeepsTheLayout) {
+  for (BuildingKind k : kKinds) {
+    SCOPED_TRACE(building_kind_name(k));
+    BuildingOptions o;
+    o.kind = k;
+    o.seed = 5;
+    const BuildingFloor usual = generate_building(o);
+    for (double chance : {0.0, 1.0}) {
+      o.shut_door_probability = chance;
+      const BuildingFloor f = generate_building(o);
+      ASSERT_EQ(f.rooms.size(), usual.rooms.size());
+      EXPECT_EQ(f.corridor_x, usual.corridor_x);
+      EXPECT_EQ(f.corridor_y, usual.corridor_y);
+      ASSERT_EQ(f.blocks.size(), usual.blocks.size());
+      const std::vector<int> free_label = components(f.map, false, nullptr);
+      const int corridors = label_at(f.map, free_label, f.start.translation());
+      for (std::size_t i = 0; i < f.rooms.size(); ++i) {
+        const BuildingRoom& r = f.rooms[i];
+        EXPECT_EQ(r.interior.x0, usual.rooms[i].interior.x0);
+        EXPECT_EQ(r.open, chance == 0.0);
+        const Vec2 centre((r.interior.x0 + r.interior.x1) / 2, (r.interior.y0 + r.interior.y1) / 2);
+        EXPECT_EQ(label_at(f.map, free_label, centre) == corridors, chance == 0.0);
+      }
+      for (const Vec2& p : f.route) EXPECT_EQ(label_at(f.map, free_label, p), corridors) << p.transpose();
+    }
+  }
+  BuildingOptions bad;
+  for (double chance : {-0.1, 1.5, std::nan("")}) {
+    bad.shut_door_probability = chance;
+    EXPECT_THROW(generate_building(bad), Error);
+  }
+}
+
 }  // namespace
 }  // namespace starnav

@@ -106,6 +106,8 @@ BuildingFloor generate_building(const BuildingOptions& o) {
   if (!(o.resolution_m > 0.0) || o.resolution_m > 0.5) throw Error("must be in (0, 0.5] m", {}, 0, "resolution_m");
   if (!(o.room_visit_probability >= 0.0 && o.room_visit_probability <= 1.0))
     throw Error("must be in [0, 1]", {}, 0, "room_visit_probability");
+  if (!(o.shut_door_probability >= 0.0 && o.shut_door_probability <= 1.0))
+    throw Error("must be in [0, 1]", {}, 0, "shut_door_probability");
   Rng rng(o.seed);
   const KindLayout layout = layout_of(o.kind);
   BuildingFloor f;
@@ -164,7 +166,7 @@ BuildingFloor generate_building(const BuildingOptions& o) {
   line_rooms({xa, ya}, Vec2(0, 1), Vec2(-1, 0), yb - ya, shape, f.rooms);
   line_rooms({xb, ya}, Vec2(0, 1), Vec2(1, 0), yb - ya, shape, f.rooms);
   for (BuildingRoom& room : f.rooms) {
-    room.open = !rng.bernoulli(0.2);
+    room.open = !rng.bernoulli(o.shut_door_probability);
     carve.free(room.interior);
     if (room.open) carve.free(room.door);
   }

@@ -34,6 +34,7 @@ struct BuildingOptions {
   std::uint64_t seed = 0;
   double resolution_m = 0.05;
   double room_visit_probability = 0.1;  // an open room beside the route is driven into
+  double shut_door_probability = 0.2;   // a room's door is wall (flush with the corridor's)
 };
 
 struct AxisBox {

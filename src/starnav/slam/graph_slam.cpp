@@ -192,9 +192,11 @@ void GraphSlam::add_to_submaps(std::size_t n) {
 }
 
 void GraphSlam::search_closures(std::size_t n) {
-  const bool loop_due = n % static_cast<std::size_t>(c_.loop_every_nodes) == 0;
-  const bool global_due = c_.global_every_nodes > 0 && n % static_cast<std::size_t>(c_.global_every_nodes) == 0;
+  loop_owed_ = loop_owed_ || n % static_cast<std::size_t>(c_.loop_every_nodes) == 0;
+  global_owed_ = global_owed_ || (c_.global_every_nodes > 0 && n % static_cast<std::size_t>(c_.global_every_nodes) == 0);
+  const bool loop_due = loop_owed_, global_due = global_owed_;
   if ((!loop_due && !global_due) || nodes_[n].points.size() < 10 || nodes_[n].constraint < c_.loop_min_constraint) return;
+  loop_owed_ = global_owed_ = false;
   const Vec2 at = nodes_[n].global.translation();
   // Submaps that ended at least a submap's length of nodes ago: nearer ones are tied by the local SLAM.
   std::vector<std::pair<std::size_t, double>> eligible;

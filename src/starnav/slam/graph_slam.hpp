@@ -127,6 +127,9 @@ class GraphSlam final : public Slam {
   std::vector<SlamGraphEdge> graph_edges_;
   std::list<CachedField> cache_;  // most recent first
   std::size_t closures_since_optimise_ = 0, nodes_since_optimise_ = 0;
+  // A search that fell due at a node too poorly constrained to search from is owed to the next
+  // node that is constrained enough (featureless corridors would otherwise skip it).
+  bool loop_owed_ = false, global_owed_ = false;
   GraphSlamStats stats_;
 };
 
