@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "room_fixture.hpp"
@@ -91,6 +92,99 @@ TEST(BranchAndBound, FindsTheBestLatticePoseAnExhaustiveSearchFinds) {
     EXPECT_LT((found.transform.translation() - truth.translation()).norm(), 0.08) << trial;
     // A floor above the best score finds nothing.
     EXPECT_FALSE(m.match_to_field(deep, scan, Pose2(), MatchWindow{0.8, 0.35, std::min(1.0, best + 0.05)}).converged);
+  }
+}
+
+// A search falls due every `every` nodes and is owed until a searchable node comes: checked
+// against the rule written out (a node searches when it is searchable and a due node lies at or
+// before it with no search since) over random runs of searchable and unsearchable nodes.
+TEST(ClosureSchedule, ADueSearchAtAnUnsearchableNodeIsOwedToTheNextSearchableOne) {
+  ClosureSchedule hand(4);
+  std::vector<std::size_t> searched;
+  for (std::size_t n = 0; n < 13; ++n)
+    if (hand.due(n, n != 4 && n != 5 && n != 7)) searched.push_back(n);
+  EXPECT_EQ(searched, (std::vector<std::size_t>{0, 6, 8, 12}));
+  ClosureSchedule never(0);
+  for (std::size_t n = 0; n < 50; ++n) EXPECT_FALSE(never.due(n, true));
+  Rng rng(41);
+  for (int every : {1, 2, 3, 7, 100}) {
+    ClosureSchedule schedule(every);
+    std::optional<std::size_t> last_due, last_search;
+    for (std::size_t n = 0; n < 2000; ++n) {
+      const bool searchable = rng.bernoulli(0.3);
+      if (n % static_cast<std::size_t>(every) == 0) last_due = n;
+      const bool expected = searchable && last_due && (!last_search || *last_search < *last_due);
+      ASSERT_EQ(schedule.due(n, searchable), expected) << every << " " << n;
+      if (expected) last_search = n;
+    }
+  }
+}
+
+// A T junction: a corridor 2 m wide along x, a side corridor leaving it at x = 0 towards +y.
+std::vector<test::Segment> t_junction_world() {
+  return {{{-30, -1}, {30, -1}}, {{-30, 1}, {-1, 1}}, {{1, 1}, {30, 1}}, {{-1, 1}, {-1, 15}},
+          {{1, 1}, {1, 15}},     {{-30, -1}, {-30, 1}}, {{30, -1}, {30, 1}}};
+}
+
+// Sensor-frame points of a scan from `pose` out to `range_m`, in beam order.
+std::vector<Vec2> t_junction_scan(const Pose2& pose, double range_m) {
+  const std::vector<test::Segment> world = t_junction_world();
+  const int beams = 720;
+  const std::vector<float> r = test::ranges_from(pose, beams, 100.0f, world);
+  std::vector<Vec2> out;
+  for (int i = 0; i < beams; ++i) {
+    const double a = -kPi + 2 * kPi * i / beams;
+    if (r[static_cast<std::size_t>(i)] <= range_m) out.push_back(static_cast<double>(r[static_cast<std::size_t>(i)]) * Vec2(std::cos(a), std::sin(a)));
+  }
+  return out;
+}
+
+// A submap of scans from `poses`, in the first pose's frame.
+std::vector<Vec2> t_junction_submap(const std::vector<Pose2>& poses, double range_m) {
+  std::vector<Vec2> out;
+  for (const Pose2& p : poses)
+    for (const Vec2& q : t_junction_scan(p, range_m)) out.push_back(poses.front().inverse().compose(p).transform(q));
+  return out;
+}
+
+// The closure check on a symmetric corridor: a scan at the junction placed 16 m down the corridor
+// onto a submap of plain corridor (a planted false closure) lies mostly on the submap's walls, yet
+// what the submap confirms is two parallel walls and is refused; placed at the junction onto a
+// submap that saw the junction it is kept.
+TEST(ClosureCheck, RefusesAFalseClosureAlongASymmetricCorridorAndKeepsTheTrueOne) {
+  const GraphSlamConfig config;
+  const std::vector<Vec2> scan = t_junction_scan(Pose2(0, 0, 0), 10.0);
+  ASSERT_GT(scan_constraint(scan), config.loop_min_constraint);  // the junction pins the scan down
+
+  const std::vector<Vec2> corridor = t_junction_submap({Pose2(-22, 0, 0), Pose2(-20, 0, 0), Pose2(-18, 0, 0), Pose2(-16, 0, 0)}, 6.0);
+  const Pose2 planted(6.0, 0.0, 0.0);  // the junction's scan 16 m down the corridor: x = -16 + 6 in the world = -10
+  const std::vector<Vec2> confirmed_false = overlapping_points(scan, planted, PointNeighbourhood(corridor, config.loop_overlap_radius_m));
+  EXPECT_GT(confirmed_false.size(), scan.size() / 3);  // most of the scan lies on the corridor's walls
+  EXPECT_LT(scan_constraint(confirmed_false), config.loop_min_constraint);
+
+  const std::vector<Vec2> junction = t_junction_submap({Pose2(-4, 0, 0), Pose2(-2, 0, 0), Pose2(0, 0, 0), Pose2(2, 0, 0)}, 6.0);
+  const Pose2 truth(4.0, 0.0, 0.0);  // the scan's pose (0, 0) in the submap's frame, anchored at (-4, 0)
+  const std::vector<Vec2> confirmed_true = overlapping_points(scan, truth, PointNeighbourhood(junction, config.loop_overlap_radius_m));
+  EXPECT_GE(scan_constraint(confirmed_true), config.loop_min_constraint);
+}
+
+// overlapping_points against the pairwise definition over random clouds and poses.
+TEST(ClosureCheck, OverlappingPointsAreThoseWithinTheRadiusOfAReferencePoint) {
+  Rng rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Vec2> scan, reference;
+    for (int i = 0; i < 200; ++i) scan.emplace_back(rng.uniform(-5, 5), rng.uniform(-5, 5));
+    for (int i = 0; i < 300; ++i) reference.emplace_back(rng.uniform(-8, 8), rng.uniform(-8, 8));
+    const Pose2 pose(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-kPi, kPi));
+    const double radius = rng.uniform(0.05, 0.6);
+    std::vector<Vec2> expected;
+    for (const Vec2& p : scan) {
+      const Vec2 q = pose.transform(p);
+      if (std::any_of(reference.begin(), reference.end(), [&](const Vec2& r) { return (r - q).norm() <= radius; })) expected.push_back(p);
+    }
+    const std::vector<Vec2> got = overlapping_points(scan, pose, PointNeighbourhood(reference, radius));
+    ASSERT_EQ(got.size(), expected.size()) << trial;
+    for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], expected[i]);
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <Eigen/Eigenvalues>
 
@@ -34,6 +35,40 @@ double scan_constraint(std::span<const Vec2> points) {
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter / static_cast<double>(n)).eigenvalues()(0);
 }
 
+PointNeighbourhood::PointNeighbourhood(std::span<const Vec2> points, double radius_m) : radius_m_(radius_m) {
+  std::vector<std::pair<std::uint64_t, Vec2>> binned;
+  binned.reserve(points.size());
+  for (const Vec2& p : points) binned.emplace_back(key(cell(p.x()), cell(p.y())), p);
+  std::sort(binned.begin(), binned.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  keys_.reserve(binned.size());
+  points_.reserve(binned.size());
+  for (const auto& [k, p] : binned) keys_.push_back(k), points_.push_back(p);
+}
+
+std::int64_t PointNeighbourhood::cell(double v) const { return static_cast<std::int64_t>(std::floor(v / radius_m_)); }
+
+std::uint64_t PointNeighbourhood::key(std::int64_t cell_x, std::int64_t cell_y) const {
+  return (static_cast<std::uint64_t>(cell_x) << 32) ^ static_cast<std::uint32_t>(cell_y);
+}
+
+bool PointNeighbourhood::near(const Vec2& position) const {
+  const std::int64_t cx = cell(position.x()), cy = cell(position.y());
+  for (std::int64_t dx = -1; dx <= 1; ++dx)
+    for (std::int64_t dy = -1; dy <= 1; ++dy) {
+      const auto [first, last] = std::equal_range(keys_.begin(), keys_.end(), key(cx + dx, cy + dy));
+      for (auto it = first; it != last; ++it)
+        if ((points_[static_cast<std::size_t>(it - keys_.begin())] - position).norm() <= radius_m_) return true;
+    }
+  return false;
+}
+
+std::vector<Vec2> overlapping_points(std::span<const Vec2> scan, const Pose2& pose, const PointNeighbourhood& reference) {
+  std::vector<Vec2> out;
+  for (const Vec2& p : scan)
+    if (reference.near(pose.transform(p))) out.push_back(p);
+  return out;
+}
+
 const ParamTable<GraphSlamConfig>& graph_slam_params() {
   static const ParamTable<GraphSlamConfig> table = [] {
     using C = GraphSlamConfig;
@@ -47,6 +82,8 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
            kPi / 180.0);
     t.real("loop_min_score", &C::loop_min_score, closed(0.0, 1.0), "", "least mean likelihood of a closure");
     t.real("loop_max_range_m", &C::loop_max_range_m, closed(0.1, 1000.0), "m", "scan points used for closures and submaps");
+    t.real("loop_overlap_radius_m", &C::loop_overlap_radius_m, closed(1e-3, 10.0), "m",
+           "a closure's scan point within this of its submap's points is confirmed; the confirmed points must reach loop_min_constraint");
     t.integer("loop_every_nodes", &C::loop_every_nodes, closed(1, 100000), "", "closures are searched on every n-th node");
     t.integer("global_every_nodes", &C::global_every_nodes, closed(0, 100000), "",
               "a wide search (whole circle) on every n-th node that found no closure (0: never)");
@@ -90,6 +127,7 @@ void GraphSlamConfig::validate() const {
   require(std::isfinite(global_window_linear_m) && global_window_linear_m >= 0 && global_window_linear_m <= 100,
           "global_window_linear_m", "must be in [0, 100] m");
   require(loop_min_constraint >= 0 && loop_min_constraint <= 0.5, "loop_min_constraint", "must be in [0, 0.5]");
+  require(std::isfinite(loop_overlap_radius_m) && loop_overlap_radius_m > 0, "loop_overlap_radius_m", "must be > 0");
   require(global_max_submaps >= 1, "global_max_submaps", "must be >= 1");
   require(search_depth >= 0 && search_depth <= 10, "search_depth", "must be in [0, 10]");
   require(optimise_every_nodes >= 1, "optimise_every_nodes", "must be >= 1");
@@ -113,7 +151,8 @@ std::unique_ptr<ScanMatcher> checked(std::unique_ptr<ScanMatcher> matcher) {
 }  // namespace
 
 GraphSlam::GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher> matcher)
-    : c_(config), matcher_(checked(std::move(matcher))), local_(config.local, *matcher_) {
+    : c_(config), matcher_(checked(std::move(matcher))), local_(config.local, *matcher_),
+      loop_schedule_(config.loop_every_nodes), global_schedule_(config.global_every_nodes) {
   c_.validate();
   // Every search this SLAM will run, judged by the matcher before anything is built: the local
   // window on the local map (points out to local.max_range_m), the closures' and the wide search's
@@ -192,11 +231,9 @@ void GraphSlam::add_to_submaps(std::size_t n) {
 }
 
 void GraphSlam::search_closures(std::size_t n) {
-  loop_owed_ = loop_owed_ || n % static_cast<std::size_t>(c_.loop_every_nodes) == 0;
-  global_owed_ = global_owed_ || (c_.global_every_nodes > 0 && n % static_cast<std::size_t>(c_.global_every_nodes) == 0);
-  const bool loop_due = loop_owed_, global_due = global_owed_;
-  if ((!loop_due && !global_due) || nodes_[n].points.size() < 10 || nodes_[n].constraint < c_.loop_min_constraint) return;
-  loop_owed_ = global_owed_ = false;
+  const bool searchable = nodes_[n].points.size() >= 10 && nodes_[n].constraint >= c_.loop_min_constraint;
+  const bool loop_due = loop_schedule_.due(n, searchable), global_due = global_schedule_.due(n, searchable);
+  if (!loop_due && !global_due) return;
   const Vec2 at = nodes_[n].global.translation();
   // Submaps that ended at least a submap's length of nodes ago: nearer ones are tied by the local SLAM.
   std::vector<std::pair<std::size_t, double>> eligible;
@@ -221,13 +258,21 @@ bool GraphSlam::search_submap(std::size_t n, std::size_t s, bool global) {
   const Node& node = nodes_[n];
   const std::size_t anchor = submaps_[s].first;
   if (submaps_[s].points.empty()) return false;  // its nodes saw nothing within loop_max_range_m
-  const ScanReference& field = submap_field(s);
+  const CachedField& cached = submap_field(s);
+  const ScanReference& field = *cached.field;
   const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
   const MatchWindow window = global ? MatchWindow{c_.global_window_linear_m, kPi, c_.global_min_score}
                                     : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score};
   ++(global ? stats_.global_searches : stats_.loop_searches);
   const ScanMatch m = field.match(node.points, guess, window);
   if (!m.converged) return false;
+  // A scan that sees a junction matched onto a submap of the corridor before it scores well
+  // anywhere along the corridor: the part of the scan the submap confirms must itself pin the
+  // position down in every direction.
+  if (scan_constraint(overlapping_points(node.points, m.transform, cached.points)) < c_.loop_min_constraint) {
+    ++stats_.unconstrained_matches;
+    return false;
+  }
   const Pose2 z = m.transform.compose(node.mount.inverse());
   edges_.push_back({anchor, n, z, information(c_.loop_sigma_m, c_.loop_sigma_rad), c_.loop_loss, c_.loop_loss_scale});
   graph_edges_.push_back({anchor, n, global ? SlamEdgeKind::Global : SlamEdgeKind::Loop, z, m.score});
@@ -245,24 +290,25 @@ std::size_t cached_fields_kept(std::span<const std::size_t> bytes_newest_first, 
   return kept;
 }
 
-const ScanReference& GraphSlam::submap_field(std::size_t s) {
+const GraphSlam::CachedField& GraphSlam::submap_field(std::size_t s) {
   for (auto it = cache_.begin(); it != cache_.end(); ++it)
     if (it->submap == s) {
       cache_.splice(cache_.begin(), cache_, it);
-      return *cache_.front().field;
+      return cache_.front();
     }
-  cache_.push_front({s, matcher_->prepare(submaps_[s].points, 0.0, c_.search_depth)});
+  cache_.push_front({s, matcher_->prepare(submaps_[s].points, 0.0, c_.search_depth),
+                     PointNeighbourhood(submaps_[s].points, c_.loop_overlap_radius_m)});
   // At most field_cache fields and kMaxFieldCacheBytes of them (the newest always): an evicted
   // field is built again when asked for, the same.
   std::vector<std::size_t> sizes;
   sizes.reserve(cache_.size());
-  for (const CachedField& f : cache_) sizes.push_back(f.field->bytes());
+  for (const CachedField& f : cache_) sizes.push_back(f.field->bytes() + f.points.bytes());
   const std::size_t kept = cached_fields_kept(sizes, static_cast<std::size_t>(c_.field_cache), kMaxFieldCacheBytes);
   cache_.erase(std::next(cache_.begin(), static_cast<std::ptrdiff_t>(kept)), cache_.end());
   std::size_t bytes = 0;
   for (std::size_t i = 0; i < kept; ++i) bytes += sizes[i];
   stats_.peak_field_bytes = std::max(stats_.peak_field_bytes, bytes);
-  return *cache_.front().field;
+  return cache_.front();
 }
 
 void GraphSlam::optimise() {
@@ -322,6 +368,7 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
           {"loop_closures", d(s.loop_closures)},
           {"global_searches", d(s.global_searches)},
           {"global_closures", d(s.global_closures)},
+          {"unconstrained_matches", d(s.unconstrained_matches)},
           {"optimisations", d(s.optimisations)},
           {"local_cpu_s", s.local_cpu_s},
           {"loop_cpu_s", s.loop_cpu_s},

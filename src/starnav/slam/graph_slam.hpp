@@ -16,6 +16,7 @@
 // Slam role: scans (ScanMessage, any stream the caller routes here) placed from the latest
 // odometry; scans before the first odometry are not placed.
 #include <cstddef>
+#include <cstdint>
 #include <list>
 #include <memory>
 #include <optional>
@@ -38,6 +39,41 @@ inline constexpr std::size_t kMaxFieldCacheBytes = std::size_t{1} << 30;
 // and no more bytes than `max_bytes` except that the newest always stays.
 std::size_t cached_fields_kept(std::span<const std::size_t> bytes_newest_first, std::size_t max_fields, std::size_t max_bytes);
 
+// A point set binned in square cells `radius_m` wide, to ask whether a position lies within
+// radius_m of one of its points.
+class PointNeighbourhood {
+ public:
+  PointNeighbourhood(std::span<const Vec2> points, double radius_m);
+  bool near(const Vec2& position) const;
+  std::size_t bytes() const { return keys_.capacity() * sizeof(std::uint64_t) + points_.capacity() * sizeof(Vec2); }
+
+ private:
+  std::uint64_t key(std::int64_t cell_x, std::int64_t cell_y) const;
+  std::int64_t cell(double v) const;
+  double radius_m_;
+  std::vector<std::uint64_t> keys_;  // sorted; points_ in the same order
+  std::vector<Vec2> points_;
+};
+
+// When closure searches run: one falls due on every `every`-th node (0: never) and, when that node
+// is too poorly constrained to search from, is owed to the next node that is. In a featureless
+// corridor the due node rarely is, and a search dropped there is a loop that never closes.
+class ClosureSchedule {
+ public:
+  explicit ClosureSchedule(int every) : every_(every) {}
+  // Whether node `n` (nodes come in order) searches; `searchable`: it is constrained enough.
+  bool due(std::size_t n, bool searchable) {
+    owed_ = owed_ || (every_ > 0 && n % static_cast<std::size_t>(every_) == 0);
+    if (!owed_ || !searchable) return false;
+    owed_ = false;
+    return true;
+  }
+
+ private:
+  int every_;
+  bool owed_ = false;
+};
+
 struct GraphSlamConfig {
   LocalSlamConfig local;
   int submap_nodes = 40;                  // nodes per submap (a new one starts every half)
@@ -52,6 +88,8 @@ struct GraphSlamConfig {
   double global_min_score = 0.75;
   int global_max_submaps = 8;             // the wide search visits at most this many submaps, nearest first
   double loop_min_constraint = 0.2;       // least scan_constraint of a node that searches for closures
+                                          // and of the part of its scan a closure's submap confirms
+  double loop_overlap_radius_m = 0.15;    // a scan point within this of a submap point is confirmed
   int search_depth = 7;                   // levels of the branch and bound (blocks up to 2^depth cells)
   int optimise_every_nodes = 40;
   double local_sigma_m = 0.02, local_sigma_rad = 0.0087;  // consecutive nodes' edges
@@ -67,6 +105,7 @@ const ParamTable<GraphSlamConfig>& graph_slam_params();
 struct GraphSlamStats {
   std::size_t matched = 0, unmatched = 0;  // the local matcher's scans
   std::size_t loop_searches = 0, loop_closures = 0, global_searches = 0, global_closures = 0;
+  std::size_t unconstrained_matches = 0;  // matches refused: their overlap pins no position down
   std::size_t optimisations = 0;
   double local_cpu_s = 0.0, loop_cpu_s = 0.0, optimise_cpu_s = 0.0;
   std::size_t peak_field_bytes = 0;  // the submap fields held at once
@@ -109,11 +148,12 @@ class GraphSlam final : public Slam {
   struct CachedField {
     std::size_t submap = 0;
     std::unique_ptr<ScanReference> field;
+    PointNeighbourhood points;  // the submap's, for the closure check
   };
   void add_to_submaps(std::size_t node);
   void search_closures(std::size_t node);
   bool search_submap(std::size_t node, std::size_t submap, bool global);
-  const ScanReference& submap_field(std::size_t submap);
+  const CachedField& submap_field(std::size_t submap);
   void optimise();
 
   GraphSlamConfig c_;
@@ -127,9 +167,7 @@ class GraphSlam final : public Slam {
   std::vector<SlamGraphEdge> graph_edges_;
   std::list<CachedField> cache_;  // most recent first
   std::size_t closures_since_optimise_ = 0, nodes_since_optimise_ = 0;
-  // A search that fell due at a node too poorly constrained to search from is owed to the next
-  // node that is constrained enough (featureless corridors would otherwise skip it).
-  bool loop_owed_ = false, global_owed_ = false;
+  ClosureSchedule loop_schedule_, global_schedule_;
   GraphSlamStats stats_;
 };
 
@@ -138,6 +176,12 @@ class GraphSlam final : public Slam {
 // normals spread evenly, near 0 for a corridor's two parallel walls, which leave the position
 // along the corridor free (the closures such scans would make slide along it).
 double scan_constraint(std::span<const Vec2> points);
+
+
+// The points of `scan` (its order kept) that land near a point of `reference` when the scan is
+// placed at `pose` in the reference's frame: the part of a match the reference confirms.
+std::vector<Vec2> overlapping_points(std::span<const Vec2> scan, const Pose2& pose, const PointNeighbourhood& reference);
+
 
 // The declared parameters of the `graph` component: graph_slam_params() with the matcher's under
 // `local.matcher.` (their defaults the local SLAM's: local_slam_matcher_settings()).
