@@ -120,6 +120,23 @@ TEST(ClosureSchedule, ADueSearchAtAnUnsearchableNodeIsOwedToTheNextSearchableOne
   }
 }
 
+// The wide search's window against hand-computed values: 2 % of the travel, nothing while that is
+// within the local search's 2 m, at most 8 m.
+TEST(ClosureWindow, TheWideSearchGrowsWithTheTravelSinceTheSubmap) {
+  GraphSlamConfig c;  // global_drift_per_m 0.02, loop_window_linear_m 2, global_window_linear_m 8
+  EXPECT_EQ(global_search_window_m(c, 0.0), 0.0);
+  EXPECT_EQ(global_search_window_m(c, 100.0), 0.0);       // 2 m: the local search covers it
+  EXPECT_NEAR(global_search_window_m(c, 150.0), 3.0, 1e-12);
+  EXPECT_NEAR(global_search_window_m(c, 399.0), 7.98, 1e-12);
+  EXPECT_EQ(global_search_window_m(c, 2000.0), 8.0);      // 40 m bound, the largest window
+  c.global_drift_per_m = 0.05;
+  c.loop_window_linear_m = 1.0;
+  EXPECT_NEAR(global_search_window_m(c, 30.0), 1.5, 1e-12);
+  EXPECT_EQ(global_search_window_m(c, 20.0), 0.0);
+  c.global_drift_per_m = 0.0;
+  EXPECT_EQ(global_search_window_m(c, 1e6), 0.0);  // no drift: never a wide search
+}
+
 // A T junction: a corridor 2 m wide along x, a side corridor leaving it at x = 0 towards +y.
 std::vector<test::Segment> t_junction_world() {
   return {{{-30, -1}, {30, -1}}, {{-30, 1}, {-1, 1}}, {{1, 1}, {30, 1}}, {{-1, 1}, {-1, 15}},

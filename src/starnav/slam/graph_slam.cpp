@@ -87,7 +87,10 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
     t.integer("loop_every_nodes", &C::loop_every_nodes, closed(1, 100000), "", "closures are searched on every n-th node");
     t.integer("global_every_nodes", &C::global_every_nodes, closed(0, 100000), "",
               "a wide search (whole circle) on every n-th node that found no closure (0: never)");
-    t.real("global_window_linear_m", &C::global_window_linear_m, closed(0.0, 100.0), "m", "the wide search's window, +- in x and y");
+    t.real("global_window_linear_m", &C::global_window_linear_m, closed(0.0, 100.0), "m", "the wide search's largest window, +- in x and y");
+    t.real("global_drift_per_m", &C::global_drift_per_m, closed(0.0, 1.0), "",
+           "bound on the local SLAM's drift per metre driven: a submap is searched widely once this times the travel since it exceeds "
+           "loop_window_linear_m, in a window of that bound (at most global_window_linear_m)");
     t.integer("global_max_submaps", &C::global_max_submaps, closed(1, 100000), "", "submaps a wide search visits, nearest first");
     t.real("global_min_score", &C::global_min_score, closed(0.0, 1.0), "", "least mean likelihood of a wide search's closure");
     t.real("loop_min_constraint", &C::loop_min_constraint, closed(0.0, 0.5), "",
@@ -127,6 +130,7 @@ void GraphSlamConfig::validate() const {
   require(std::isfinite(global_window_linear_m) && global_window_linear_m >= 0 && global_window_linear_m <= 100,
           "global_window_linear_m", "must be in [0, 100] m");
   require(loop_min_constraint >= 0 && loop_min_constraint <= 0.5, "loop_min_constraint", "must be in [0, 0.5]");
+  require(std::isfinite(global_drift_per_m) && global_drift_per_m >= 0, "global_drift_per_m", "must be >= 0");
   require(std::isfinite(loop_overlap_radius_m) && loop_overlap_radius_m > 0, "loop_overlap_radius_m", "must be > 0");
   require(global_max_submaps >= 1, "global_max_submaps", "must be >= 1");
   require(search_depth >= 0 && search_depth <= 10, "search_depth", "must be in [0, 10]");
@@ -149,6 +153,11 @@ std::unique_ptr<ScanMatcher> checked(std::unique_ptr<ScanMatcher> matcher) {
 }
 
 }  // namespace
+
+double global_search_window_m(const GraphSlamConfig& config, double travel_m) {
+  const double bound = config.global_drift_per_m * travel_m;
+  return bound <= config.loop_window_linear_m ? 0.0 : std::min(bound, config.global_window_linear_m);
+}
 
 GraphSlam::GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher> matcher)
     : c_(config), matcher_(checked(std::move(matcher))), local_(config.local, *matcher_),
@@ -194,6 +203,7 @@ bool GraphSlam::on_scan(const ScanMessage& scan) {
   node.local = step.pose;
   node.global = n == 0 ? step.pose : nodes_[n - 1].global.compose(nodes_[n - 1].local.inverse().compose(step.pose));
   node.mount = mount;
+  if (n > 0) node.travel_m = nodes_[n - 1].travel_m + (step.pose.translation() - nodes_[n - 1].local.translation()).norm();
   for (const Vec2& p : points)
     if (p.norm() <= c_.loop_max_range_m) node.points.push_back(p);
   node.constraint = scan_constraint(node.points);
@@ -245,23 +255,27 @@ void GraphSlam::search_closures(std::size_t n) {
   bool found = false;
   if (loop_due)
     for (const auto& [s, d] : eligible)
-      if (d <= c_.loop_max_distance_m) found = search_submap(n, s, false) || found;
+      if (d <= c_.loop_max_distance_m) found = search_submap(n, s, 0.0) || found;
   if (!found && global_due) {
     std::stable_sort(eligible.begin(), eligible.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
     int searched = 0;
-    for (const auto& [s, d] : eligible)
-      if (d <= c_.loop_max_distance_m + c_.global_window_linear_m && searched++ < c_.global_max_submaps) search_submap(n, s, true);
+    for (const auto& [s, d] : eligible) {
+      const Submap& m = submaps_[s];
+      const double window = global_search_window_m(c_, nodes_[n].travel_m - nodes_[m.first + m.count - 1].travel_m);
+      if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps) search_submap(n, s, window);
+    }
   }
 }
 
-bool GraphSlam::search_submap(std::size_t n, std::size_t s, bool global) {
+bool GraphSlam::search_submap(std::size_t n, std::size_t s, double global_window_m) {
+  const bool global = global_window_m > 0;
   const Node& node = nodes_[n];
   const std::size_t anchor = submaps_[s].first;
   if (submaps_[s].points.empty()) return false;  // its nodes saw nothing within loop_max_range_m
   const CachedField& cached = submap_field(s);
   const ScanReference& field = *cached.field;
   const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
-  const MatchWindow window = global ? MatchWindow{c_.global_window_linear_m, kPi, c_.global_min_score}
+  const MatchWindow window = global ? MatchWindow{global_window_m, kPi, c_.global_min_score}
                                     : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score};
   ++(global ? stats_.global_searches : stats_.loop_searches);
   const ScanMatch m = field.match(node.points, guess, window);

@@ -84,7 +84,8 @@ struct GraphSlamConfig {
   double loop_max_range_m = 15.0;         // scan points used for closures
   int loop_every_nodes = 2;               // search on every n-th node
   int global_every_nodes = 100;           // a wide search on every n-th node that found no closure
-  double global_window_linear_m = 8.0;    // +- x, y of the wide search (yaw: the whole circle)
+  double global_window_linear_m = 8.0;    // the most +- x, y of the wide search (yaw: the whole circle)
+  double global_drift_per_m = 0.02;       // bound on the local SLAM's drift per metre driven
   double global_min_score = 0.75;
   int global_max_submaps = 8;             // the wide search visits at most this many submaps, nearest first
   double loop_min_constraint = 0.2;       // least scan_constraint of a node that searches for closures
@@ -99,6 +100,12 @@ struct GraphSlamConfig {
   int field_cache = 48;                   // submap fields kept built (at most kMaxFieldCacheBytes of them)
   void validate() const;
 };
+
+// The wide search's window (+- x, y) for a submap `travel_m` of driving away along the chain of
+// nodes: the drift bound global_drift_per_m x travel_m, at most global_window_linear_m; 0 (no wide
+// search) while the bound is within the local search's loop_window_linear_m, which already covers
+// it (a wider window there only adds the corridor's repeats: a room's width along it, a junction's).
+double global_search_window_m(const GraphSlamConfig& config, double travel_m);
 const ParamTable<GraphSlamConfig>& graph_slam_params();
 
 // Counters of a run (scans, nodes and submaps are the run's own sizes: statistics()).
@@ -132,6 +139,7 @@ class GraphSlam final : public Slam {
     Pose2 mount;
     std::vector<Vec2> points;  // sensor frame, for closures (range-limited)
     double constraint = 0.0;   // scan_constraint(points)
+    double travel_m = 0.0;     // the local SLAM's path length from the first node
     ScanMessage scan;          // for the map
   };
   struct Submap {
@@ -152,7 +160,8 @@ class GraphSlam final : public Slam {
   };
   void add_to_submaps(std::size_t node);
   void search_closures(std::size_t node);
-  bool search_submap(std::size_t node, std::size_t submap, bool global);
+  // `global_window_m` > 0: the wide search in that window (+- x, y; the whole circle).
+  bool search_submap(std::size_t node, std::size_t submap, double global_window_m);
   const CachedField& submap_field(std::size_t submap);
   void optimise();
 
