@@ -3,8 +3,10 @@
 // matching from odometry) makes nodes; consecutive nodes are grouped into submaps (rigid point
 // sets in their first node's frame; each node lies in two overlapping submaps); each node is
 // matched by branch and bound against the finished submaps near its estimate (loop closure, on
-// every `loop_every_nodes`-th node) and, at a lower rate, against all submaps in a wide window
-// over the whole circle (global closures); the pose graph (consecutive nodes joined by the local
+// every `loop_every_nodes`-th node, or the next one whose scan is constrained enough) and, at a
+// lower rate, against the submaps the drift since them puts beyond the local window, in a window
+// of that drift over the whole circle (global closures); a match is kept only when the part of the
+// scan its submap confirms pins the pose down; the pose graph (consecutive nodes joined by the local
 // SLAM's relative poses, loop closures under a robust loss) is optimised every
 // `optimise_every_nodes` nodes that brought closures, and at the end. Scans between nodes keep
 // their pose relative to the node before them.
