@@ -190,7 +190,13 @@ class Runner {
     run.attempt = fs::absolute(sweep_.dir + "/work/" + attempt_name(task.id, host_)).string();
     std::error_code ec;
     fs::remove_all(run.attempt, ec);
-    fs::create_directories(run.attempt + "/out", ec);
+    // Another runner that finishes removes the work folder when it is empty (its last act), which
+    // can fall between making the work folder and making this task's inside it: make them again.
+    for (int tries = 0; tries < 20; ++tries) {
+      ec.clear();
+      fs::create_directories(run.attempt + "/out", ec);
+      if (ec != std::errc::no_such_file_or_directory) break;
+    }
     if (ec) throw Error("cannot create the task's folder: " + ec.message(), run.attempt);
     ChildSpec spec;
     spec.executable = options_.executable;
