@@ -63,13 +63,14 @@ inline std::vector<Segment> ring_world() {
   return w;
 }
 
-// The hit points of `beams` beams from `pose`, in the sensor frame.
-inline std::vector<Vec2> scan_from(const Pose2& pose, int beams = 360) {
-  const std::vector<float> r = ranges_from(pose, beams, 100.0f);
+// The hit points of `beams` beams from `pose` in `world` out to `max_range_m`, in the sensor frame
+// and beam order.
+inline std::vector<Vec2> scan_from(const Pose2& pose, int beams = 360, const std::vector<Segment>& world = kRoom, double max_range_m = 30.0) {
+  const std::vector<float> r = ranges_from(pose, beams, 100.0f, world);
   std::vector<Vec2> out;
   for (int i = 0; i < beams; ++i) {
     const double a = -kPi + 2 * kPi * i / beams;
-    if (r[static_cast<std::size_t>(i)] < 30.0f) out.push_back(static_cast<double>(r[static_cast<std::size_t>(i)]) * Vec2(std::cos(a), std::sin(a)));
+    if (r[static_cast<std::size_t>(i)] <= max_range_m) out.push_back(static_cast<double>(r[static_cast<std::size_t>(i)]) * Vec2(std::cos(a), std::sin(a)));
   }
   return out;
 }

@@ -143,24 +143,11 @@ std::vector<test::Segment> t_junction_world() {
           {{1, 1}, {1, 15}},     {{-30, -1}, {-30, 1}}, {{30, -1}, {30, 1}}};
 }
 
-// Sensor-frame points of a scan from `pose` out to `range_m`, in beam order.
-std::vector<Vec2> t_junction_scan(const Pose2& pose, double range_m) {
-  const std::vector<test::Segment> world = t_junction_world();
-  const int beams = 720;
-  const std::vector<float> r = test::ranges_from(pose, beams, 100.0f, world);
-  std::vector<Vec2> out;
-  for (int i = 0; i < beams; ++i) {
-    const double a = -kPi + 2 * kPi * i / beams;
-    if (r[static_cast<std::size_t>(i)] <= range_m) out.push_back(static_cast<double>(r[static_cast<std::size_t>(i)]) * Vec2(std::cos(a), std::sin(a)));
-  }
-  return out;
-}
-
 // A submap of scans from `poses`, in the first pose's frame.
 std::vector<Vec2> t_junction_submap(const std::vector<Pose2>& poses, double range_m) {
   std::vector<Vec2> out;
   for (const Pose2& p : poses)
-    for (const Vec2& q : t_junction_scan(p, range_m)) out.push_back(poses.front().inverse().compose(p).transform(q));
+    for (const Vec2& q : test::scan_from(p, 720, t_junction_world(), range_m)) out.push_back(poses.front().inverse().compose(p).transform(q));
   return out;
 }
 
@@ -170,7 +157,7 @@ std::vector<Vec2> t_junction_submap(const std::vector<Pose2>& poses, double rang
 // submap that saw the junction it is kept.
 TEST(ClosureCheck, RefusesAFalseClosureAlongASymmetricCorridorAndKeepsTheTrueOne) {
   const GraphSlamConfig config;
-  const std::vector<Vec2> scan = t_junction_scan(Pose2(0, 0, 0), 10.0);
+  const std::vector<Vec2> scan = test::scan_from(Pose2(0, 0, 0), 720, t_junction_world(), 10.0);
   ASSERT_GT(scan_constraint(scan), config.loop_min_constraint);  // the junction pins the scan down
 
   const std::vector<Vec2> corridor = t_junction_submap({Pose2(-22, 0, 0), Pose2(-20, 0, 0), Pose2(-18, 0, 0), Pose2(-16, 0, 0)}, 6.0);

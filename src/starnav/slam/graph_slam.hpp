@@ -188,11 +188,9 @@ class GraphSlam final : public Slam {
 // along the corridor free (the closures such scans would make slide along it).
 double scan_constraint(std::span<const Vec2> points);
 
-
 // The points of `scan` (its order kept) that land near a point of `reference` when the scan is
 // placed at `pose` in the reference's frame: the part of a match the reference confirms.
 std::vector<Vec2> overlapping_points(std::span<const Vec2> scan, const Pose2& pose, const PointNeighbourhood& reference);
-
 
 // The declared parameters of the `graph` component: graph_slam_params() with the matcher's under
 // `local.matcher.` (their defaults the local SLAM's: local_slam_matcher_settings()).
