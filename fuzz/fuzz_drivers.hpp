@@ -1,5 +1,5 @@
 #pragma once
-// What each fuzz target does with one input, shared by the libFuzzer targets (fuzz/fuzz_*.cpp)
+// What each fuzz target does with one input, shared by the libFuzzer executable (fuzz/fuzz_main.cpp)
 // and the regression test that replays fuzz/crashers/ and fuzz/corpus/ under g++
 // (tests/io/test_fuzz_regressions.cpp).
 //

@@ -1,6 +1,6 @@
 #pragma once
-// The libFuzzer entry shared by the fuzz_*.cpp targets: runs one driver from fuzz_drivers.hpp and
-// turns anything but starnav::Error (which the drivers swallow) into a reported crash.
+// What the fuzz executable (fuzz_main.cpp) does around a driver from fuzz_drivers.hpp: turns anything
+// but starnav::Error (which the drivers swallow) into a reported crash, and keeps PNG chunk CRCs valid.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -57,28 +57,3 @@ inline void fix_png_crcs(std::uint8_t* png, std::size_t size) {
 }
 
 }  // namespace starnav::fuzz
-
-extern "C" std::size_t LLVMFuzzerMutate(std::uint8_t* data, std::size_t size, std::size_t max_size);
-
-// A custom mutator for targets whose input holds a PNG, at the start (`after_separator` false) or
-// after kFileSeparator (true).
-#define STARNAV_FUZZ_PNG_CRC_MUTATOR(after_separator)                                                        \
-  extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size, std::size_t max_size, \
-                                                 unsigned int seed) {                                        \
-    size = LLVMFuzzerMutate(data, size, max_size);                                                           \
-    if (seed % 8 == 0) return size;                                                                          \
-    std::size_t start = 0;                                                                                   \
-    if (after_separator) {                                                                                   \
-      const std::string_view all(reinterpret_cast<const char*>(data), size);                                 \
-      const std::size_t at = all.find(::starnav::fuzz::kFileSeparator);                                      \
-      if (at == std::string_view::npos) return size;                                                         \
-      start = at + ::starnav::fuzz::kFileSeparator.size();                                                   \
-    }                                                                                                        \
-    ::starnav::fuzz::fix_png_crcs(data + start, size - start);                                               \
-    return size;                                                                                             \
-  }
-
-#define STARNAV_FUZZ_TARGET(driver)                                                        \
-  extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {       \
-    return ::starnav::fuzz::run_one(::starnav::fuzz::driver, data, size);                   \
-  }

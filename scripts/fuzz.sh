@@ -52,10 +52,11 @@ declare -A MAX_LEN=(
   [fuzz_mcap]=16384
   [fuzz_rosbag2_sqlite]=32768
   [fuzz_cdr]=4096
+  [fuzz_sweep_file]=8192
 )
 ALL_TARGETS=(fuzz_movingai_map fuzz_movingai_scen fuzz_pgm fuzz_png fuzz_ros_yaml fuzz_asc
              fuzz_elevation_csv fuzz_elevation_yaml fuzz_unity_raw fuzz_scenario fuzz_carmen_log fuzz_ros_bag
-             fuzz_point_cloud fuzz_mcap fuzz_rosbag2_sqlite fuzz_cdr)
+             fuzz_point_cloud fuzz_mcap fuzz_rosbag2_sqlite fuzz_cdr fuzz_sweep_file)
 COMMON_FLAGS=(-rss_limit_mb=2048 -timeout=5)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:symbolize=1}
@@ -84,9 +85,8 @@ pick_targets() {  # validates the names given (default: all targets) into TARGET
   done
 }
 
-build() {  # build [TARGET...]: configures the sanitizer build and builds those fuzz targets (default all)
-  local what=("$@")
-  [ ${#what[@]} -gt 0 ] || what=(starnav_fuzzers)
+build() {  # configures the sanitizer build and builds the fuzz executable (one for every target)
+  local what=(starnav_fuzzers)
   mkdir -p "$BUILD_DIR"
   (
     flock 9
@@ -231,7 +231,7 @@ cmd_run() {
   if ! [[ "$secs" =~ ^[1-9][0-9]*$ ]]; then die "SECONDS must be a positive integer, got '$secs'"; fi
   pick_targets "$@"
   local targets=("${TARGETS[@]}")
-  build "${targets[@]}"
+  build
   mkdir -p "$BUILD_DIR/logs"
   local summary=() failed=0 t
   for t in "${targets[@]}"; do
@@ -286,7 +286,7 @@ cmd_run() {
 cmd_replay() {
   pick_targets "$@"
   local targets=("${TARGETS[@]}")
-  build "${targets[@]}"
+  build
   local failed=() t
   mkdir -p "$BUILD_DIR/logs" "$BUILD_DIR/replay-artifacts"
   for t in "${targets[@]}"; do
@@ -327,7 +327,7 @@ cmd_replay() {
 cmd_minimize() {
   pick_targets "$@"
   local targets=("${TARGETS[@]}")
-  build "${targets[@]}"
+  build
   local t
   for t in "${targets[@]}"; do
     local corpus="$ROOT/fuzz/corpus/$t"
