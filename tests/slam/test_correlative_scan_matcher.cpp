@@ -63,6 +63,19 @@ TEST(CorrelativeScanMatcher, MatchesAScanToAMappedRoom) {
   EXPECT_NEAR(r.transform.yaw, truth.yaw, deg_to_rad(0.5));
 }
 
+// The score the documented lattice gives a pose: the mean of the fine field at the cells the scan's
+// points fall in (0 outside the field).
+double lattice_score(const CorrelativeScanMatcher::Field& f, const std::vector<Vec2>& scan, const Pose2& t) {
+  double s = 0;
+  for (const Vec2& p : scan) {
+    const Vec2 q = t.transform(p);
+    const int x = static_cast<int>(std::floor((q.x() - f.origin.x()) / f.resolution));
+    const int y = static_cast<int>(std::floor((q.y() - f.origin.y()) / f.resolution));
+    if (x >= 0 && y >= 0 && x < f.width && y < f.height) s += f.fine[static_cast<std::size_t>(y * f.width + x)];
+  }
+  return s / static_cast<double>(scan.size());
+}
+
 TEST(CorrelativeScanMatcher, PrunedSearchEqualsTheExhaustiveOne) {
   CorrelativeMatcherConfig c;
   c.refine = false;
@@ -83,17 +96,89 @@ TEST(CorrelativeScanMatcher, PrunedSearchEqualsTheExhaustiveOne) {
   for (int a = -na; a <= na; ++a)
     for (int ix = -nl; ix <= nl; ++ix)
       for (int iy = -nl; iy <= nl; ++iy) {
-        const Pose2 t(ref.x + ix * c.resolution_m, ref.y + iy * c.resolution_m, ref.yaw + a * step);
-        double s = 0;
-        for (const Vec2& p : scan) {
-          const Vec2 q = t.transform(p);
-          const int x = static_cast<int>(std::floor((q.x() - f.origin.x()) / f.resolution));
-          const int y = static_cast<int>(std::floor((q.y() - f.origin.y()) / f.resolution));
-          if (x >= 0 && y >= 0 && x < f.width && y < f.height) s += f.fine[static_cast<std::size_t>(y * f.width + x)];
-        }
-        best = std::max(best, s / static_cast<double>(scan.size()));
+        best = std::max(best, lattice_score(f, scan, Pose2(ref.x + ix * c.resolution_m, ref.y + iy * c.resolution_m, ref.yaw + a * step)));
       }
   EXPECT_NEAR(r.score, best, 1e-6);
+}
+
+// A corridor 2 m wide whose walls have a 0.8 m doorway every 3 m (a hall of repeated rooms).
+std::vector<test::Segment> doorway_corridor() {
+  std::vector<test::Segment> w;
+  for (int k = 0; k < 8; ++k) {
+    const double x0 = 3.0 * k, x1 = x0 + 2.2;
+    w.push_back({{x0, 0}, {x1, 0}});
+    w.push_back({{x1, 0}, {x1, -0.5}});  // a jamb, so the doorway has depth
+    w.push_back({{x0 + 1.0, 2}, {x0 + 3.0, 2}});
+  }
+  return w;
+}
+
+// The best lattice score (as the matcher scores it) among the poses around `guess`, +- n_l cells and
+// angular steps a_lo..a_hi, that lie farther than `exclusion_cells` from (bx, by).
+double exhaustive_rival(const CorrelativeScanMatcher::Field& f, const std::vector<Vec2>& scan, const Pose2& guess, double step, int a_lo,
+                        int a_hi, int n_l, int bx, int by, double exclusion_cells) {
+  double best = 0.0;
+  for (int a = a_lo; a <= a_hi; ++a)
+    for (int ix = -n_l; ix <= n_l; ++ix)
+      for (int iy = -n_l; iy <= n_l; ++iy) {
+        if (std::hypot(ix - bx, iy - by) <= exclusion_cells) continue;
+        best = std::max(best, lattice_score(f, scan, Pose2(guess.x + ix * f.resolution, guess.y + iy * f.resolution, guess.yaw + a * step)));
+      }
+  return best;
+}
+
+TEST(CorrelativeScanMatcher, RivalSearchFindsTheRepeatedRoomAndEqualsTheExhaustiveOne) {
+  CorrelativeMatcherConfig c;
+  c.refine = false;
+  c.resolution_m = 0.1;
+  CorrelativeScanMatcher m(c);
+  const std::vector<test::Segment> world = doorway_corridor();
+  const Pose2 ref(9.0, 1.0, 0.0);
+  std::vector<Vec2> reference;  // the whole corridor, as a submap of a drive along it
+  for (double x = 1.0; x <= 22.0; x += 1.0)
+    for (const Vec2& p : to_world(Pose2(x, 1.0, 0.0), test::scan_from(Pose2(x, 1.0, 0.0), 360, world, 6.0))) reference.push_back(p);
+  const Pose2 truth(9.3, 1.1, deg_to_rad(1.0));
+  const std::vector<Vec2> scan = test::scan_from(truth, 360, world, 4.0);
+  const CorrelativeScanMatcher::Field f = m.field_of_points(reference, {0, -3}, {20, 5});
+  double d_max = c.resolution_m;
+  for (const Vec2& p : scan) d_max = std::max(d_max, p.norm());
+  const double step = std::acos(1 - c.resolution_m * c.resolution_m / (2 * d_max * d_max));
+  MatchWindow w{0.3, deg_to_rad(2), 0.3};
+  w.rival_exclusion_m = 1.0;
+  const int n_a = static_cast<int>(std::ceil(w.angular_rad / step));
+  w.rival_angular_rad = deg_to_rad(1.0);  // rivals' yaw within 1 deg of the match's (the window: 2 deg)
+  const int n_rival_a = static_cast<int>(std::ceil(w.rival_angular_rad / step));
+  for (const double rival_linear_m : {0.0, 2.0, 3.5}) {
+    w.rival_linear_m = rival_linear_m;
+    const ScanMatch r = m.match_to_field(f, scan, Pose2(ref.x + 0.2, ref.y, ref.yaw), w);
+    ASSERT_TRUE(r.converged);
+    EXPECT_NEAR(r.transform.x, truth.x, 0.1);
+    const int bx = static_cast<int>(std::lround((r.transform.x - ref.x - 0.2) / c.resolution_m));
+    const int by = static_cast<int>(std::lround((r.transform.y - ref.y) / c.resolution_m));
+    const int n_l = static_cast<int>(std::ceil(rival_linear_m / c.resolution_m));
+    const int ba = static_cast<int>(std::lround(wrap_angle(r.transform.yaw - ref.yaw) / step));
+    const double rival = exhaustive_rival(f, scan, Pose2(ref.x + 0.2, ref.y, ref.yaw), step, std::max(-n_a, ba - n_rival_a),
+                                          std::min(n_a, ba + n_rival_a), n_l, bx, by, w.rival_exclusion_m / c.resolution_m);
+    const double expected = rival >= w.min_score ? std::min(1.0, rival / r.score) : 0.0;  // a rival outside the window may score higher
+    EXPECT_NEAR(r.ambiguity, expected, 1e-6) << rival_linear_m;
+    // Within 0 m there is no rival; 3.5 m reaches the next doorway,
+    // 3 m along, where the scan fits nearly as well; 2 m does not reach it.
+    if (rival_linear_m == 0.0) {
+      EXPECT_EQ(r.ambiguity, 0.0);
+    }
+    if (rival_linear_m == 2.0) {
+      EXPECT_LT(r.ambiguity, 0.8);
+    }
+    if (rival_linear_m == 3.5) {
+      EXPECT_GT(r.ambiguity, 0.9);
+    }
+  }
+  // Rivals below rival_min_share are not looked for: reported as none.
+  w.rival_linear_m = 2.0;
+  w.rival_min_share = 0.95;
+  EXPECT_EQ(m.match_to_field(f, scan, Pose2(ref.x + 0.2, ref.y, ref.yaw), w).ambiguity, 0.0);
+  w.rival_linear_m = 3.5;
+  EXPECT_GT(m.match_to_field(f, scan, Pose2(ref.x + 0.2, ref.y, ref.yaw), w).ambiguity, 0.9);
 }
 
 TEST(CorrelativeScanMatcher, ReportsNoMatchAndRefusesBadInput) {

@@ -1,6 +1,7 @@
 #include "starnav/slam/correlative_scan_matcher.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -122,8 +123,8 @@ class BranchAndBound {
   // (a prior around the guess; 1 when both weights are 0); bounds stay the plain likelihoods, which
   // are never below.
   BranchAndBound(const CorrelativeScanMatcher::Field& field, std::span<const Vec2> scan, const Pose2& guess, double step_a,
-                 int n_a, int n_l, double cell_weight, double step_weight)
-      : f_(field), n_points_(scan.size()), n_a_(n_a), n_l_(n_l), inv_n_(1.0 / static_cast<double>(scan.size())),
+                 int n_a, double cell_weight, double step_weight)
+      : f_(field), n_points_(scan.size()), n_a_(n_a), inv_n_(1.0 / static_cast<double>(scan.size())),
         cell_weight_(cell_weight), step_weight_(step_weight) {
     base_.resize(static_cast<std::size_t>(2 * n_a + 1) * n_points_ * 2);
     for (int a = -n_a; a <= n_a; ++a) {
@@ -138,13 +139,20 @@ class BranchAndBound {
     }
   }
 
-  // The best leaf scoring at least `floor` (score -1 when none does).
-  Candidate run(double floor) {
+  // The best leaf within +- n_l cells of the guess scoring at least `floor` (score -1 when none
+  // does); with exclusion_cells > 0, among the leaves farther than that from `excluded`'s
+  // translation (blocks wholly inside that disc are dropped unscored).
+  // Angles are searched in [a_lo, a_hi] (the whole window by default).
+  Candidate run(double floor, int n_l, const Candidate& excluded = {}, double exclusion_cells = 0.0, int a_lo = INT_MIN,
+                int a_hi = INT_MAX) {
     best_ = Candidate{};
     floor_ = floor;
+    n_l_ = n_l;
+    excluded_ = excluded;
+    exclusion2_ = exclusion_cells * exclusion_cells;
     const int top = f_.depth(), step = 1 << top;
     std::vector<Candidate> cands;
-    for (int a = -n_a_; a <= n_a_; ++a)
+    for (int a = std::max(-n_a_, a_lo); a <= std::min(n_a_, a_hi); ++a)
       for (int x = -n_l_; x <= n_l_; x += step)
         for (int y = -n_l_; y <= n_l_; y += step) cands.push_back(scored(a, x, y, top));
     descend(cands);
@@ -178,10 +186,24 @@ class BranchAndBound {
 
   static int correction(const Candidate& c) { return std::abs(c.angle) + std::abs(c.ix) + std::abs(c.iy); }
 
+  // Whether every translation of the candidate's block lies within the excluded disc (the disc is
+  // convex: its four corners do).
+  bool inside_exclusion(const Candidate& c) const {
+    const int span = (1 << c.level) - 1;
+    for (int dx : {0, span})
+      for (int dy : {0, span}) {
+        const double ex = c.ix + dx - excluded_.ix, ey = c.iy + dy - excluded_.iy;
+        if (ex * ex + ey * ey <= exclusion2_) continue;
+        return false;
+      }
+    return true;
+  }
+
   void descend(std::vector<Candidate>& cands) {
     std::sort(cands.begin(), cands.end(), [](const Candidate& p, const Candidate& q) { return p.score > q.score; });
     for (const Candidate& c : cands) {
       if (c.score < floor_ || c.score < best_.score) break;
+      if (exclusion2_ > 0 && inside_exclusion(c)) continue;
       if (c.level == 0) {
         // Ties go to the smaller correction (nearer the guess).
         if (c.score > best_.score || correction(c) < correction(best_)) best_ = c;
@@ -198,12 +220,14 @@ class BranchAndBound {
 
   const CorrelativeScanMatcher::Field& f_;
   std::size_t n_points_;
-  int n_a_, n_l_;
+  int n_a_, n_l_ = 0;
   double inv_n_;
   double cell_weight_, step_weight_;
   std::vector<int> base_;
   Candidate best_;
   double floor_ = -1.0;
+  Candidate excluded_;
+  double exclusion2_ = 0.0;
 };
 
 }  // namespace
@@ -415,7 +439,15 @@ ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<c
   const double step_a = angular_step(r, d_max);
   // The tables are sized before they are built (check_search judges the configured searches;
   // this holds any other scan or window).
-  const SearchSize z = search_size(r, d_max, window.linear_m, window.angular_rad, field.depth());
+  require(std::isfinite(window.rival_exclusion_m) && window.rival_exclusion_m >= 0 && window.rival_exclusion_m <= 100, "rival_exclusion_m",
+          "must be in [0, 100] m");
+  require(std::isfinite(window.rival_linear_m) && window.rival_linear_m >= 0 && window.rival_linear_m <= 100, "rival_linear_m",
+          "must be in [0, 100] m");
+  require(window.rival_min_share >= 0 && window.rival_min_share <= 1, "rival_min_share", "must be in [0, 1]");
+  require(std::isfinite(window.rival_angular_rad) && window.rival_angular_rad >= 0 && window.rival_angular_rad <= kPi, "rival_angular_deg",
+          "must be in [0, 180] deg");
+  const double searched_m = window.rival_exclusion_m > 0 ? std::max(window.linear_m, window.rival_linear_m) : window.linear_m;
+  const SearchSize z = search_size(r, d_max, searched_m, window.angular_rad, field.depth());
   if (z.candidates() > static_cast<double>(kMaxCorrelativeSearchEntries) ||
       z.angles * static_cast<double>(scan.size()) > static_cast<double>(kMaxCorrelativeSearchEntries))
     throw Error("window_linear_m " + format_number(window.linear_m) + " m / resolution_m " + format_number(r) + " m and " +
@@ -427,14 +459,22 @@ ScanMatch CorrelativeScanMatcher::match_to_field(const Field& field, std::span<c
   const int n_a = static_cast<int>(std::ceil(window.angular_rad / step_a));
   const int n_l = static_cast<int>(std::ceil(window.linear_m / r));
   const double inv_n = 1.0 / static_cast<double>(scan.size());
-  BranchAndBound search(field, scan, guess, step_a, n_a, n_l, r * r * window.prior_linear_weight,
+  BranchAndBound search(field, scan, guess, step_a, n_a, r * r * window.prior_linear_weight,
                         step_a * step_a * window.prior_angular_weight);
-  const Candidate best = search.run(window.min_score > 0 ? window.min_score : -1.0);
+  const double floor = window.min_score > 0 ? window.min_score : -1.0;
+  const Candidate best = search.run(floor, n_l);
   ScanMatch m;
   if (best.score < 0) {  // nothing reached min_score
     m.transform = guess;
     m.score = 0.0;
     return m;
+  }
+  if (window.rival_exclusion_m > 0 && best.score >= window.min_score && best.score > 0) {
+    const int n_rival = static_cast<int>(std::ceil(window.rival_linear_m / r));
+    const int a_rival = static_cast<int>(std::ceil(window.rival_angular_rad / step_a));
+    const Candidate rival = search.run(std::max(floor, window.rival_min_share * best.score), n_rival, best, window.rival_exclusion_m / r,
+                                       best.angle - a_rival, best.angle + a_rival);
+    m.ambiguity = rival.score > 0 ? std::min(1.0, rival.score / best.score) : 0.0;
   }
   m.transform = Pose2(guess.x + best.ix * r, guess.y + best.iy * r, wrap_angle(guess.yaw + best.angle * step_a));
   m.score = best.score;

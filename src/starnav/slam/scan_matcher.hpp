@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "starnav/core/angle.hpp"
 #include "starnav/core/component.hpp"
 #include "starnav/core/geometry.hpp"
 #include "starnav/map/occupancy_grid.hpp"
@@ -32,6 +33,13 @@ struct ScanMatch {
   double rms_m = 0.0;                                     // RMS distance of matched points (m)
   int iterations = 0;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // of (x, y, yaw), when the matcher gives one
+  // When the window asks for it (rival_exclusion_m > 0) and the matcher can: the best score of a
+  // pose at least rival_exclusion_m from this match, over this match's, both on the search's own
+  // lattice (0..1, 1 also when a rival outside the window searched scores higher; 0 when no other
+  // pose reaches min_score or the window's rival_min_share of this match's score). Near 1: another
+  // place fits as well
+  // (a repeated room along a corridor), so the match says little about where the scan is.
+  double ambiguity = 0.0;
 };
 
 // A search window around a guess: +- linear_m in x and y, +- angular_rad in yaw; poses scoring
@@ -42,6 +50,11 @@ struct MatchWindow {
   double angular_rad = 0.349;
   double min_score = 0.0;
   double prior_linear_weight = 0.0, prior_angular_weight = 0.0;  // 1/m^2, 1/rad^2
+  // The rival search behind ScanMatch::ambiguity (0: none): poses farther than rival_exclusion_m
+  // from the match, within +- rival_linear_m of the guess (inside or beyond linear_m), their yaw
+  // within +- rival_angular_rad of the match's and within the window's; rivals scoring below
+  // rival_min_share of the match are not looked for (they prune the search).
+  double rival_exclusion_m = 0.0, rival_linear_m = 0.0, rival_angular_rad = kPi, rival_min_share = 0.0;
 };
 
 // How the parameters of one search are named where they are set, for its errors (graph SLAM's
