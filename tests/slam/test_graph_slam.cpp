@@ -120,21 +120,34 @@ TEST(ClosureSchedule, ADueSearchAtAnUnsearchableNodeIsOwedToTheNextSearchableOne
   }
 }
 
-// The wide search's window against hand-computed values: 2 % of the travel, nothing while that is
-// within the local search's 2 m, at most 8 m.
-TEST(ClosureWindow, TheWideSearchGrowsWithTheTravelSinceTheSubmap) {
+// The drift bound and the windows it sets, against hand-computed values: 2 % of the distance
+// driven where the scans pin the position down, 10 % (the odometry's) where they do not; no wide
+// search while the bound is within the local search's 2 m, at most 8 m; the rivals' reach is the
+// bound, at most 8 m.
+TEST(ClosureWindow, TheSearchesGrowWithTheDriftBoundSinceTheSubmap) {
   GraphSlamConfig c;  // global_drift_per_m 0.02, loop_window_linear_m 2, global_window_linear_m 8
+  c.unconstrained_drift_per_m = 0.1;
+  EXPECT_EQ(drift_per_m(c, c.loop_min_constraint), 0.02);
+  EXPECT_EQ(drift_per_m(c, 0.5), 0.02);
+  EXPECT_EQ(drift_per_m(c, c.loop_min_constraint * 0.99), 0.1);
+  EXPECT_EQ(drift_per_m(c, 0.0), 0.1);
+  // 100 m along rooms and junctions, then 30 m down a featureless corridor: 2 m + 3 m.
+  const double bound = 100.0 * drift_per_m(c, 0.3) + 30.0 * drift_per_m(c, 0.0);
+  EXPECT_NEAR(bound, 5.0, 1e-12);
+  EXPECT_NEAR(global_search_window_m(c, bound), 5.0, 1e-12);
+  EXPECT_NEAR(rival_search_window_m(c, bound), 5.0, 1e-12);
   EXPECT_EQ(global_search_window_m(c, 0.0), 0.0);
-  EXPECT_EQ(global_search_window_m(c, 100.0), 0.0);       // 2 m: the local search covers it
-  EXPECT_NEAR(global_search_window_m(c, 150.0), 3.0, 1e-12);
-  EXPECT_NEAR(global_search_window_m(c, 399.0), 7.98, 1e-12);
-  EXPECT_EQ(global_search_window_m(c, 2000.0), 8.0);      // 40 m bound, the largest window
-  c.global_drift_per_m = 0.05;
+  EXPECT_EQ(global_search_window_m(c, 2.0), 0.0);  // the local search covers it
+  EXPECT_NEAR(rival_search_window_m(c, 2.0), 2.0, 1e-12);
+  EXPECT_NEAR(global_search_window_m(c, 7.98), 7.98, 1e-12);
+  EXPECT_EQ(global_search_window_m(c, 40.0), 8.0);  // the largest window
+  EXPECT_EQ(rival_search_window_m(c, 40.0), 8.0);
   c.loop_window_linear_m = 1.0;
-  EXPECT_NEAR(global_search_window_m(c, 30.0), 1.5, 1e-12);
-  EXPECT_EQ(global_search_window_m(c, 20.0), 0.0);
+  EXPECT_NEAR(global_search_window_m(c, 1.5), 1.5, 1e-12);
+  EXPECT_EQ(global_search_window_m(c, 1.0), 0.0);
   c.global_drift_per_m = 0.0;
-  EXPECT_EQ(global_search_window_m(c, 1e6), 0.0);  // no drift: never a wide search
+  c.unconstrained_drift_per_m = 0.0;
+  EXPECT_EQ(global_search_window_m(c, 1e6 * drift_per_m(c, 0.0)), 0.0);  // no drift: never a wide search
 }
 
 // A T junction: a corridor 2 m wide along x, a side corridor leaving it at x = 0 towards +y.

@@ -84,13 +84,21 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
     t.real("loop_max_range_m", &C::loop_max_range_m, closed(0.1, 1000.0), "m", "scan points used for closures and submaps");
     t.real("loop_overlap_radius_m", &C::loop_overlap_radius_m, closed(1e-3, 10.0), "m",
            "a closure's scan point within this of its submap's points is confirmed; the confirmed points must reach loop_min_constraint");
+    t.real("loop_max_ambiguity", &C::loop_max_ambiguity, closed(0.0, 1.0), "",
+           "a closure is refused when a pose loop_rival_distance_m or more away, within the drift bound's reach, scores this share "
+           "of its score (1: never refused)");
+    t.real("loop_rival_distance_m", &C::loop_rival_distance_m, closed(1e-3, 100.0), "m", "how far from a closure its rivals lie");
+    t.real("loop_rival_angular_deg", &C::loop_rival_angular_rad, closed(0.0, 180.0), "deg",
+           "rivals' yaw within this of the closure's (the drift in yaw is small; a repeated room lies at the same yaw)", kPi / 180.0);
     t.integer("loop_every_nodes", &C::loop_every_nodes, closed(1, 100000), "", "closures are searched on every n-th node");
     t.integer("global_every_nodes", &C::global_every_nodes, closed(0, 100000), "",
               "a wide search (whole circle) on every n-th node that found no closure (0: never)");
     t.real("global_window_linear_m", &C::global_window_linear_m, closed(0.0, 100.0), "m", "the wide search's largest window, +- in x and y");
     t.real("global_drift_per_m", &C::global_drift_per_m, closed(0.0, 1.0), "",
-           "bound on the local SLAM's drift per metre driven: a submap is searched widely once this times the travel since it exceeds "
-           "loop_window_linear_m, in a window of that bound (at most global_window_linear_m)");
+           "bound on the local SLAM's drift per metre driven where the scans pin the position down: a submap is searched widely once "
+           "the drift bound since it exceeds loop_window_linear_m, in a window of that bound (at most global_window_linear_m)");
+    t.real("unconstrained_drift_per_m", &C::unconstrained_drift_per_m, closed(0.0, 1.0), "",
+           "... where a node's scan does not pin its position down (scan constraint below loop_min_constraint): the odometry's drift");
     t.integer("global_max_submaps", &C::global_max_submaps, closed(1, 100000), "", "submaps a wide search visits, nearest first");
     t.real("global_min_score", &C::global_min_score, closed(0.0, 1.0), "", "least mean likelihood of a wide search's closure");
     t.real("loop_min_constraint", &C::loop_min_constraint, closed(0.0, 0.5), "",
@@ -131,7 +139,12 @@ void GraphSlamConfig::validate() const {
           "global_window_linear_m", "must be in [0, 100] m");
   require(loop_min_constraint >= 0 && loop_min_constraint <= 0.5, "loop_min_constraint", "must be in [0, 0.5]");
   require(std::isfinite(global_drift_per_m) && global_drift_per_m >= 0, "global_drift_per_m", "must be >= 0");
+  require(std::isfinite(unconstrained_drift_per_m) && unconstrained_drift_per_m >= 0, "unconstrained_drift_per_m", "must be >= 0");
   require(std::isfinite(loop_overlap_radius_m) && loop_overlap_radius_m > 0, "loop_overlap_radius_m", "must be > 0");
+  require(loop_max_ambiguity >= 0 && loop_max_ambiguity <= 1, "loop_max_ambiguity", "must be in [0, 1]");
+  require(std::isfinite(loop_rival_distance_m) && loop_rival_distance_m > 0, "loop_rival_distance_m", "must be > 0");
+  require(std::isfinite(loop_rival_angular_rad) && loop_rival_angular_rad >= 0 && loop_rival_angular_rad <= kPi, "loop_rival_angular_deg",
+          "must be in [0, 180] deg");
   require(global_max_submaps >= 1, "global_max_submaps", "must be >= 1");
   require(search_depth >= 0 && search_depth <= 10, "search_depth", "must be in [0, 10]");
   require(optimise_every_nodes >= 1, "optimise_every_nodes", "must be >= 1");
@@ -154,9 +167,16 @@ std::unique_ptr<ScanMatcher> checked(std::unique_ptr<ScanMatcher> matcher) {
 
 }  // namespace
 
-double global_search_window_m(const GraphSlamConfig& config, double travel_m) {
-  const double bound = config.global_drift_per_m * travel_m;
-  return bound <= config.loop_window_linear_m ? 0.0 : std::min(bound, config.global_window_linear_m);
+double drift_per_m(const GraphSlamConfig& config, double constraint) {
+  return constraint >= config.loop_min_constraint ? config.global_drift_per_m : config.unconstrained_drift_per_m;
+}
+
+double rival_search_window_m(const GraphSlamConfig& config, double drift_bound_m) {
+  return std::min(drift_bound_m, config.global_window_linear_m);
+}
+
+double global_search_window_m(const GraphSlamConfig& config, double drift_bound_m) {
+  return drift_bound_m <= config.loop_window_linear_m ? 0.0 : std::min(drift_bound_m, config.global_window_linear_m);
 }
 
 GraphSlam::GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher> matcher)
@@ -171,6 +191,10 @@ GraphSlam::GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher>
                          {m + "window_linear_m", m + "window_angular_deg", "local.max_range_m", m});
   matcher_->check_search(MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad}, c_.loop_max_range_m, 0.0, c_.search_depth,
                          {"loop_window_linear_m", "loop_window_angular_deg", "loop_max_range_m", m});
+  if (c_.loop_max_ambiguity < 1.0)
+    matcher_->check_search(MatchWindow{std::max(c_.loop_window_linear_m, c_.global_window_linear_m), c_.loop_window_angular_rad},
+                           c_.loop_max_range_m, 0.0, c_.search_depth,
+                           {"global_window_linear_m", "loop_window_angular_deg", "loop_max_range_m", m});
   if (c_.global_every_nodes > 0)
     matcher_->check_search(MatchWindow{c_.global_window_linear_m, kPi}, c_.loop_max_range_m, 0.0, c_.search_depth,
                            {"global_window_linear_m", "", "loop_max_range_m", m});
@@ -203,10 +227,12 @@ bool GraphSlam::on_scan(const ScanMessage& scan) {
   node.local = step.pose;
   node.global = n == 0 ? step.pose : nodes_[n - 1].global.compose(nodes_[n - 1].local.inverse().compose(step.pose));
   node.mount = mount;
-  if (n > 0) node.travel_m = nodes_[n - 1].travel_m + (step.pose.translation() - nodes_[n - 1].local.translation()).norm();
   for (const Vec2& p : points)
     if (p.norm() <= c_.loop_max_range_m) node.points.push_back(p);
   node.constraint = scan_constraint(node.points);
+  if (n > 0)
+    node.drift_bound_m = nodes_[n - 1].drift_bound_m +
+                         drift_per_m(c_, node.constraint) * (step.pose.translation() - nodes_[n - 1].local.translation()).norm();
   node.scan = scan;
   nodes_.push_back(std::move(node));
   sp.node = n;
@@ -261,7 +287,7 @@ void GraphSlam::search_closures(std::size_t n) {
     int searched = 0;
     for (const auto& [s, d] : eligible) {
       const Submap& m = submaps_[s];
-      const double window = global_search_window_m(c_, nodes_[n].travel_m - nodes_[m.first + m.count - 1].travel_m);
+      const double window = global_search_window_m(c_, nodes_[n].drift_bound_m - nodes_[m.first + m.count - 1].drift_bound_m);
       if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps) search_submap(n, s, window);
     }
   }
@@ -275,11 +301,27 @@ bool GraphSlam::search_submap(std::size_t n, std::size_t s, double global_window
   const CachedField& cached = submap_field(s);
   const ScanReference& field = *cached.field;
   const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
-  const MatchWindow window = global ? MatchWindow{global_window_m, kPi, c_.global_min_score}
-                                    : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score};
+  MatchWindow window = global ? MatchWindow{global_window_m, kPi, c_.global_min_score}
+                              : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score};
+  if (c_.loop_max_ambiguity < 1.0) {
+    // Rivals are looked for as far as the node may have drifted since the submap, beyond the
+    // window searched when the drift reaches farther (a repeated room one step along the corridor
+    // may be the true place), and not where it cannot have gone.
+    const Submap& sm = submaps_[s];
+    window.rival_exclusion_m = c_.loop_rival_distance_m;
+    window.rival_min_share = c_.loop_max_ambiguity;
+    window.rival_angular_rad = c_.loop_rival_angular_rad;
+    window.rival_linear_m = rival_search_window_m(c_, node.drift_bound_m - nodes_[sm.first + sm.count - 1].drift_bound_m);
+  }
   ++(global ? stats_.global_searches : stats_.loop_searches);
   const ScanMatch m = field.match(node.points, guess, window);
   if (!m.converged) return false;
+  // Another place within reach fits (nearly) as well: the building repeats itself (rooms along a
+  // corridor, the crossings of a grid) and the match cannot tell which place the scan is at.
+  if (m.ambiguity >= c_.loop_max_ambiguity && c_.loop_max_ambiguity < 1.0) {
+    ++stats_.ambiguous_matches;
+    return false;
+  }
   // A scan that sees a junction matched onto a submap of the corridor before it scores well
   // anywhere along the corridor: the part of the scan the submap confirms must itself pin the
   // position down in every direction.
@@ -383,6 +425,7 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
           {"global_searches", d(s.global_searches)},
           {"global_closures", d(s.global_closures)},
           {"unconstrained_matches", d(s.unconstrained_matches)},
+          {"ambiguous_matches", d(s.ambiguous_matches)},
           {"optimisations", d(s.optimisations)},
           {"local_cpu_s", s.local_cpu_s},
           {"loop_cpu_s", s.loop_cpu_s},

@@ -5,7 +5,9 @@
 // matched by branch and bound against the finished submaps near its estimate (loop closure, on
 // every `loop_every_nodes`-th node, or the next one whose scan is constrained enough) and, at a
 // lower rate, against the submaps the drift since them puts beyond the local window, in a window
-// of that drift over the whole circle (global closures); a match is kept only when the part of the
+// of that drift over the whole circle (global closures); the drift bound grows faster where the
+// scans do not pin the position down (the odometry's rate). A match is kept only when no other pose
+// within the drift bound's reach fits nearly as well (the building's repeats) and the part of the
 // scan its submap confirms pins the pose down; the pose graph (consecutive nodes joined by the local
 // SLAM's relative poses, loop closures under a robust loss) is optimised every
 // `optimise_every_nodes` nodes that brought closures, and at the end. Scans between nodes keep
@@ -88,11 +90,15 @@ struct GraphSlamConfig {
   int global_every_nodes = 100;           // a wide search on every n-th node that found no closure
   double global_window_linear_m = 8.0;    // the most +- x, y of the wide search (yaw: the whole circle)
   double global_drift_per_m = 0.02;       // bound on the local SLAM's drift per metre driven
+  double unconstrained_drift_per_m = 0.02; // ... where the scans do not pin the position down
   double global_min_score = 0.75;
   int global_max_submaps = 8;             // the wide search visits at most this many submaps, nearest first
   double loop_min_constraint = 0.2;       // least scan_constraint of a node that searches for closures
                                           // and of the part of its scan a closure's submap confirms
   double loop_overlap_radius_m = 0.15;    // a scan point within this of a submap point is confirmed
+  double loop_max_ambiguity = 1.0;        // a closure whose best rival (see below) scores this share of it is refused (1: never)
+  double loop_rival_distance_m = 1.0;     // rivals: poses at least this far from the match
+  double loop_rival_angular_rad = 0.0873; // ... and within this of its yaw (5 deg)
   int search_depth = 7;                   // levels of the branch and bound (blocks up to 2^depth cells)
   int optimise_every_nodes = 40;
   double local_sigma_m = 0.02, local_sigma_rad = 0.0087;  // consecutive nodes' edges
@@ -103,11 +109,20 @@ struct GraphSlamConfig {
   void validate() const;
 };
 
-// The wide search's window (+- x, y) for a submap `travel_m` of driving away along the chain of
-// nodes: the drift bound global_drift_per_m x travel_m, at most global_window_linear_m; 0 (no wide
-// search) while the bound is within the local search's loop_window_linear_m, which already covers
-// it (a wider window there only adds the corridor's repeats: a room's width along it, a junction's).
-double global_search_window_m(const GraphSlamConfig& config, double travel_m);
+// How fast the local SLAM's position may drift, per metre driven, where a node's scan has
+// `constraint` (scan_constraint): global_drift_per_m where the scan pins the position down
+// (loop_min_constraint or more), unconstrained_drift_per_m (the odometry's) where it does not (a
+// featureless corridor, where matching keeps the odometry's slide along it).
+double drift_per_m(const GraphSlamConfig& config, double constraint);
+// The wide search's window (+- x, y) for a submap whose drift bound (the sum of drift_per_m x the
+// distance driven, from the submap's last node to the node searching) is `drift_bound_m`: the
+// bound, at most global_window_linear_m; 0 (no wide search) while the bound is within the local
+// search's loop_window_linear_m, which already covers it (a wider window there only adds the
+// corridor's repeats: a room's width along it, a junction's).
+double global_search_window_m(const GraphSlamConfig& config, double drift_bound_m);
+// How far from the guess a closure's rivals are looked for: the drift bound, at most
+// global_window_linear_m.
+double rival_search_window_m(const GraphSlamConfig& config, double drift_bound_m);
 const ParamTable<GraphSlamConfig>& graph_slam_params();
 
 // Counters of a run (scans, nodes and submaps are the run's own sizes: statistics()).
@@ -115,6 +130,7 @@ struct GraphSlamStats {
   std::size_t matched = 0, unmatched = 0;  // the local matcher's scans
   std::size_t loop_searches = 0, loop_closures = 0, global_searches = 0, global_closures = 0;
   std::size_t unconstrained_matches = 0;  // matches refused: their overlap pins no position down
+  std::size_t ambiguous_matches = 0;      // matches refused: another place in reach fits almost as well
   std::size_t optimisations = 0;
   double local_cpu_s = 0.0, loop_cpu_s = 0.0, optimise_cpu_s = 0.0;
   std::size_t peak_field_bytes = 0;  // the submap fields held at once
@@ -141,7 +157,7 @@ class GraphSlam final : public Slam {
     Pose2 mount;
     std::vector<Vec2> points;  // sensor frame, for closures (range-limited)
     double constraint = 0.0;   // scan_constraint(points)
-    double travel_m = 0.0;     // the local SLAM's path length from the first node
+    double drift_bound_m = 0.0;  // drift_per_m x distance, summed along the local SLAM's path from the first node
     ScanMessage scan;          // for the map
   };
   struct Submap {
