@@ -150,6 +150,52 @@ TEST(ClosureWindow, TheSearchesGrowWithTheDriftBoundSinceTheSubmap) {
   EXPECT_EQ(global_search_window_m(c, 1e6 * drift_per_m(c, 0.0)), 0.0);  // no drift: never a wide search
 }
 
+// A node's wide closures: those implying the best one's pose enter the graph; with the ambiguity
+// check on, none when one implying another pose rivals the best. Hand-built cases, then random
+// sets against the rule spelled out pair by pair.
+TEST(WideClosures, TheBestOnesPoseIsKeptUnlessAnotherPoseRivalsIt) {
+  GraphSlamConfig c;  // 0.5 m, 3 deg; ambiguity check off
+  using Poses = std::vector<Pose2>;
+  using Scores = std::vector<double>;
+  using Kept = std::vector<std::size_t>;
+  EXPECT_EQ(wide_closures_kept(c, Poses{}, Scores{}), Kept{});
+  EXPECT_EQ(wide_closures_kept(c, Poses{{4, 2, 1}}, Scores{0.8}), Kept{0});
+  // The true place in three submaps, a repeat 3 m on in one.
+  const Poses three_and_repeat{{0, 0, 0}, {0.3, 0.35, 0.02}, {3.0, 0, 0}, {0.1, 0.1, 0.01}};
+  EXPECT_EQ(wide_closures_kept(c, three_and_repeat, Scores{0.90, 0.97, 0.93, 0.80}), (Kept{0, 1, 3}));
+  EXPECT_EQ(wide_closures_kept(c, three_and_repeat, Scores{0.90, 0.91, 0.97, 0.80}), Kept{2});  // the repeat fits best
+  c.loop_max_ambiguity = 0.95;
+  EXPECT_EQ(wide_closures_kept(c, three_and_repeat, Scores{0.90, 0.97, 0.92, 0.80}), (Kept{0, 1, 3}));  // 0.92 < 0.95 x 0.97
+  EXPECT_EQ(wide_closures_kept(c, three_and_repeat, Scores{0.90, 0.97, 0.93, 0.80}), Kept{});           // 0.93 >= 0.9215
+  EXPECT_EQ(wide_closures_kept(c, Poses{{0, 0, 3.13}, {0, 0, -3.13}}, Scores{0.9, 0.9}), (Kept{0, 1}));  // across +-pi
+  EXPECT_EQ(wide_closures_kept(c, Poses{{0, 0, 0}, {0, 0, 0.06}}, Scores{0.9, 0.9}), Kept{});            // 3.4 deg apart
+  EXPECT_EQ(wide_closures_kept(c, Poses{{0, 0, 0}, {0, 0, 0.06}}, Scores{0.9, 0.5}), Kept{0});
+  Rng rng(11);
+  for (int trial = 0; trial < 500; ++trial) {
+    const std::size_t n = static_cast<std::size_t>(rng.uniform(1.0, 8.99));
+    Poses implied;
+    Scores scores;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double place = rng.uniform() < 0.7 ? 0.0 : 3.0;
+      implied.push_back({place + rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), rng.uniform(-0.03, 0.03)});
+      scores.push_back(0.75 + 0.01 * std::floor(rng.uniform(0.0, 24.99)));
+    }
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < n; ++i)
+      if (scores[i] > scores[best]) best = i;
+    Kept expected;
+    bool rivalled = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool near = std::hypot(implied[i].x - implied[best].x, implied[i].y - implied[best].y) <= 0.5 &&
+                        std::abs(implied[i].yaw - implied[best].yaw) <= c.global_agreement_rad;
+      if (near) expected.push_back(i);
+      rivalled = rivalled || (!near && scores[i] >= 0.95 * scores[best]);
+    }
+    if (rivalled) expected.clear();
+    EXPECT_EQ(wide_closures_kept(c, implied, scores), expected) << "trial " << trial;
+  }
+}
+
 // A T junction: a corridor 2 m wide along x, a side corridor leaving it at x = 0 towards +y.
 std::vector<test::Segment> t_junction_world() {
   return {{{-30, -1}, {30, -1}}, {{-30, 1}, {-1, 1}}, {{1, 1}, {30, 1}}, {{-1, 1}, {-1, 15}},

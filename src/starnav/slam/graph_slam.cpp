@@ -101,6 +101,10 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
            "... where a node's scan does not pin its position down (scan constraint below loop_min_constraint): the odometry's drift");
     t.integer("global_max_submaps", &C::global_max_submaps, closed(1, 100000), "", "submaps a wide search visits, nearest first");
     t.real("global_min_score", &C::global_min_score, closed(0.0, 1.0), "", "least mean likelihood of a wide search's closure");
+    t.real("global_agreement_m", &C::global_agreement_m, closed(0.0, 100.0), "m",
+           "of a node's wide closures, those implying a pose of it this near the best one's enter the graph, and none when one implying "
+           "another pose scores loop_max_ambiguity of the best");
+    t.real("global_agreement_deg", &C::global_agreement_rad, closed(0.0, 180.0), "deg", "... and this near in yaw", kPi / 180.0);
     t.real("loop_min_constraint", &C::loop_min_constraint, closed(0.0, 0.5), "",
            "least scan constraint (smallest eigenvalue of the normals' mean scatter) of a node that searches for closures");
     t.integer("search_depth", &C::search_depth, closed(0, 10), "", "levels of the branch and bound (blocks up to 2^depth cells)");
@@ -146,6 +150,8 @@ void GraphSlamConfig::validate() const {
   require(std::isfinite(loop_rival_angular_rad) && loop_rival_angular_rad >= 0 && loop_rival_angular_rad <= kPi, "loop_rival_angular_deg",
           "must be in [0, 180] deg");
   require(global_max_submaps >= 1, "global_max_submaps", "must be >= 1");
+  require(std::isfinite(global_agreement_m) && global_agreement_m >= 0, "global_agreement_m", "must be >= 0");
+  require(std::isfinite(global_agreement_rad) && global_agreement_rad >= 0, "global_agreement_deg", "must be >= 0");
   require(search_depth >= 0 && search_depth <= 10, "search_depth", "must be in [0, 10]");
   require(optimise_every_nodes >= 1, "optimise_every_nodes", "must be >= 1");
   for (const auto& [v, field] : {std::pair{local_sigma_m, "local_sigma_m"}, {local_sigma_rad, "local_sigma_deg"},
@@ -177,6 +183,21 @@ double rival_search_window_m(const GraphSlamConfig& config, double drift_bound_m
 
 double global_search_window_m(const GraphSlamConfig& config, double drift_bound_m) {
   return drift_bound_m <= config.loop_window_linear_m ? 0.0 : std::min(drift_bound_m, config.global_window_linear_m);
+}
+
+std::vector<std::size_t> wide_closures_kept(const GraphSlamConfig& config, std::span<const Pose2> implied, std::span<const double> scores) {
+  std::vector<std::size_t> kept;
+  if (implied.empty()) return kept;
+  const std::size_t best = static_cast<std::size_t>(std::max_element(scores.begin(), scores.end()) - scores.begin());
+  for (std::size_t i = 0; i < implied.size(); ++i) {
+    const bool agrees = (implied[i].translation() - implied[best].translation()).norm() <= config.global_agreement_m &&
+                        std::abs(angle_diff(implied[i].yaw, implied[best].yaw)) <= config.global_agreement_rad;
+    if (agrees)
+      kept.push_back(i);
+    else if (config.loop_max_ambiguity < 1.0 && scores[i] >= config.loop_max_ambiguity * scores[best])
+      return {};
+  }
+  return kept;
 }
 
 GraphSlam::GraphSlam(const GraphSlamConfig& config, std::unique_ptr<ScanMatcher> matcher)
@@ -278,26 +299,45 @@ void GraphSlam::search_closures(std::size_t n) {
     if (!m.finished || m.first + m.count + static_cast<std::size_t>(c_.submap_nodes) > n) continue;
     eligible.push_back({s, (nodes_[m.first + m.count / 2].global.translation() - at).norm()});
   }
+  // The wide search is for a node whose estimate has lost the map: not one whose local search
+  // found places that fit but refused them as ambiguous (the wide window holds the same rivals).
   bool found = false;
+  Closure closure;
   if (loop_due)
-    for (const auto& [s, d] : eligible)
-      if (d <= c_.loop_max_distance_m) found = search_submap(n, s, 0.0) || found;
+    for (const auto& [s, d] : eligible) {
+      if (d > c_.loop_max_distance_m) continue;
+      const SubmapMatch match = search_submap(n, s, 0.0, closure);
+      if (match == SubmapMatch::Found) add_closure(n, closure, false);
+      found = found || match != SubmapMatch::None;
+    }
   if (!found && global_due) {
     std::stable_sort(eligible.begin(), eligible.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
     int searched = 0;
+    std::vector<Closure> wide;
     for (const auto& [s, d] : eligible) {
       const Submap& m = submaps_[s];
       const double window = global_search_window_m(c_, nodes_[n].drift_bound_m - nodes_[m.first + m.count - 1].drift_bound_m);
-      if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps) search_submap(n, s, window);
+      if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps &&
+          search_submap(n, s, window, closure) == SubmapMatch::Found)
+        wide.push_back(closure);
     }
+    std::vector<Pose2> implied;
+    std::vector<double> scores;
+    for (const Closure& w : wide) {
+      implied.push_back(nodes_[w.anchor].global.compose(w.z));
+      scores.push_back(w.score);
+    }
+    const std::vector<std::size_t> kept = wide_closures_kept(c_, implied, scores);
+    stats_.disagreeing_matches += wide.size() - kept.size();
+    for (const std::size_t i : kept) add_closure(n, wide[i], true);
   }
 }
 
-bool GraphSlam::search_submap(std::size_t n, std::size_t s, double global_window_m) {
+GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, double global_window_m, Closure& closure) {
   const bool global = global_window_m > 0;
   const Node& node = nodes_[n];
   const std::size_t anchor = submaps_[s].first;
-  if (submaps_[s].points.empty()) return false;  // its nodes saw nothing within loop_max_range_m
+  if (submaps_[s].points.empty()) return SubmapMatch::None;  // its nodes saw nothing within loop_max_range_m
   const CachedField& cached = submap_field(s);
   const ScanReference& field = *cached.field;
   const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
@@ -315,26 +355,29 @@ bool GraphSlam::search_submap(std::size_t n, std::size_t s, double global_window
   }
   ++(global ? stats_.global_searches : stats_.loop_searches);
   const ScanMatch m = field.match(node.points, guess, window);
-  if (!m.converged) return false;
+  if (!m.converged) return SubmapMatch::None;
   // Another place within reach fits (nearly) as well: the building repeats itself (rooms along a
   // corridor, the crossings of a grid) and the match cannot tell which place the scan is at.
   if (m.ambiguity >= c_.loop_max_ambiguity && c_.loop_max_ambiguity < 1.0) {
     ++stats_.ambiguous_matches;
-    return false;
+    return SubmapMatch::Ambiguous;
   }
   // A scan that sees a junction matched onto a submap of the corridor before it scores well
   // anywhere along the corridor: the part of the scan the submap confirms must itself pin the
   // position down in every direction.
   if (scan_constraint(overlapping_points(node.points, m.transform, cached.points)) < c_.loop_min_constraint) {
     ++stats_.unconstrained_matches;
-    return false;
+    return SubmapMatch::None;
   }
-  const Pose2 z = m.transform.compose(node.mount.inverse());
-  edges_.push_back({anchor, n, z, information(c_.loop_sigma_m, c_.loop_sigma_rad), c_.loop_loss, c_.loop_loss_scale});
-  graph_edges_.push_back({anchor, n, global ? SlamEdgeKind::Global : SlamEdgeKind::Loop, z, m.score});
+  closure = {anchor, m.transform.compose(node.mount.inverse()), m.score};
+  return SubmapMatch::Found;
+}
+
+void GraphSlam::add_closure(std::size_t n, const Closure& closure, bool global) {
+  edges_.push_back({closure.anchor, n, closure.z, information(c_.loop_sigma_m, c_.loop_sigma_rad), c_.loop_loss, c_.loop_loss_scale});
+  graph_edges_.push_back({closure.anchor, n, global ? SlamEdgeKind::Global : SlamEdgeKind::Loop, closure.z, closure.score});
   ++(global ? stats_.global_closures : stats_.loop_closures);
   ++closures_since_optimise_;
-  return true;
 }
 
 std::size_t cached_fields_kept(std::span<const std::size_t> bytes_newest_first, std::size_t max_fields, std::size_t max_bytes) {
@@ -426,6 +469,7 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
           {"global_closures", d(s.global_closures)},
           {"unconstrained_matches", d(s.unconstrained_matches)},
           {"ambiguous_matches", d(s.ambiguous_matches)},
+          {"disagreeing_matches", d(s.disagreeing_matches)},
           {"optimisations", d(s.optimisations)},
           {"local_cpu_s", s.local_cpu_s},
           {"loop_cpu_s", s.loop_cpu_s},

@@ -8,10 +8,11 @@
 // of that drift over the whole circle (global closures); the drift bound grows faster where the
 // scans do not pin the position down (the odometry's rate). A match is kept only when no other pose
 // within the drift bound's reach fits nearly as well (the building's repeats) and the part of the
-// scan its submap confirms pins the pose down; the pose graph (consecutive nodes joined by the local
-// SLAM's relative poses, loop closures under a robust loss) is optimised every
-// `optimise_every_nodes` nodes that brought closures, and at the end. Scans between nodes keep
-// their pose relative to the node before them.
+// scan its submap confirms pins the pose down; of a node's wide closures only those agreeing with
+// the best one enter the graph (none when a place elsewhere rivals it). The pose graph
+// (consecutive nodes joined by the local SLAM's relative poses, loop closures under a robust loss)
+// is optimised every `optimise_every_nodes` nodes that brought closures, and at the end. Scans
+// between nodes keep their pose relative to the node before them.
 //
 // The front end (LocalSlam) and the back end (submaps, closures, pose graph) share one scan
 // matcher, the ScanMatcher role injected by whoever builds the SLAM (the registry's factory picks
@@ -93,6 +94,8 @@ struct GraphSlamConfig {
   double unconstrained_drift_per_m = 0.02; // ... where the scans do not pin the position down
   double global_min_score = 0.75;
   int global_max_submaps = 8;             // the wide search visits at most this many submaps, nearest first
+  double global_agreement_m = 0.5;        // a node's wide closures that imply a pose of it this near the best one's agree
+  double global_agreement_rad = 0.0523599;  // ... and this near in yaw (3 deg)
   double loop_min_constraint = 0.2;       // least scan_constraint of a node that searches for closures
                                           // and of the part of its scan a closure's submap confirms
   double loop_overlap_radius_m = 0.15;    // a scan point within this of a submap point is confirmed
@@ -123,6 +126,13 @@ double global_search_window_m(const GraphSlamConfig& config, double drift_bound_
 // How far from the guess a closure's rivals are looked for: the drift bound, at most
 // global_window_linear_m.
 double rival_search_window_m(const GraphSlamConfig& config, double drift_bound_m);
+// Which of one node's wide closures enter the graph: `implied` holds the node's pose each implies
+// (its submap's estimate composed with the match), `scores` their scores. Those implying the best
+// one's pose (within global_agreement_m and global_agreement_rad; the first of equal scores), in
+// order; none when a closure implying another pose scores loop_max_ambiguity of the best or more:
+// the scan then fits two places of the building in different submaps (a repeat of its place in
+// one, the place itself in another), which the rival search within one submap cannot see.
+std::vector<std::size_t> wide_closures_kept(const GraphSlamConfig& config, std::span<const Pose2> implied, std::span<const double> scores);
 const ParamTable<GraphSlamConfig>& graph_slam_params();
 
 // Counters of a run (scans, nodes and submaps are the run's own sizes: statistics()).
@@ -131,6 +141,7 @@ struct GraphSlamStats {
   std::size_t loop_searches = 0, loop_closures = 0, global_searches = 0, global_closures = 0;
   std::size_t unconstrained_matches = 0;  // matches refused: their overlap pins no position down
   std::size_t ambiguous_matches = 0;      // matches refused: another place in reach fits almost as well
+  std::size_t disagreeing_matches = 0;    // wide matches refused: another pose than the best one's, or the best one's rivalled
   std::size_t optimisations = 0;
   double local_cpu_s = 0.0, loop_cpu_s = 0.0, optimise_cpu_s = 0.0;
   std::size_t peak_field_bytes = 0;  // the submap fields held at once
@@ -178,8 +189,16 @@ class GraphSlam final : public Slam {
   };
   void add_to_submaps(std::size_t node);
   void search_closures(std::size_t node);
-  // `global_window_m` > 0: the wide search in that window (+- x, y; the whole circle).
-  bool search_submap(std::size_t node, std::size_t submap, double global_window_m);
+  enum class SubmapMatch { None, Found, Ambiguous };
+  struct Closure {
+    std::size_t anchor = 0;  // the submap's first node
+    Pose2 z;                 // the node's base in the anchor's
+    double score = 0.0;
+  };
+  // `global_window_m` > 0: the wide search in that window (+- x, y; the whole circle). A match
+  // found is left in `closure`.
+  SubmapMatch search_submap(std::size_t node, std::size_t submap, double global_window_m, Closure& closure);
+  void add_closure(std::size_t node, const Closure& closure, bool global);
   const CachedField& submap_field(std::size_t submap);
   void optimise();
 
