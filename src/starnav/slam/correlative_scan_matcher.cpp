@@ -193,8 +193,7 @@ class BranchAndBound {
     for (int dx : {0, span})
       for (int dy : {0, span}) {
         const double ex = c.ix + dx - excluded_.ix, ey = c.iy + dy - excluded_.iy;
-        if (ex * ex + ey * ey <= exclusion2_) continue;
-        return false;
+        if (ex * ex + ey * ey > exclusion2_) return false;
       }
     return true;
   }

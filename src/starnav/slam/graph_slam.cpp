@@ -315,8 +315,7 @@ void GraphSlam::search_closures(std::size_t n) {
     int searched = 0;
     std::vector<Closure> wide;
     for (const auto& [s, d] : eligible) {
-      const Submap& m = submaps_[s];
-      const double window = global_search_window_m(c_, nodes_[n].drift_bound_m - nodes_[m.first + m.count - 1].drift_bound_m);
+      const double window = global_search_window_m(c_, drift_bound_since(n, s));
       if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps &&
           search_submap(n, s, window, closure) == SubmapMatch::Found)
         wide.push_back(closure);
@@ -333,6 +332,11 @@ void GraphSlam::search_closures(std::size_t n) {
   }
 }
 
+double GraphSlam::drift_bound_since(std::size_t n, std::size_t s) const {
+  const Submap& m = submaps_[s];
+  return nodes_[n].drift_bound_m - nodes_[m.first + m.count - 1].drift_bound_m;
+}
+
 GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, double global_window_m, Closure& closure) {
   const bool global = global_window_m > 0;
   const Node& node = nodes_[n];
@@ -347,11 +351,10 @@ GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, do
     // Rivals are looked for as far as the node may have drifted since the submap, beyond the
     // window searched when the drift reaches farther (a repeated room one step along the corridor
     // may be the true place), and not where it cannot have gone.
-    const Submap& sm = submaps_[s];
     window.rival_exclusion_m = c_.loop_rival_distance_m;
     window.rival_min_share = c_.loop_max_ambiguity;
     window.rival_angular_rad = c_.loop_rival_angular_rad;
-    window.rival_linear_m = rival_search_window_m(c_, node.drift_bound_m - nodes_[sm.first + sm.count - 1].drift_bound_m);
+    window.rival_linear_m = rival_search_window_m(c_, drift_bound_since(n, s));
   }
   ++(global ? stats_.global_searches : stats_.loop_searches);
   const ScanMatch m = field.match(node.points, guess, window);

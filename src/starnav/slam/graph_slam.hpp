@@ -199,6 +199,8 @@ class GraphSlam final : public Slam {
   // found is left in `closure`.
   SubmapMatch search_submap(std::size_t node, std::size_t submap, double global_window_m, Closure& closure);
   void add_closure(std::size_t node, const Closure& closure, bool global);
+  // The drift bound accumulated from submap `submap`'s last node to `node`.
+  double drift_bound_since(std::size_t node, std::size_t submap) const;
   const CachedField& submap_field(std::size_t submap);
   void optimise();
 
