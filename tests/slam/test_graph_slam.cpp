@@ -150,6 +150,23 @@ TEST(ClosureWindow, TheSearchesGrowWithTheDriftBoundSinceTheSubmap) {
   EXPECT_EQ(global_search_window_m(c, 1e6 * drift_per_m(c, 0.0)), 0.0);  // no drift: never a wide search
 }
 
+// The prior on closure searches, against hand-computed values: sigma = multiple x the drift bound
+// (at least 0.1 m), weight 1 / (2 sigma^2); none when the multiple is 0.
+TEST(ClosureWindow, ThePriorWidensWithTheDriftBound) {
+  GraphSlamConfig c;
+  c.loop_prior_drift_multiple = 0.0;
+  EXPECT_EQ(closure_prior_weight(c, 1.0), 0.0);  // no prior
+  c.loop_prior_drift_multiple = 2.0;
+  // 52 m at 2 %/m: sigma 2.08 m; a pose 2.75 m from the estimate keeps 42 % of its score.
+  const double w = closure_prior_weight(c, 52.0 * 0.02);
+  EXPECT_NEAR(w, 1.0 / (2.0 * 2.08 * 2.08), 1e-12);
+  EXPECT_NEAR(std::exp(-w * 2.75 * 2.75), 0.41728, 1e-5);
+  EXPECT_NEAR(closure_prior_weight(c, 0.0), 1.0 / (2.0 * 0.2 * 0.2), 1e-12);  // at least 0.1 m x 2
+  EXPECT_NEAR(closure_prior_weight(c, 0.05), closure_prior_weight(c, 0.1), 1e-12);
+  c.loop_prior_drift_multiple = 1.0;
+  EXPECT_NEAR(closure_prior_weight(c, 3.0), 1.0 / 18.0, 1e-12);
+}
+
 // A node's wide closures: those implying the best one's pose enter the graph; with the ambiguity
 // check on, none when one implying another pose rivals the best. Hand-built cases, then random
 // sets against the rule spelled out pair by pair.

@@ -9,6 +9,7 @@
 #include "starnav/core/angle.hpp"
 #include "starnav/core/cpu_time.hpp"
 #include "starnav/core/error.hpp"
+#include "starnav/core/record_format.hpp"
 
 namespace starnav {
 
@@ -90,6 +91,9 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
     t.real("loop_rival_distance_m", &C::loop_rival_distance_m, closed(1e-3, 100.0), "m", "how far from a closure its rivals lie");
     t.real("loop_rival_angular_deg", &C::loop_rival_angular_rad, closed(0.0, 180.0), "deg",
            "rivals' yaw within this of the closure's (the drift in yaw is small; a repeated room lies at the same yaw)", kPi / 180.0);
+    t.real("loop_prior_drift_multiple", &C::loop_prior_drift_multiple, closed(0.0, 1000.0), "",
+           "closures' lattice scores (local and wide) times a Gaussian prior around the estimate, sigma this x the drift bound "
+           "since the submap (at least " + format_number(kMinClosurePriorSigmaM) + " m; 0: no prior)");
     t.integer("loop_every_nodes", &C::loop_every_nodes, closed(1, 100000), "", "closures are searched on every n-th node");
     t.integer("global_every_nodes", &C::global_every_nodes, closed(0, 100000), "",
               "a wide search (whole circle) on every n-th node that found no closure (0: never)");
@@ -149,6 +153,7 @@ void GraphSlamConfig::validate() const {
   require(std::isfinite(loop_rival_distance_m) && loop_rival_distance_m > 0, "loop_rival_distance_m", "must be > 0");
   require(std::isfinite(loop_rival_angular_rad) && loop_rival_angular_rad >= 0 && loop_rival_angular_rad <= kPi, "loop_rival_angular_deg",
           "must be in [0, 180] deg");
+  require(std::isfinite(loop_prior_drift_multiple) && loop_prior_drift_multiple >= 0, "loop_prior_drift_multiple", "must be >= 0");
   require(global_max_submaps >= 1, "global_max_submaps", "must be >= 1");
   require(std::isfinite(global_agreement_m) && global_agreement_m >= 0, "global_agreement_m", "must be >= 0");
   require(std::isfinite(global_agreement_rad) && global_agreement_rad >= 0, "global_agreement_deg", "must be >= 0");
@@ -179,6 +184,12 @@ double drift_per_m(const GraphSlamConfig& config, double constraint) {
 
 double rival_search_window_m(const GraphSlamConfig& config, double drift_bound_m) {
   return std::min(drift_bound_m, config.global_window_linear_m);
+}
+
+double closure_prior_weight(const GraphSlamConfig& config, double drift_bound_m) {
+  if (config.loop_prior_drift_multiple <= 0) return 0.0;
+  const double sigma = config.loop_prior_drift_multiple * std::max(drift_bound_m, kMinClosurePriorSigmaM);
+  return 1.0 / (2.0 * sigma * sigma);
 }
 
 double global_search_window_m(const GraphSlamConfig& config, double drift_bound_m) {
@@ -345,8 +356,9 @@ GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, do
   const CachedField& cached = submap_field(s);
   const ScanReference& field = *cached.field;
   const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
-  MatchWindow window = global ? MatchWindow{global_window_m, kPi, c_.global_min_score}
-                              : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score};
+  const double prior = closure_prior_weight(c_, drift_bound_since(n, s));
+  MatchWindow window = global ? MatchWindow{global_window_m, kPi, c_.global_min_score, prior}
+                              : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score, prior};
   if (c_.loop_max_ambiguity < 1.0) {
     // Rivals are looked for as far as the node may have drifted since the submap, beyond the
     // window searched when the drift reaches farther (a repeated room one step along the corridor

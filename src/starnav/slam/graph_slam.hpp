@@ -102,6 +102,7 @@ struct GraphSlamConfig {
   double loop_max_ambiguity = 1.0;        // a closure whose best rival (see below) scores this share of it is refused (1: never)
   double loop_rival_distance_m = 1.0;     // rivals: poses at least this far from the match
   double loop_rival_angular_rad = 0.0873; // ... and within this of its yaw (5 deg)
+  double loop_prior_drift_multiple = 1.0; // closures' scores weighed by a prior around the estimate, sigma this x the drift bound (0: none)
   int search_depth = 7;                   // levels of the branch and bound (blocks up to 2^depth cells)
   int optimise_every_nodes = 40;
   double local_sigma_m = 0.02, local_sigma_rad = 0.0087;  // consecutive nodes' edges
@@ -126,6 +127,14 @@ double global_search_window_m(const GraphSlamConfig& config, double drift_bound_
 // How far from the guess a closure's rivals are looked for: the drift bound, at most
 // global_window_linear_m.
 double rival_search_window_m(const GraphSlamConfig& config, double drift_bound_m);
+// The weight (1/m^2) of the prior a closure search's lattice scores (local and wide) are
+// multiplied by, exp(-w d^2) for a shift d from the graph's estimate: a Gaussian of sigma
+// loop_prior_drift_multiple x the drift bound since the submap (at least kMinClosurePriorSigmaM),
+// 0 when the multiple is 0. The estimate is where the node most likely is: a pose metres from it
+// (a crossing seen from its other side, one corridor's width on) must fit clearly better than the
+// estimate's surroundings to win, the more so the less the node can have drifted.
+inline constexpr double kMinClosurePriorSigmaM = 0.1;
+double closure_prior_weight(const GraphSlamConfig& config, double drift_bound_m);
 // Which of one node's wide closures enter the graph: `implied` holds the node's pose each implies
 // (its submap's estimate composed with the match), `scores` their scores. Those implying the best
 // one's pose (within global_agreement_m and global_agreement_rad; the first of equal scores), in
