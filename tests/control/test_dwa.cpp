@@ -350,7 +350,7 @@ bool chosen_motion_touches(const OccupancyGrid& m, const FootprintModel& fm, con
 
 TEST(DwaController, NeverChoosesAMotionThatTouchesAnObstacle) {
   Rng rng(5);
-  int chosen = 0, blocked = 0;
+  int chosen = 0;
   for (int trial = 0; trial < test::scaled(30); ++trial) {
     const bool holonomic = trial % 2 == 0;
     const RobotConfig robot = holonomic ? mecanum() : differential();
@@ -381,7 +381,6 @@ TEST(DwaController, NeverChoosesAMotionThatTouchesAnObstacle) {
     in.local_map = &m;
     const ControlOutput out = dwa.compute(in);
     if (out.status == ControlStatus::Blocked) {
-      ++blocked;
       EXPECT_EQ(out.twist.vx, 0.0);
       continue;
     }
