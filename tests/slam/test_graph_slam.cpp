@@ -268,6 +268,45 @@ TEST(ClosureCheck, OverlappingPointsAreThoseWithinTheRadiusOfAReferencePoint) {
   }
 }
 
+TEST(SeeThrough, RaysCrossingAMeasuredWallCountAndRaysEndingAtItDoNot) {
+  // The reference measured a wall along x = 2 from y = -1 to 1 (points 1 cm apart, cells 5 cm).
+  std::vector<Vec2> wall;
+  for (int i = 0; i <= 200; ++i) wall.emplace_back(2.0, -1.0 + 0.01 * i);
+  const SurfaceGrid surfaces(wall, 0.05, 1);
+  // The sensor at (0.5, 0) facing +x; its points in its own frame land (in the wall's frame) at:
+  // (3, 0): crosses the wall at y = 0; (3, 1.2): crosses it at y = 0.8; (3, -2): passes it at
+  // y = -1.33; (1.5, 0.5): ends before it; (2, 0.3): ends on it (within the 0.3 m margin).
+  const Pose2 pose(0.5, 0.0, 0.0);
+  std::vector<Vec2> scan;
+  for (const Vec2& world : {Vec2(3.0, 0.0), Vec2(3.0, 1.2), Vec2(3.0, -2.0), Vec2(1.5, 0.5), Vec2(2.0, 0.3)})
+    scan.push_back(pose.inverse().transform(world));
+  EXPECT_DOUBLE_EQ(see_through_share(scan, pose, surfaces, 0.3), 2.0 / 5.0);
+  // Turned half a circle and placed beyond the wall, the same world points: the rays now start
+  // at (4, 0) and only (1.5, 0.5) lies beyond the wall from there (crossing it at y = 0.4).
+  const Pose2 behind(4.0, 0.0, kPi);
+  std::vector<Vec2> seen_from_behind;
+  for (const Vec2& world : {Vec2(3.0, 0.0), Vec2(1.5, 0.5), Vec2(3.0, -2.0)}) seen_from_behind.push_back(behind.inverse().transform(world));
+  EXPECT_DOUBLE_EQ(see_through_share(seen_from_behind, behind, surfaces, 0.3), 1.0 / 3.0);
+  // A margin longer than the rays: nothing is seen through; the sensor's own cell never counts.
+  EXPECT_EQ(see_through_share(scan, pose, surfaces, 10.0), 0.0);
+  EXPECT_FALSE(surfaces.crosses_surface(Vec2(2.0, 0.0), Vec2(2.5, 0.0), 0.5));
+  EXPECT_TRUE(surfaces.crosses_surface(Vec2(1.0, 0.0), Vec2(2.5, 0.0), 1.2));
+  EXPECT_FALSE(surfaces.crosses_surface(Vec2(1.0, 0.0), Vec2(2.5, 0.0), 0.9));
+  EXPECT_EQ(see_through_share({}, pose, surfaces, 0.3), 0.0);
+  // A surface is a cell holding min_hits points: the wall's cells hold five (1 cm apart, 5 cm
+  // cells) or six, a stray return one.
+  std::vector<Vec2> with_stray = wall;
+  with_stray.emplace_back(1.0, 0.02);
+  EXPECT_TRUE(SurfaceGrid(with_stray, 0.05, 1).crosses_surface(Vec2(0.0, 0.02), Vec2(1.5, 0.02), 1.5));
+  EXPECT_FALSE(SurfaceGrid(with_stray, 0.05, 3).crosses_surface(Vec2(0.0, 0.02), Vec2(1.5, 0.02), 1.5));
+  EXPECT_TRUE(SurfaceGrid(with_stray, 0.05, 3).crosses_surface(Vec2(0.0, 0.02), Vec2(2.5, 0.02), 2.5));
+  EXPECT_FALSE(SurfaceGrid(with_stray, 0.05, 7).crosses_surface(Vec2(0.0, 0.02), Vec2(2.5, 0.02), 2.5));
+  // Points 100 km apart: coarser cells, not 4e12 of them.
+  const SurfaceGrid far_apart(std::vector<Vec2>{{0.0, 0.0}, {1e5, 1e5}}, 0.05, 1);
+  EXPECT_LE(far_apart.bytes(), 2 * kMaxSurfaceGridCells);
+  EXPECT_TRUE(far_apart.crosses_surface(Vec2(-1e4, -1e4), Vec2(5e4, 5e4), 5e4));
+}
+
 TEST(ScanConstraint, TellsACorridorFromARoom) {
   std::vector<Vec2> corridor, room;
   for (int i = 0; i < 100; ++i) corridor.emplace_back(-5.0 + 0.1 * i, 1.0);

@@ -63,6 +63,61 @@ bool PointNeighbourhood::near(const Vec2& position) const {
   return false;
 }
 
+SurfaceGrid::SurfaceGrid(std::span<const Vec2> points, double cell_m, int min_hits) : cell_m_(cell_m), min_hits_(min_hits) {
+  if (points.empty()) return;
+  Vec2 low = points[0], high = points[0];
+  for (const Vec2& p : points) low = low.cwiseMin(p), high = high.cwiseMax(p);
+  // A long-range laser's submap spans kilometres: its cells grow until the grid fits the bound.
+  const double area = (high.x() - low.x() + cell_m_) * (high.y() - low.y() + cell_m_);
+  if (area / (cell_m_ * cell_m_) > static_cast<double>(kMaxSurfaceGridCells)) cell_m_ = std::sqrt(area / static_cast<double>(kMaxSurfaceGridCells));
+  const auto cell = [&](double v) { return static_cast<std::int64_t>(std::floor(v / cell_m_)); };
+  min_x_ = cell(low.x());
+  min_y_ = cell(low.y());
+  width_ = cell(high.x()) - min_x_ + 1;
+  height_ = cell(high.y()) - min_y_ + 1;
+  occupied_.assign(static_cast<std::size_t>(width_ * height_), 0);
+  for (const Vec2& p : points) {
+    std::uint8_t& hits = occupied_[static_cast<std::size_t>((cell(p.y()) - min_y_) * width_ + cell(p.x()) - min_x_)];
+    if (hits < 255) ++hits;
+  }
+}
+
+bool SurfaceGrid::occupied(std::int64_t cx, std::int64_t cy) const {
+  cx -= min_x_;
+  cy -= min_y_;
+  return cx >= 0 && cy >= 0 && cx < width_ && cy < height_ && occupied_[static_cast<std::size_t>(cy * width_ + cx)] >= min_hits_;
+}
+
+bool SurfaceGrid::crosses_surface(const Vec2& from, const Vec2& to, double stop_m) const {
+  const double length = (to - from).norm();
+  if (!(stop_m > 0) || length <= 0) return false;
+  const Vec2 direction = (to - from) / length;
+  const auto start_x = static_cast<std::int64_t>(std::floor(from.x() / cell_m_));
+  const auto start_y = static_cast<std::int64_t>(std::floor(from.y() / cell_m_));
+  // Samples a quarter of a cell apart: a ray cannot pass a cell's corner region unseen by more
+  // than that, which the margin covers.
+  const double step = cell_m_ / 4.0;
+  const double end = std::min(stop_m, length);
+  for (double d = 0.0; d < end; d += step) {
+    const Vec2 at = from + d * direction;
+    const auto cx = static_cast<std::int64_t>(std::floor(at.x() / cell_m_));
+    const auto cy = static_cast<std::int64_t>(std::floor(at.y() / cell_m_));
+    if ((cx != start_x || cy != start_y) && occupied(cx, cy)) return true;
+  }
+  return false;
+}
+
+double see_through_share(std::span<const Vec2> scan, const Pose2& pose, const SurfaceGrid& surfaces, double margin_m) {
+  if (scan.empty()) return 0.0;
+  const Vec2 origin = pose.translation();
+  std::size_t through = 0;
+  for (const Vec2& p : scan) {
+    const Vec2 end = pose.transform(p);
+    if (surfaces.crosses_surface(origin, end, (end - origin).norm() - margin_m)) ++through;
+  }
+  return static_cast<double>(through) / static_cast<double>(scan.size());
+}
+
 std::vector<Vec2> overlapping_points(std::span<const Vec2> scan, const Pose2& pose, const PointNeighbourhood& reference) {
   std::vector<Vec2> out;
   for (const Vec2& p : scan)
@@ -94,6 +149,13 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
     t.real("loop_prior_drift_multiple", &C::loop_prior_drift_multiple, closed(0.0, 1000.0), "",
            "closures' lattice scores (local and wide) times a Gaussian prior around the estimate, sigma this x the drift bound "
            "since the submap (at least " + format_number(kMinClosurePriorSigmaM) + " m; 0: no prior)");
+    t.real("loop_max_see_through", &C::loop_max_see_through, closed(0.0, 1.0), "",
+           "a closure is refused when the share of its scan's rays that, placed by the match, cross a surface its submap measured "
+           "(a cell a third of loop_overlap_radius_m wide holding " + std::to_string(kSurfaceMinHits) +
+               " of its points) loop_see_through_margin_m or more before their end exceeds the share that cross its own submap's "
+               "surfaces by this much (1: never refused)");
+    t.real("loop_see_through_margin_m", &C::loop_see_through_margin_m, closed(0.0, 100.0), "m",
+           "a ray sees through a surface it crosses this far or more before its end");
     t.integer("loop_every_nodes", &C::loop_every_nodes, closed(1, 100000), "", "closures are searched on every n-th node");
     t.integer("global_every_nodes", &C::global_every_nodes, closed(0, 100000), "",
               "a wide search (whole circle) on every n-th node that found no closure (0: never)");
@@ -150,6 +212,8 @@ void GraphSlamConfig::validate() const {
   require(std::isfinite(unconstrained_drift_per_m) && unconstrained_drift_per_m >= 0, "unconstrained_drift_per_m", "must be >= 0");
   require(std::isfinite(loop_overlap_radius_m) && loop_overlap_radius_m > 0, "loop_overlap_radius_m", "must be > 0");
   require(loop_max_ambiguity >= 0 && loop_max_ambiguity <= 1, "loop_max_ambiguity", "must be in [0, 1]");
+  require(loop_max_see_through >= 0 && loop_max_see_through <= 1, "loop_max_see_through", "must be in [0, 1]");
+  require(std::isfinite(loop_see_through_margin_m) && loop_see_through_margin_m >= 0, "loop_see_through_margin_m", "must be >= 0");
   require(std::isfinite(loop_rival_distance_m) && loop_rival_distance_m > 0, "loop_rival_distance_m", "must be > 0");
   require(std::isfinite(loop_rival_angular_rad) && loop_rival_angular_rad >= 0 && loop_rival_angular_rad <= kPi, "loop_rival_angular_deg",
           "must be in [0, 180] deg");
@@ -343,6 +407,24 @@ void GraphSlam::search_closures(std::size_t n) {
   }
 }
 
+double GraphSlam::own_see_through(std::size_t n) {
+  if (own_see_through_ && own_see_through_->first == n) return own_see_through_->second;
+  // The node's submap with the most nodes (each node lies in two; the older holds at least half
+  // a submap's), in whose frame the node's pose is its local SLAM's.
+  const Submap* own = nullptr;
+  for (const Submap& s : submaps_)
+    if (n >= s.first && n < s.first + s.count && (!own || s.count > own->count)) own = &s;
+  double share = 0.0;
+  if (own) {
+    const Node& node = nodes_[n];
+    const Pose2 sensor = nodes_[own->first].local.inverse().compose(node.local).compose(node.mount);
+    share = see_through_share(node.points, sensor, SurfaceGrid(own->points, c_.loop_overlap_radius_m / 3.0, kSurfaceMinHits),
+                              c_.loop_see_through_margin_m);
+  }
+  own_see_through_ = {n, share};
+  return share;
+}
+
 double GraphSlam::drift_bound_since(std::size_t n, std::size_t s) const {
   const Submap& m = submaps_[s];
   return nodes_[n].drift_bound_m - nodes_[m.first + m.count - 1].drift_bound_m;
@@ -384,6 +466,16 @@ GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, do
     ++stats_.unconstrained_matches;
     return SubmapMatch::None;
   }
+  // A crossing seen from its other side, matched one corridor's width off, fits the submap's
+  // walls with the scan's points but looks through them with its rays.
+  // Clutter, glass and people let some rays through wherever the scan is placed: what counts is
+  // how much more it sees through the submap's surfaces than through its own submap's.
+  if (c_.loop_max_see_through < 1.0 &&
+      see_through_share(node.points, m.transform, cached.surfaces, c_.loop_see_through_margin_m) - own_see_through(n) >=
+          c_.loop_max_see_through) {
+    ++stats_.see_through_matches;
+    return SubmapMatch::None;
+  }
   closure = {anchor, m.transform.compose(node.mount.inverse()), m.score};
   return SubmapMatch::Found;
 }
@@ -411,12 +503,13 @@ const GraphSlam::CachedField& GraphSlam::submap_field(std::size_t s) {
       return cache_.front();
     }
   cache_.push_front({s, matcher_->prepare(submaps_[s].points, 0.0, c_.search_depth),
-                     PointNeighbourhood(submaps_[s].points, c_.loop_overlap_radius_m)});
+                     PointNeighbourhood(submaps_[s].points, c_.loop_overlap_radius_m),
+                     SurfaceGrid(submaps_[s].points, c_.loop_overlap_radius_m / 3.0, kSurfaceMinHits)});
   // At most field_cache fields and kMaxFieldCacheBytes of them (the newest always): an evicted
   // field is built again when asked for, the same.
   std::vector<std::size_t> sizes;
   sizes.reserve(cache_.size());
-  for (const CachedField& f : cache_) sizes.push_back(f.field->bytes() + f.points.bytes());
+  for (const CachedField& f : cache_) sizes.push_back(f.field->bytes() + f.points.bytes() + f.surfaces.bytes());
   const std::size_t kept = cached_fields_kept(sizes, static_cast<std::size_t>(c_.field_cache), kMaxFieldCacheBytes);
   cache_.erase(std::next(cache_.begin(), static_cast<std::ptrdiff_t>(kept)), cache_.end());
   std::size_t bytes = 0;
@@ -484,6 +577,7 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
           {"global_closures", d(s.global_closures)},
           {"unconstrained_matches", d(s.unconstrained_matches)},
           {"ambiguous_matches", d(s.ambiguous_matches)},
+          {"see_through_matches", d(s.see_through_matches)},
           {"disagreeing_matches", d(s.disagreeing_matches)},
           {"optimisations", d(s.optimisations)},
           {"local_cpu_s", s.local_cpu_s},

@@ -7,8 +7,10 @@
 // lower rate, against the submaps the drift since them puts beyond the local window, in a window
 // of that drift over the whole circle (global closures); the drift bound grows faster where the
 // scans do not pin the position down (the odometry's rate). A match is kept only when no other pose
-// within the drift bound's reach fits nearly as well (the building's repeats) and the part of the
-// scan its submap confirms pins the pose down; of a node's wide closures only those agreeing with
+// within the drift bound's reach fits nearly as well (the building's repeats), the part of the
+// scan its submap confirms pins the pose down, and its rays, placed by the match, see through the
+// submap's surfaces no more than through the node's own submap's (a place seen from another
+// side, one corridor's width off, fits the points but not the rays); of a node's wide closures only those agreeing with
 // the best one enter the graph (none when a place elsewhere rivals it). The pose graph
 // (consecutive nodes joined by the local SLAM's relative poses, loop closures under a robust loss)
 // is optimised every `optimise_every_nodes` nodes that brought closures, and at the end. Scans
@@ -25,6 +27,7 @@
 #include <list>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <span>
 #include <vector>
 
@@ -59,6 +62,38 @@ class PointNeighbourhood {
   std::vector<std::uint64_t> keys_;  // sorted; points_ in the same order
   std::vector<Vec2> points_;
 };
+
+// A point set rasterised in square cells `cell_m` wide (wider when the points' extent would need
+// more than kMaxSurfaceGridCells): the cells holding at least `min_hits` of its points are the
+// surfaces the points were measured on (a wall seen from a submap's nodes holds many; a stray
+// return, one).
+inline constexpr std::size_t kMaxSurfaceGridCells = std::size_t{1} << 24;
+class SurfaceGrid {
+ public:
+  SurfaceGrid(std::span<const Vec2> points, double cell_m, int min_hits);
+  // Whether the segment from `from` towards `to` enters a surface cell before `stop_m` along it
+  // (the cell holding `from` itself is not counted: the sensor stands there).
+  bool crosses_surface(const Vec2& from, const Vec2& to, double stop_m) const;
+  std::size_t bytes() const { return occupied_.capacity(); }
+
+ private:
+  bool occupied(std::int64_t cx, std::int64_t cy) const;
+  double cell_m_;
+  int min_hits_;
+  std::int64_t min_x_ = 0, min_y_ = 0, width_ = 0, height_ = 0;
+  std::vector<std::uint8_t> occupied_;  // points per cell, at most 255
+};
+
+// The points a submap's cell must hold to be a surface of the see-through check.
+inline constexpr int kSurfaceMinHits = 3;
+
+// The share of a scan's rays that pass through a surface of `surfaces` more than `margin_m` before
+// their end when the scan (points in the sensor frame) is placed at `pose` in the surfaces' frame:
+// rays that see through a wall the reference measured. A scan placed where it was taken sees
+// through little (what has moved: a door opened, a person gone; thin things the reference saw from
+// elsewhere: chairs' legs); placed one corridor's width off, its rays cross the walls the
+// reference saw from the other side.
+double see_through_share(std::span<const Vec2> scan, const Pose2& pose, const SurfaceGrid& surfaces, double margin_m);
 
 // When closure searches run: one falls due on every `every`-th node (0: never) and, when that node
 // is too poorly constrained to search from, is owed to the next node that is. In a featureless
@@ -103,6 +138,9 @@ struct GraphSlamConfig {
   double loop_rival_distance_m = 1.0;     // rivals: poses at least this far from the match
   double loop_rival_angular_rad = 0.0873; // ... and within this of its yaw (5 deg)
   double loop_prior_drift_multiple = 1.0; // closures' scores weighed by a prior around the estimate, sigma this x the drift bound (0: none)
+  double loop_max_see_through = 0.08;     // a closure whose scan sees through this share more of its submap's surfaces
+                                          // than of its own submap's is refused (1: never)
+  double loop_see_through_margin_m = 1.0; // ... a ray sees through a surface it crosses this far before its end
   int search_depth = 7;                   // levels of the branch and bound (blocks up to 2^depth cells)
   int optimise_every_nodes = 40;
   double local_sigma_m = 0.02, local_sigma_rad = 0.0087;  // consecutive nodes' edges
@@ -150,6 +188,7 @@ struct GraphSlamStats {
   std::size_t loop_searches = 0, loop_closures = 0, global_searches = 0, global_closures = 0;
   std::size_t unconstrained_matches = 0;  // matches refused: their overlap pins no position down
   std::size_t ambiguous_matches = 0;      // matches refused: another place in reach fits almost as well
+  std::size_t see_through_matches = 0;    // matches refused: the scan sees through the submap's surfaces
   std::size_t disagreeing_matches = 0;    // wide matches refused: another pose than the best one's, or the best one's rivalled
   std::size_t optimisations = 0;
   double local_cpu_s = 0.0, loop_cpu_s = 0.0, optimise_cpu_s = 0.0;
@@ -195,6 +234,7 @@ class GraphSlam final : public Slam {
     std::size_t submap = 0;
     std::unique_ptr<ScanReference> field;
     PointNeighbourhood points;  // the submap's, for the closure check
+    SurfaceGrid surfaces;       // ... and for the see-through check
   };
   void add_to_submaps(std::size_t node);
   void search_closures(std::size_t node);
@@ -208,6 +248,9 @@ class GraphSlam final : public Slam {
   // found is left in `closure`.
   SubmapMatch search_submap(std::size_t node, std::size_t submap, double global_window_m, Closure& closure);
   void add_closure(std::size_t node, const Closure& closure, bool global);
+  // The share of `node`'s rays that see through its own submap's surfaces where the local SLAM
+  // placed it (see_through_share): the scan's own level of clutter, glass and moving people.
+  double own_see_through(std::size_t node);
   // The drift bound accumulated from submap `submap`'s last node to `node`.
   double drift_bound_since(std::size_t node, std::size_t submap) const;
   const CachedField& submap_field(std::size_t submap);
@@ -223,6 +266,7 @@ class GraphSlam final : public Slam {
   std::vector<PoseGraphEdge> edges_;
   std::vector<SlamGraphEdge> graph_edges_;
   std::list<CachedField> cache_;  // most recent first
+  std::optional<std::pair<std::size_t, double>> own_see_through_;  // the last node's
   std::size_t closures_since_optimise_ = 0, nodes_since_optimise_ = 0;
   ClosureSchedule loop_schedule_, global_schedule_;
   GraphSlamStats stats_;
