@@ -46,6 +46,8 @@ PointNeighbourhood::PointNeighbourhood(std::span<const Vec2> points, double radi
   for (const auto& [k, p] : binned) keys_.push_back(k), points_.push_back(p);
 }
 
+std::int64_t SurfaceGrid::cell(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_m_)); }
+
 std::int64_t PointNeighbourhood::cell(double v) const { return static_cast<std::int64_t>(std::floor(v / radius_m_)); }
 
 std::uint64_t PointNeighbourhood::key(std::int64_t cell_x, std::int64_t cell_y) const {
@@ -70,7 +72,6 @@ SurfaceGrid::SurfaceGrid(std::span<const Vec2> points, double cell_m, int min_hi
   // A long-range laser's submap spans kilometres: its cells grow until the grid fits the bound.
   const double area = (high.x() - low.x() + cell_m_) * (high.y() - low.y() + cell_m_);
   if (area / (cell_m_ * cell_m_) > static_cast<double>(kMaxSurfaceGridCells)) cell_m_ = std::sqrt(area / static_cast<double>(kMaxSurfaceGridCells));
-  const auto cell = [&](double v) { return static_cast<std::int64_t>(std::floor(v / cell_m_)); };
   min_x_ = cell(low.x());
   min_y_ = cell(low.y());
   width_ = cell(high.x()) - min_x_ + 1;
@@ -92,16 +93,14 @@ bool SurfaceGrid::crosses_surface(const Vec2& from, const Vec2& to, double stop_
   const double length = (to - from).norm();
   if (!(stop_m > 0) || length <= 0) return false;
   const Vec2 direction = (to - from) / length;
-  const auto start_x = static_cast<std::int64_t>(std::floor(from.x() / cell_m_));
-  const auto start_y = static_cast<std::int64_t>(std::floor(from.y() / cell_m_));
+  const std::int64_t start_x = cell(from.x()), start_y = cell(from.y());
   // Samples a quarter of a cell apart: a ray cannot pass a cell's corner region unseen by more
   // than that, which the margin covers.
   const double step = cell_m_ / 4.0;
   const double end = std::min(stop_m, length);
   for (double d = 0.0; d < end; d += step) {
     const Vec2 at = from + d * direction;
-    const auto cx = static_cast<std::int64_t>(std::floor(at.x() / cell_m_));
-    const auto cy = static_cast<std::int64_t>(std::floor(at.y() / cell_m_));
+    const std::int64_t cx = cell(at.x()), cy = cell(at.y());
     if ((cx != start_x || cy != start_y) && occupied(cx, cy)) return true;
   }
   return false;
@@ -407,6 +406,10 @@ void GraphSlam::search_closures(std::size_t n) {
   }
 }
 
+SurfaceGrid GraphSlam::surface_grid(std::span<const Vec2> points) const {
+  return SurfaceGrid(points, c_.loop_overlap_radius_m / 3.0, kSurfaceMinHits);
+}
+
 double GraphSlam::own_see_through(std::size_t n) {
   if (own_see_through_ && own_see_through_->first == n) return own_see_through_->second;
   // The node's submap with the most nodes (each node lies in two; the older holds at least half
@@ -418,8 +421,7 @@ double GraphSlam::own_see_through(std::size_t n) {
   if (own) {
     const Node& node = nodes_[n];
     const Pose2 sensor = nodes_[own->first].local.inverse().compose(node.local).compose(node.mount);
-    share = see_through_share(node.points, sensor, SurfaceGrid(own->points, c_.loop_overlap_radius_m / 3.0, kSurfaceMinHits),
-                              c_.loop_see_through_margin_m);
+    share = see_through_share(node.points, sensor, surface_grid(own->points), c_.loop_see_through_margin_m);
   }
   own_see_through_ = {n, share};
   return share;
@@ -504,7 +506,7 @@ const GraphSlam::CachedField& GraphSlam::submap_field(std::size_t s) {
     }
   cache_.push_front({s, matcher_->prepare(submaps_[s].points, 0.0, c_.search_depth),
                      PointNeighbourhood(submaps_[s].points, c_.loop_overlap_radius_m),
-                     SurfaceGrid(submaps_[s].points, c_.loop_overlap_radius_m / 3.0, kSurfaceMinHits)});
+                     surface_grid(submaps_[s].points)});
   // At most field_cache fields and kMaxFieldCacheBytes of them (the newest always): an evicted
   // field is built again when asked for, the same.
   std::vector<std::size_t> sizes;

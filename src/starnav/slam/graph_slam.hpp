@@ -78,6 +78,7 @@ class SurfaceGrid {
 
  private:
   bool occupied(std::int64_t cx, std::int64_t cy) const;
+  std::int64_t cell(double v) const;
   double cell_m_;
   int min_hits_;
   std::int64_t min_x_ = 0, min_y_ = 0, width_ = 0, height_ = 0;
@@ -248,6 +249,9 @@ class GraphSlam final : public Slam {
   // found is left in `closure`.
   SubmapMatch search_submap(std::size_t node, std::size_t submap, double global_window_m, Closure& closure);
   void add_closure(std::size_t node, const Closure& closure, bool global);
+  // A submap's surfaces for the see-through check: cells a third of loop_overlap_radius_m,
+  // kSurfaceMinHits points each (the same for the submap searched and the node's own).
+  SurfaceGrid surface_grid(std::span<const Vec2> points) const;
   // The share of `node`'s rays that see through its own submap's surfaces where the local SLAM
   // placed it (see_through_share): the scan's own level of clutter, glass and moving people.
   double own_see_through(std::size_t node);
