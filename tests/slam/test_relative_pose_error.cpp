@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -123,6 +124,36 @@ TEST(RelativePoseError, OdometryAloneGivesTheErrorsTheSourcesState) {
     EXPECT_NEAR(e.translation_m.mean, r.trans_m, 0.006) << r.log;
     EXPECT_NEAR(e.rotation_deg.mean, r.rot_deg, 0.06) << r.log;
   }
+}
+
+}  // namespace
+}  // namespace starnav
+
+namespace starnav {
+namespace {
+
+// Short relations are those at most 10 s apart (inclusive), long the rest; unmatched ones
+// (NaN) are in neither; the means and maxima are the hand-computed ones.
+TEST(RelationSpans, SplitsTheErrorsByTheirPosesTimeApart) {
+  const auto rel = [](std::int64_t ti, std::int64_t tj) {
+    PoseRelation r;
+    r.t_i_us = ti;
+    r.t_j_us = tj;
+    return r;
+  };
+  const std::vector<PoseRelation> relations = {rel(0, 1'000'000), rel(5'000'000, 15'000'000), rel(0, 2'000'000),
+                                               rel(20'000'000, 9'500'000), rel(0, 100'000'000)};
+  RelativePoseError e;
+  e.translation_each_m = {0.1, 0.2, std::numeric_limits<double>::quiet_NaN(), 0.4, 0.8};
+  const RelationSpans s = relation_spans(e, relations);
+  EXPECT_EQ(s.short_m.n, 2u);
+  EXPECT_NEAR(s.short_m.mean, 0.15, 1e-12);
+  EXPECT_EQ(s.long_m.n, 2u);  // 10.5 s apart (in either order) and 100 s
+  EXPECT_NEAR(s.long_m.mean, 0.6, 1e-12);
+  EXPECT_NEAR(s.long_m.max, 0.8, 1e-12);
+  EXPECT_NEAR(s.long_p95_m, 0.4 + 0.95 * 0.4, 1e-12);
+  e.translation_each_m.pop_back();
+  EXPECT_THROW(relation_spans(e, relations), Error);
 }
 
 }  // namespace

@@ -122,6 +122,18 @@ std::string slam_benchmark_markdown(const SlamBenchmarkResult& r) {
       << number(e.translation_m.max, 4) << " | " << number(d.translation_m.mean, 4) << " | " << number(d.translation_p95_m, 4) << " | "
       << number(d.translation_m.max, 4) << " | " << row.run.worse_than_odometry << " | " << row.run.worse_than_odometry_by_1m << " |\n";
   }
+  o << "\nShort relations (their poses at most " << number(kShortRelationS, 0)
+    << " s apart: between nearby poses, set by the local matching) and long ones (across loops, set by the closures); the all-relations "
+       "mean over the short relations' mean.\n\n";
+  o << "| log | short: relations | short: mean (m) | long: relations | long: mean (m) | long: p95 (m) | long: max (m) | all / short |\n";
+  o << "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const SlamBenchmarkRow& row : r.rows) {
+    const RelationSpans& s = *row.run.rpe_spans;
+    const double all = row.evaluated().translation_m.mean;
+    o << "| " << row.name << " | " << s.short_m.n << " | " << number(s.short_m.mean, 4) << " | " << s.long_m.n << " | "
+      << (s.long_m.n ? number(s.long_m.mean, 4) : "-") << " | " << (s.long_m.n ? number(s.long_p95_m, 4) : "-") << " | "
+      << (s.long_m.n ? number(s.long_m.max, 4) : "-") << " | " << (s.short_m.mean > 0 ? number(all / s.short_m.mean, 2) : "-") << " |\n";
+  }
   o << "\n| log | log duration (s) | thread CPU (s) | wall (s) | real-time factor | peak memory (MB) | nodes | loop closures | Cartographer (s, 6 cores) |\n";
   o << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const SlamBenchmarkRow& row : r.rows) {
@@ -151,6 +163,7 @@ std::string slam_benchmark_json(const SlamBenchmarkResult& r) {
     l["rpe_odometry"] = rpe_summary_json(*row.run.rpe_odometry);
     l["worse_than_odometry"] = row.run.worse_than_odometry;
     l["worse_than_odometry_by_1m"] = row.run.worse_than_odometry_by_1m;
+    l["rpe_spans"] = relation_spans_json(*row.run.rpe_spans);
     const nlohmann::ordered_json summary = slam_summary_json(row.run);
     for (const char* k : {"scans", "nodes", "loop_closures", "log_duration_s", "cpu_s", "wall_s", "real_time_factor", "peak_rss_mb"}) l[k] = summary[k];
     if (const std::optional<SlamPublished> p = slam_published(row.name)) {

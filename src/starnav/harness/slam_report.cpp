@@ -106,6 +106,7 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& q, const std::function<void
     r.rpe_odometry = relative_pose_error(odometry_trajectory(log), relations, r.rpe_laser ? r.laser_in_base : Pose2());
     r.worse_than_odometry = relations_worse_than(r.rpe_evaluated(), *r.rpe_odometry);
     r.worse_than_odometry_by_1m = relations_worse_than(r.rpe_evaluated(), *r.rpe_odometry, 1.0);
+    r.rpe_spans = relation_spans(r.rpe_evaluated(), relations);
   }
   return r;
 }
@@ -146,6 +147,18 @@ nlohmann::ordered_json slam_summary_json(const SlamRunResult& r) {
     j["worse_than_odometry"] = r.worse_than_odometry;
     j["worse_than_odometry_by_1m"] = r.worse_than_odometry_by_1m;
   }
+  if (r.rpe_spans) j["rpe_spans"] = relation_spans_json(*r.rpe_spans);
+  return j;
+}
+
+nlohmann::ordered_json relation_spans_json(const RelationSpans& s) {
+  const auto part = [](const SampleStats& v, double p95) {
+    return nlohmann::ordered_json{{"relations", v.n}, {"mean", v.mean}, {"p95", p95}, {"max", v.max}};
+  };
+  nlohmann::ordered_json j;
+  j["max_short_s"] = kShortRelationS;
+  j["short_m"] = part(s.short_m, s.short_p95_m);
+  j["long_m"] = part(s.long_m, s.long_p95_m);
   return j;
 }
 
@@ -176,6 +189,10 @@ std::string slam_summary_text(const SlamRunResult& r) {
     line(r.rpe_laser ? "odometry, laser" : "odometry", *r.rpe_odometry);
     o << "relations worse than the odometry's: " << r.worse_than_odometry << " (by more than 1 m: " << r.worse_than_odometry_by_1m << ")\n";
   }
+  if (r.rpe_spans)
+    o << "short relations (at most " << format_fixed(kShortRelationS, 0) << " s apart): " << r.rpe_spans->short_m.n << ", mean "
+      << format_fixed(r.rpe_spans->short_m.mean, 4) << " m; long: " << r.rpe_spans->long_m.n << ", mean "
+      << format_fixed(r.rpe_spans->long_m.mean, 4) << " m, max " << format_fixed(r.rpe_spans->long_m.max, 4) << " m\n";
   return o.str();
 }
 

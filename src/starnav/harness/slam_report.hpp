@@ -60,6 +60,7 @@ struct SlamRunResult {
   // laser's where the log states a mount), and the relations SLAM gets wrong by more than it.
   std::optional<RelativePoseError> rpe_odometry;
   std::size_t worse_than_odometry = 0, worse_than_odometry_by_1m = 0;
+  std::optional<RelationSpans> rpe_spans;  // the evaluated pose's error on short and long relations
   const RelativePoseError& rpe_evaluated() const { return rpe_laser ? *rpe_laser : *rpe; }
   // Logs with ground truth (simulated): the absolute trajectory error of SLAM and of the odometry.
   std::optional<AbsoluteTrajectoryError> ate, ate_odometry;
@@ -75,6 +76,7 @@ SlamRunResult run_slam_on_file(const SlamRunRequest& request,
 BenchmarkRelations log_benchmark_relations(const std::string& log, const LogReadOptions& read, const RelationRule& rule);
 
 nlohmann::ordered_json slam_summary_json(const SlamRunResult& r);
+nlohmann::ordered_json relation_spans_json(const RelationSpans& spans);
 // A relative-pose error as summary.json and bench slam's JSON write it: translation_m and
 // rotation_deg (mean, sd, max; the translation's 95th percentile too), count, relations, unmatched.
 nlohmann::ordered_json rpe_summary_json(const RelativePoseError& e);

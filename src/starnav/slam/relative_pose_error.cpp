@@ -1,6 +1,7 @@
 #include "starnav/slam/relative_pose_error.hpp"
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -109,6 +110,26 @@ std::size_t relations_worse_than(const RelativePoseError& e, const RelativePoseE
   for (std::size_t i = 0; i < e.translation_each_m.size(); ++i)
     if (e.translation_each_m[i] > reference.translation_each_m[i] + margin_m) ++worse;  // NaN on either side: not counted
   return worse;
+}
+
+RelationSpans relation_spans(const RelativePoseError& e, const std::vector<PoseRelation>& relations, double max_short_s) {
+  if (e.translation_each_m.size() != relations.size())
+    throw Error("the error was evaluated on other relations (" + std::to_string(e.translation_each_m.size()) + " against " +
+                std::to_string(relations.size()) + ")");
+  std::vector<double> short_m, long_m;
+  for (std::size_t i = 0; i < relations.size(); ++i) {
+    const double t = e.translation_each_m[i];
+    if (std::isnan(t)) continue;  // unmatched
+    const double span_s = static_cast<double>(std::abs(relations[i].t_j_us - relations[i].t_i_us)) * 1e-6;
+    (span_s <= max_short_s ? short_m : long_m).push_back(t);
+  }
+  RelationSpans out;
+  for (auto [values, stats, p95] : {std::tuple{&short_m, &out.short_m, &out.short_p95_m}, std::tuple{&long_m, &out.long_m, &out.long_p95_m}}) {
+    std::sort(values->begin(), values->end());
+    *p95 = quantile_sorted(*values, 0.95);
+    *stats = sample_stats(*values);
+  }
+  return out;
 }
 
 namespace {

@@ -47,6 +47,17 @@ struct RelativePoseError {
 // were not made from the same relations.
 std::size_t relations_worse_than(const RelativePoseError& e, const RelativePoseError& reference, double margin_m = 0.0);
 
+// The translation errors of short relations (their poses at most `max_short_s` apart in time: the
+// benchmark's relations between nearby poses, which a local matcher's accuracy sets) and of long
+// ones (across loops, which closures set), each with its 95th percentile. Throws when `e` was not
+// made from `relations`.
+inline constexpr double kShortRelationS = 10.0;
+struct RelationSpans {
+  SampleStats short_m, long_m;
+  double short_p95_m = 0.0, long_p95_m = 0.0;
+};
+RelationSpans relation_spans(const RelativePoseError& e, const std::vector<PoseRelation>& relations, double max_short_s = kShortRelationS);
+
 // `trajectory`: one pose per scan (any order; stamps unique). `offset` moves every pose by it
 // before comparing (base -> laser: the laser's mount on the base).
 RelativePoseError relative_pose_error(const std::vector<TrajectoryPose>& trajectory, const std::vector<PoseRelation>& relations,
