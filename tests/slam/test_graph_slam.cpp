@@ -213,6 +213,33 @@ TEST(WideClosures, TheBestOnesPoseIsKeptUnlessAnotherPoseRivalsIt) {
   }
 }
 
+// Two looks at one place correct the estimate the same way: the first node's implied pose carried
+// by the motion between the two nodes is the second's implied pose. Hand-built: the
+// estimate 3 m off along x and turned 10 degrees, the second node 5 m on; moved 0.4 m or 2 degrees
+// they still agree, 0.6 m or 4 degrees not (0.5 m, 3 degrees), unless the drift bound grew by
+// 0.2 m between the two nodes.
+TEST(AppearanceClosures, TwoLooksAgreeWhenTheyCorrectTheEstimateTheSameWay) {
+  const GraphSlamConfig c;
+  const Pose2 correction(3.0, 0.0, deg_to_rad(10.0));  // truth = correction * estimate
+  const Pose2 e1(10, 5, 0.3), e2 = e1.compose(Pose2(5.0, 0.0, 0.2));
+  const ClosureLook first{e1, correction.compose(e1), 2.0};
+  const auto second = [&](const Pose2& nudge, double drift) { return ClosureLook{e2, nudge.compose(correction.compose(e2)), drift}; };
+  EXPECT_TRUE(appearance_closures_agree(c, first, second(Pose2(), 2.0)));
+  EXPECT_TRUE(appearance_closures_agree(c, first, second(Pose2(0.4, 0, 0), 2.0)));
+  EXPECT_FALSE(appearance_closures_agree(c, first, second(Pose2(0.6, 0, 0), 2.0)));
+  EXPECT_TRUE(appearance_closures_agree(c, first, second(Pose2(0.6, 0, 0), 2.2)));
+  // A turn about the second node's own position.
+  const auto turned = [&](double deg) {
+    ClosureLook l = second(Pose2(), 2.0);
+    l.implied.yaw += deg_to_rad(deg);
+    return l;
+  };
+  EXPECT_TRUE(appearance_closures_agree(c, first, turned(2.0)));
+  EXPECT_FALSE(appearance_closures_agree(c, first, turned(4.0)));
+  // A lookalike 20 m along the building corrects it otherwise.
+  EXPECT_FALSE(appearance_closures_agree(c, first, second(Pose2(20.0, 0, 0), 2.0)));
+}
+
 // A T junction: a corridor 2 m wide along x, a side corridor leaving it at x = 0 towards +y.
 std::vector<test::Segment> t_junction_world() {
   return {{{-30, -1}, {30, -1}}, {{-30, 1}, {-1, 1}}, {{1, 1}, {30, 1}}, {{-1, 1}, {-1, 15}},

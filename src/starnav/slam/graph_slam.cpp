@@ -170,6 +170,12 @@ const ParamTable<GraphSlamConfig>& graph_slam_params() {
            "of a node's wide closures, those implying a pose of it this near the best one's enter the graph, and none when one implying "
            "another pose scores loop_max_ambiguity of the best");
     t.real("global_agreement_deg", &C::global_agreement_rad, closed(0.0, 180.0), "deg", "... and this near in yaw", kPi / 180.0);
+    t.integer("appearance_candidates", &C::appearance_candidates, closed(0, 1000), "",
+              "a wide search also tries this many submaps beyond the ones it visits, where the node's Scan Context (" +
+                  std::to_string(kScanContextRings) + " rings to loop_max_range_m, " + std::to_string(kScanContextSectors) +
+                  " sectors) finds the place, in the local window around that place (0: none)");
+    t.real("appearance_max_distance", &C::appearance_max_distance, closed(0.0, 1.0), "",
+           "... the places whose Scan Context distance (one minus the sectors' mean cosine similarity) is at most this");
     t.real("loop_min_constraint", &C::loop_min_constraint, closed(0.0, 0.5), "",
            "least scan constraint (smallest eigenvalue of the normals' mean scatter) of a node that searches for closures");
     t.integer("search_depth", &C::search_depth, closed(0, 10), "", "levels of the branch and bound (blocks up to 2^depth cells)");
@@ -218,6 +224,8 @@ void GraphSlamConfig::validate() const {
           "must be in [0, 180] deg");
   require(std::isfinite(loop_prior_drift_multiple) && loop_prior_drift_multiple >= 0, "loop_prior_drift_multiple", "must be >= 0");
   require(global_max_submaps >= 1, "global_max_submaps", "must be >= 1");
+  require(appearance_candidates >= 0, "appearance_candidates", "must be >= 0");
+  require(appearance_max_distance >= 0 && appearance_max_distance <= 1, "appearance_max_distance", "must be in [0, 1]");
   require(std::isfinite(global_agreement_m) && global_agreement_m >= 0, "global_agreement_m", "must be >= 0");
   require(std::isfinite(global_agreement_rad) && global_agreement_rad >= 0, "global_agreement_deg", "must be >= 0");
   require(search_depth >= 0 && search_depth <= 10, "search_depth", "must be in [0, 10]");
@@ -357,8 +365,28 @@ void GraphSlam::add_to_submaps(std::size_t n) {
     if (s.finished || n < s.first) continue;
     const Pose2 sensor = nodes_[s.first].local.inverse().compose(node.local).compose(node.mount);
     for (const Vec2& p : node.points) s.points.push_back(sensor.transform(p));
-    if (++s.count >= static_cast<std::size_t>(c_.submap_nodes)) s.finished = true;
+    if (++s.count >= static_cast<std::size_t>(c_.submap_nodes)) {
+      s.finished = true;
+      if (c_.appearance_candidates > 0 && c_.global_every_nodes > 0)
+        for (std::size_t i = s.first; i < s.first + s.count; i += kScanContextNodeStep) {
+          places_.add(scan_context(i));
+          place_of_.emplace_back(static_cast<std::size_t>(&s - submaps_.data()), i);
+        }
+    }
   }
+}
+
+ScanContext GraphSlam::scan_context(std::size_t n) const {
+  return ScanContext(nodes_[n].points, kScanContextRings, kScanContextSectors, c_.loop_max_range_m);
+}
+
+const GraphSlam::Submap* GraphSlam::own_submap(std::size_t n) const {
+  // The node's submap with the most nodes (each node lies in two; the older holds at least half
+  // a submap's), in whose frame the node's pose is its local SLAM's.
+  const Submap* own = nullptr;
+  for (const Submap& s : submaps_)
+    if (n >= s.first && n < s.first + s.count && (!own || s.count > own->count)) own = &s;
+  return own;
 }
 
 void GraphSlam::search_closures(std::size_t n) {
@@ -368,6 +396,7 @@ void GraphSlam::search_closures(std::size_t n) {
   const Vec2 at = nodes_[n].global.translation();
   // Submaps that ended at least a submap's length of nodes ago: nearer ones are tied by the local SLAM.
   std::vector<std::pair<std::size_t, double>> eligible;
+  std::vector<char> visited(submaps_.size(), 0);
   for (std::size_t s = 0; s < submaps_.size(); ++s) {
     const Submap& m = submaps_[s];
     if (!m.finished || m.first + m.count + static_cast<std::size_t>(c_.submap_nodes) > n) continue;
@@ -380,6 +409,7 @@ void GraphSlam::search_closures(std::size_t n) {
   if (loop_due)
     for (const auto& [s, d] : eligible) {
       if (d > c_.loop_max_distance_m) continue;
+      visited[s] = 1;
       const SubmapMatch match = search_submap(n, s, 0.0, closure);
       if (match == SubmapMatch::Found) add_closure(n, closure, false);
       found = found || match != SubmapMatch::None;
@@ -390,9 +420,10 @@ void GraphSlam::search_closures(std::size_t n) {
     std::vector<Closure> wide;
     for (const auto& [s, d] : eligible) {
       const double window = global_search_window_m(c_, drift_bound_since(n, s));
-      if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps &&
-          search_submap(n, s, window, closure) == SubmapMatch::Found)
-        wide.push_back(closure);
+      if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps) {
+        visited[s] = 1;
+        if (search_submap(n, s, window, closure) == SubmapMatch::Found) wide.push_back(closure);
+      }
     }
     std::vector<Pose2> implied;
     std::vector<double> scores;
@@ -404,19 +435,92 @@ void GraphSlam::search_closures(std::size_t n) {
     stats_.disagreeing_matches += wide.size() - kept.size();
     for (const std::size_t i : kept) add_closure(n, wide[i], true);
   }
+  // Where the pose estimate has lost the map, the node's appearance proposes places; one waiting
+  // for confirmation is looked for again on every search until a later node confirms or it lapses.
+  if (pending_appearance_ && n > pending_appearance_->expires) pending_appearance_.reset();
+  if (c_.appearance_candidates > 0 && ((!found && global_due) || (pending_appearance_ && loop_due))) {
+    std::vector<std::size_t> submaps;
+    for (const auto& [s, d] : eligible) submaps.push_back(s);
+    std::vector<Closure> seen;
+    search_by_appearance(n, submaps, visited, seen);
+    confirm_appearance(n, seen);
+  }
+}
+
+void GraphSlam::confirm_appearance(std::size_t n, std::vector<Closure>& seen) {
+  if (seen.empty()) return;
+  std::stable_sort(seen.begin(), seen.end(), [](const Closure& a, const Closure& b) { return a.score > b.score; });
+  if (pending_appearance_ && n >= pending_appearance_->node + kScanContextNodeStep) {
+    // Both implied poses from their submaps' estimates now (an optimisation may have moved them
+    // since the first look), the motion between the two nodes the local SLAM's.
+    const PendingAppearance& p = *pending_appearance_;
+    const ClosureLook first{nodes_[p.node].local, nodes_[p.closure.anchor].global.compose(p.closure.z), nodes_[p.node].drift_bound_m};
+    for (const Closure& c : seen) {
+      if (appearance_closures_agree(c_, first, {nodes_[n].local, nodes_[c.anchor].global.compose(c.z), nodes_[n].drift_bound_m})) {
+        add_closure(p.node, p.closure, true);
+        add_closure(n, c, true);
+        pending_appearance_.reset();
+        return;
+      }
+    }
+  }
+  // Unconfirmed (a building repeats its places: one lookalike fits as well as the place): the
+  // best waits for a later node's look, kScanContextNodeStep nodes or more on (the next place the
+  // index would hold: another scan, not the same one again).
+  if (pending_appearance_ && pending_appearance_->node + kScanContextNodeStep > n) return;
+  const Closure& best = seen.front();
+  pending_appearance_ = PendingAppearance{n, best, n + 2 * static_cast<std::size_t>(c_.submap_nodes)};
 }
 
 SurfaceGrid GraphSlam::surface_grid(std::span<const Vec2> points) const {
   return SurfaceGrid(points, c_.loop_overlap_radius_m / 3.0, kSurfaceMinHits);
 }
 
+void GraphSlam::search_by_appearance(std::size_t n, std::span<const std::size_t> eligible, std::span<const char> visited,
+                                     std::vector<Closure>& wide) {
+  if (places_.size() == 0) return;
+  std::vector<char> wanted(submaps_.size(), 0);
+  for (const std::size_t s : eligible) wanted[s] = !visited[s];
+  const ScanContext query = scan_context(n);
+  // The ring key only narrows the field: several times the candidates wanted are compared in
+  // full, as Scan Context does.
+  struct Proposal {
+    double distance;
+    std::size_t place;
+    double yaw_rad;
+  };
+  std::vector<Proposal> proposals;
+  for (const std::size_t i : places_.nearest(query, kScanContextLookups * static_cast<std::size_t>(c_.appearance_candidates))) {
+    if (!wanted[place_of_[i].first]) continue;
+    const ScanContextMatch m = compare_scan_contexts(query, places_.at(i));
+    if (m.distance <= c_.appearance_max_distance) proposals.push_back({m.distance, i, m.yaw_rad});
+  }
+  std::stable_sort(proposals.begin(), proposals.end(), [](const Proposal& a, const Proposal& b) { return a.distance < b.distance; });
+  int tried = 0;
+  Closure closure;
+  for (const Proposal& p : proposals) {
+    if (tried >= c_.appearance_candidates) break;
+    const auto [s, at] = place_of_[p.place];
+    if (!wanted[s]) continue;  // one try per submap: its best place
+    wanted[s] = 0;
+    const Submap& m = submaps_[s];
+    Pose2 guess = nodes_[m.first].local.inverse().compose(nodes_[at].local).compose(nodes_[at].mount);
+    guess.yaw = wrap_angle(guess.yaw + p.yaw_rad);
+    // A place farther from the estimate than the node can have drifted since the submap is a
+    // repeat of the building, not the node's place.
+    const Pose2 implied = nodes_[m.first].global.compose(guess).compose(nodes_[n].mount.inverse());
+    if ((implied.translation() - nodes_[n].global.translation()).norm() > drift_bound_since(n, s) + c_.loop_window_linear_m) continue;
+    ++tried;
+    if (search_submap_at(n, s, guess, closure) == SubmapMatch::Found) {
+      ++stats_.appearance_matches;
+      wide.push_back(closure);
+    }
+  }
+}
+
 double GraphSlam::own_see_through(std::size_t n) {
   if (own_see_through_ && own_see_through_->first == n) return own_see_through_->second;
-  // The node's submap with the most nodes (each node lies in two; the older holds at least half
-  // a submap's), in whose frame the node's pose is its local SLAM's.
-  const Submap* own = nullptr;
-  for (const Submap& s : submaps_)
-    if (n >= s.first && n < s.first + s.count && (!own || s.count > own->count)) own = &s;
+  const Submap* own = own_submap(n);
   double share = 0.0;
   if (own) {
     const Node& node = nodes_[n];
@@ -436,13 +540,36 @@ GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, do
   const bool global = global_window_m > 0;
   const Node& node = nodes_[n];
   const std::size_t anchor = submaps_[s].first;
+  const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
+  const double prior = closure_prior_weight(c_, drift_bound_since(n, s));
+  const MatchWindow window = global ? MatchWindow{global_window_m, kPi, c_.global_min_score, prior}
+                                    : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score, prior};
+  ++(global ? stats_.global_searches : stats_.loop_searches);
+  return match_submap(n, s, guess, window, closure);
+}
+
+GraphSlam::SubmapMatch GraphSlam::search_submap_at(std::size_t n, std::size_t s, const Pose2& guess, Closure& closure) {
+  ++stats_.appearance_searches;
+  const SubmapMatch match =
+      match_submap(n, s, guess, MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.global_min_score, 0.0}, closure);
+  closure.appearance = true;
+  if (match != SubmapMatch::Found) return match;
+  // The wide search's prior around the estimate, applied to where the match puts the node: a
+  // lookalike metres farther than the node is likely to have drifted must fit that much better.
+  const double shift_m = (nodes_[submaps_[s].first].global.compose(closure.z).translation() - nodes_[n].global.translation()).norm();
+  if (closure.score * std::exp(-closure_prior_weight(c_, drift_bound_since(n, s)) * shift_m * shift_m) < c_.global_min_score)
+    return SubmapMatch::None;
+  return match;
+}
+
+GraphSlam::SubmapMatch GraphSlam::match_submap(std::size_t n, std::size_t s, const Pose2& guess, const MatchWindow& searched,
+                                               Closure& closure) {
+  const Node& node = nodes_[n];
+  const std::size_t anchor = submaps_[s].first;
   if (submaps_[s].points.empty()) return SubmapMatch::None;  // its nodes saw nothing within loop_max_range_m
   const CachedField& cached = submap_field(s);
   const ScanReference& field = *cached.field;
-  const Pose2 guess = nodes_[anchor].global.inverse().compose(node.global).compose(node.mount);
-  const double prior = closure_prior_weight(c_, drift_bound_since(n, s));
-  MatchWindow window = global ? MatchWindow{global_window_m, kPi, c_.global_min_score, prior}
-                              : MatchWindow{c_.loop_window_linear_m, c_.loop_window_angular_rad, c_.loop_min_score, prior};
+  MatchWindow window = searched;
   if (c_.loop_max_ambiguity < 1.0) {
     // Rivals are looked for as far as the node may have drifted since the submap, beyond the
     // window searched when the drift reaches farther (a repeated room one step along the corridor
@@ -452,7 +579,6 @@ GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, do
     window.rival_angular_rad = c_.loop_rival_angular_rad;
     window.rival_linear_m = rival_search_window_m(c_, drift_bound_since(n, s));
   }
-  ++(global ? stats_.global_searches : stats_.loop_searches);
   const ScanMatch m = field.match(node.points, guess, window);
   if (!m.converged) return SubmapMatch::None;
   // Another place within reach fits (nearly) as well: the building repeats itself (rooms along a
@@ -478,7 +604,7 @@ GraphSlam::SubmapMatch GraphSlam::search_submap(std::size_t n, std::size_t s, do
     ++stats_.see_through_matches;
     return SubmapMatch::None;
   }
-  closure = {anchor, m.transform.compose(node.mount.inverse()), m.score};
+  closure = {anchor, m.transform.compose(node.mount.inverse()), m.score, false};
   return SubmapMatch::Found;
 }
 
@@ -486,7 +612,15 @@ void GraphSlam::add_closure(std::size_t n, const Closure& closure, bool global) 
   edges_.push_back({closure.anchor, n, closure.z, information(c_.loop_sigma_m, c_.loop_sigma_rad), c_.loop_loss, c_.loop_loss_scale});
   graph_edges_.push_back({closure.anchor, n, global ? SlamEdgeKind::Global : SlamEdgeKind::Loop, closure.z, closure.score});
   ++(global ? stats_.global_closures : stats_.loop_closures);
+  stats_.appearance_closures += closure.appearance;
   ++closures_since_optimise_;
+}
+
+bool appearance_closures_agree(const GraphSlamConfig& config, const ClosureLook& first, const ClosureLook& second) {
+  const Pose2 carried = first.implied.compose(first.motion.inverse().compose(second.motion));
+  const double tolerance_m = config.global_agreement_m + std::abs(second.drift_bound_m - first.drift_bound_m);
+  return (second.implied.translation() - carried.translation()).norm() <= tolerance_m &&
+         std::abs(angle_diff(second.implied.yaw, carried.yaw)) <= config.global_agreement_rad;
 }
 
 std::size_t cached_fields_kept(std::span<const std::size_t> bytes_newest_first, std::size_t max_fields, std::size_t max_bytes) {
@@ -580,6 +714,9 @@ std::vector<std::pair<std::string, double>> GraphSlam::statistics() const {
           {"unconstrained_matches", d(s.unconstrained_matches)},
           {"ambiguous_matches", d(s.ambiguous_matches)},
           {"see_through_matches", d(s.see_through_matches)},
+          {"appearance_searches", d(s.appearance_searches)},
+          {"appearance_matches", d(s.appearance_matches)},
+          {"appearance_closures", d(s.appearance_closures)},
           {"disagreeing_matches", d(s.disagreeing_matches)},
           {"optimisations", d(s.optimisations)},
           {"local_cpu_s", s.local_cpu_s},

@@ -5,7 +5,9 @@
 // matched by branch and bound against the finished submaps near its estimate (loop closure, on
 // every `loop_every_nodes`-th node, or the next one whose scan is constrained enough) and, at a
 // lower rate, against the submaps the drift since them puts beyond the local window, in a window
-// of that drift over the whole circle (global closures); the drift bound grows faster where the
+// of that drift over the whole circle (global closures), and where the node's Scan Context finds
+// its place among the older submaps the wide search does not reach (within the drift bound, in
+// the local window around that place); the drift bound grows faster where the
 // scans do not pin the position down (the odometry's rate). A match is kept only when no other pose
 // within the drift bound's reach fits nearly as well (the building's repeats), the part of the
 // scan its submap confirms pins the pose down, and its rays, placed by the match, see through the
@@ -34,6 +36,7 @@
 #include "starnav/core/params.hpp"
 #include "starnav/slam/local_slam.hpp"
 #include "starnav/slam/pose_graph.hpp"
+#include "starnav/slam/scan_context.hpp"
 #include "starnav/slam/slam.hpp"
 
 namespace starnav {
@@ -96,6 +99,17 @@ inline constexpr int kSurfaceMinHits = 3;
 // reference saw from the other side.
 double see_through_share(std::span<const Vec2> scan, const Pose2& pose, const SurfaceGrid& surfaces, double margin_m);
 
+// The Scan Context the wide search's appearance proposer describes places with: rings of
+// loop_max_range_m / kScanContextRings (0.75 m at 15 m: coarser than a metre of drift moves a
+// wall, finer than a room), sectors of 6 degrees; a finished submap's every
+// kScanContextNodeStep-th node is a place (a node's description holds its whole submap around it,
+// so neighbours a few nodes apart describe nearly the same place); kScanContextLookups x the
+// candidates wanted are taken from the ring keys' k-d tree and compared in full.
+inline constexpr int kScanContextRings = 20;
+inline constexpr int kScanContextSectors = 60;
+inline constexpr std::size_t kScanContextNodeStep = 4;
+inline constexpr std::size_t kScanContextLookups = 8;
+
 // When closure searches run: one falls due on every `every`-th node (0: never) and, when that node
 // is too poorly constrained to search from, is owed to the next node that is. In a featureless
 // corridor the due node rarely is, and a search dropped there is a loop that never closes.
@@ -132,6 +146,8 @@ struct GraphSlamConfig {
   int global_max_submaps = 8;             // the wide search visits at most this many submaps, nearest first
   double global_agreement_m = 0.5;        // a node's wide closures that imply a pose of it this near the best one's agree
   double global_agreement_rad = 0.0523599;  // ... and this near in yaw (3 deg)
+  int appearance_candidates = 3;          // submaps beyond the wide search a wide search also tries where Scan Context proposes (0: none)
+  double appearance_max_distance = 0.5;   // ... those whose Scan Context distance to the node's is at most this
   double loop_min_constraint = 0.2;       // least scan_constraint of a node that searches for closures
                                           // and of the part of its scan a closure's submap confirms
   double loop_overlap_radius_m = 0.15;    // a scan point within this of a submap point is confirmed
@@ -183,6 +199,17 @@ double closure_prior_weight(const GraphSlamConfig& config, double drift_bound_m)
 std::vector<std::size_t> wide_closures_kept(const GraphSlamConfig& config, std::span<const Pose2> implied, std::span<const double> scores);
 const ParamTable<GraphSlamConfig>& graph_slam_params();
 
+// Two nodes' appearance closures agree when the first's implied pose, carried to the second node
+// by the motion between them, lies within global_agreement_m (plus the drift bound
+// accumulated between the two) and global_agreement_rad of the second's implied pose: both
+// correct the estimate the same way, as two looks at one place do and a lookalike seldom does.
+struct ClosureLook {
+  Pose2 motion;           // the node's pose in a frame both nodes' are known in (the local SLAM's): the motion between them counts
+  Pose2 implied;          // the node's pose the closure implies
+  double drift_bound_m;   // the node's drift bound (accumulated from the first node)
+};
+bool appearance_closures_agree(const GraphSlamConfig& config, const ClosureLook& first, const ClosureLook& second);
+
 // Counters of a run (scans, nodes and submaps are the run's own sizes: statistics()).
 struct GraphSlamStats {
   std::size_t matched = 0, unmatched = 0;  // the local matcher's scans
@@ -190,6 +217,8 @@ struct GraphSlamStats {
   std::size_t unconstrained_matches = 0;  // matches refused: their overlap pins no position down
   std::size_t ambiguous_matches = 0;      // matches refused: another place in reach fits almost as well
   std::size_t see_through_matches = 0;    // matches refused: the scan sees through the submap's surfaces
+  // Where Scan Context proposed: searches, matches found, and closures (confirmed matches) entered.
+  std::size_t appearance_searches = 0, appearance_matches = 0, appearance_closures = 0;
   std::size_t disagreeing_matches = 0;    // wide matches refused: another pose than the best one's, or the best one's rivalled
   std::size_t optimisations = 0;
   double local_cpu_s = 0.0, loop_cpu_s = 0.0, optimise_cpu_s = 0.0;
@@ -244,10 +273,33 @@ class GraphSlam final : public Slam {
     std::size_t anchor = 0;  // the submap's first node
     Pose2 z;                 // the node's base in the anchor's
     double score = 0.0;
+    bool appearance = false;  // where Scan Context proposed
   };
   // `global_window_m` > 0: the wide search in that window (+- x, y; the whole circle). A match
   // found is left in `closure`.
   SubmapMatch search_submap(std::size_t node, std::size_t submap, double global_window_m, Closure& closure);
+  // The search around `guess` (the node's sensor in the submap's frame, where Scan Context places
+  // it) in the local window, with the wide search's least score and no prior around the estimate.
+  SubmapMatch search_submap_at(std::size_t node, std::size_t submap, const Pose2& guess, Closure& closure);
+  SubmapMatch match_submap(std::size_t node, std::size_t submap, const Pose2& guess, const MatchWindow& window, Closure& closure);
+  // Closures proposed by Scan Context in submaps the wide search did not visit (`visited`),
+  // verified by the matcher; appended to `wide`.
+  void search_by_appearance(std::size_t node, std::span<const std::size_t> eligible, std::span<const char> visited,
+                            std::vector<Closure>& wide);
+  // Appearance closures enter the graph in pairs: one node's best match waits (pending) until a
+  // later node's match agrees with it (the same correction of the estimate), and both enter.
+  void confirm_appearance(std::size_t node, std::vector<Closure>& seen);
+  struct PendingAppearance {
+    std::size_t node = 0;
+    Closure closure;
+    std::size_t expires = 0;   // the last node that may confirm it
+  };
+  std::optional<PendingAppearance> pending_appearance_;
+  // The Scan Context of `node`'s scan (its points out to loop_max_range_m). Measured against the
+  // whole submap around the node, which sees all around where the laser sees half: that found
+  // the building's repeats and not the place (docs/slam.md).
+  ScanContext scan_context(std::size_t node) const;
+  const Submap* own_submap(std::size_t node) const;
   void add_closure(std::size_t node, const Closure& closure, bool global);
   // A submap's surfaces for the see-through check: cells a third of loop_overlap_radius_m,
   // kSurfaceMinHits points each (the same for the submap searched and the node's own).
@@ -270,6 +322,8 @@ class GraphSlam final : public Slam {
   std::vector<PoseGraphEdge> edges_;
   std::vector<SlamGraphEdge> graph_edges_;
   std::list<CachedField> cache_;  // most recent first
+  ScanContextIndex places_;                                // of finished submaps' nodes
+  std::vector<std::pair<std::size_t, std::size_t>> place_of_;  // per description: (submap, node)
   std::optional<std::pair<std::size_t, double>> own_see_through_;  // the last node's
   std::size_t closures_since_optimise_ = 0, nodes_since_optimise_ = 0;
   ClosureSchedule loop_schedule_, global_schedule_;
