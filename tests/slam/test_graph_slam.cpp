@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "room_fixture.hpp"
@@ -332,6 +334,45 @@ TEST(SeeThrough, RaysCrossingAMeasuredWallCountAndRaysEndingAtItDoNot) {
   const SurfaceGrid far_apart(std::vector<Vec2>{{0.0, 0.0}, {1e5, 1e5}}, 0.05, 1);
   EXPECT_LE(far_apart.bytes(), 2 * kMaxSurfaceGridCells);
   EXPECT_TRUE(far_apart.crosses_surface(Vec2(-1e4, -1e4), Vec2(5e4, 5e4), 5e4));
+}
+
+// crosses_surface against a dense walk along the segment (steps of a two-hundredth of a cell) on
+// random grids: whatever the walk finds, the exact traversal finds; the traversal may also find a
+// cell the segment only grazes by less than a step, which must be rare.
+TEST(SeeThrough, CrossingsAreThoseADenseWalkFinds) {
+  Rng rng(23);
+  const double cell = 0.05;
+  const auto cell_of = [&](const Vec2& p) {
+    return std::pair{static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell))};
+  };
+  int grazes = 0, trials = 0, crossing = 0;
+  for (int grid = 0; grid < 10; ++grid) {
+    std::vector<Vec2> points;
+    for (int i = 0; i < 300; ++i) points.emplace_back(rng.uniform(-1, 1), rng.uniform(-1, 1));
+    std::set<std::pair<std::int64_t, std::int64_t>> occupied;
+    for (const Vec2& p : points) occupied.insert(cell_of(p));
+    const SurfaceGrid surfaces(points, cell, 1);
+    for (int k = 0; k < 50; ++k, ++trials) {
+      const Vec2 from(rng.uniform(-1.2, 1.2), rng.uniform(-1.2, 1.2)), to(rng.uniform(-1.2, 1.2), rng.uniform(-1.2, 1.2));
+      const double length = (to - from).norm(), stop = rng.uniform(0.0, 1.2 * length), reach = std::min(stop, length);
+      const int steps = static_cast<int>(reach / (cell / 200.0)) + 1;
+      bool walked = false;
+      for (int i = 0; i <= steps && !walked; ++i) {
+        const Vec2 at = from + (to - from) * (reach * i / steps / length);
+        walked = cell_of(at) != cell_of(from) && occupied.count(cell_of(at)) > 0;
+      }
+      const bool exact = surfaces.crosses_surface(from, to, stop);
+      if (walked) {
+        EXPECT_TRUE(exact) << "grid " << grid << " segment " << k;
+      }
+      grazes += exact && !walked;
+      crossing += walked;
+    }
+  }
+  EXPECT_LE(grazes, trials / 50);
+  // Both kinds of segment were tried.
+  EXPECT_GT(crossing, trials / 10);
+  EXPECT_LT(crossing, trials * 9 / 10);
 }
 
 TEST(ScanConstraint, TellsACorridorFromARoom) {

@@ -120,7 +120,8 @@ TEST(ScanContext, TheJunctionsScanFindsTheJunctionAmongTheCorridorsPlaces) {
                                             {{1, 1}, {1, 15}},     {{-30, -1}, {-30, 1}}, {{30, -1}, {30, 1}}};
   ScanContextIndex index;
   std::vector<double> place_x;
-  for (double x = -26; x <= 26; x += 2) {
+  for (int k = -13; k <= 13; ++k) {
+    const double x = 2.0 * k;
     index.add(ScanContext(test::scan_from(Pose2(x, 0, 0), 720, world, kRangeSc), kRingsSc, kSectorsSc, kRangeSc));
     place_x.push_back(x);
   }

@@ -10,6 +10,7 @@
 #include "starnav/core/cpu_time.hpp"
 #include "starnav/core/error.hpp"
 #include "starnav/core/record_format.hpp"
+#include "starnav/slam/occupancy_mapping.hpp"
 
 namespace starnav {
 
@@ -92,18 +93,14 @@ bool SurfaceGrid::occupied(std::int64_t cx, std::int64_t cy) const {
 bool SurfaceGrid::crosses_surface(const Vec2& from, const Vec2& to, double stop_m) const {
   const double length = (to - from).norm();
   if (!(stop_m > 0) || length <= 0) return false;
-  const Vec2 direction = (to - from) / length;
   const std::int64_t start_x = cell(from.x()), start_y = cell(from.y());
-  // Samples a quarter of a cell apart: a ray cannot pass a cell's corner region unseen by more
-  // than that, which the margin covers.
-  const double step = cell_m_ / 4.0;
-  const double end = std::min(stop_m, length);
-  for (double d = 0.0; d < end; d += step) {
-    const Vec2 at = from + d * direction;
-    const std::int64_t cx = cell(at.x()), cy = cell(at.y());
-    if ((cx != start_x || cy != start_y) && occupied(cx, cy)) return true;
-  }
-  return false;
+  // Every cell the segment passes through up to stop_m (an exact traversal on the grid's lattice).
+  const Vec2 stop = stop_m < length ? Vec2(from + (to - from) * (stop_m / length)) : to;
+  bool crosses = false;
+  for_each_cell_on_segment(from, stop, cell_m_, [&](std::int64_t cx, std::int64_t cy, bool) {
+    crosses = crosses || ((cx != start_x || cy != start_y) && occupied(cx, cy));
+  });
+  return crosses;
 }
 
 double see_through_share(std::span<const Vec2> scan, const Pose2& pose, const SurfaceGrid& surfaces, double margin_m) {

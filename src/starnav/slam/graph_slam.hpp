@@ -74,8 +74,9 @@ inline constexpr std::size_t kMaxSurfaceGridCells = std::size_t{1} << 24;
 class SurfaceGrid {
  public:
   SurfaceGrid(std::span<const Vec2> points, double cell_m, int min_hits);
-  // Whether the segment from `from` towards `to` enters a surface cell before `stop_m` along it
-  // (the cell holding `from` itself is not counted: the sensor stands there).
+  // Whether the segment from `from` towards `to` passes through a surface cell within `stop_m`
+  // along it (every cell it passes through, exactly; the cell holding `from` itself is not
+  // counted: the sensor stands there).
   bool crosses_surface(const Vec2& from, const Vec2& to, double stop_m) const;
   std::size_t bytes() const { return occupied_.capacity(); }
 
