@@ -393,10 +393,11 @@ void GraphSlam::search_closures(std::size_t n) {
   const Vec2 at = nodes_[n].global.translation();
   // Submaps that ended at least a submap's length of nodes ago: nearer ones are tied by the local SLAM.
   std::vector<std::pair<std::size_t, double>> eligible;
-  std::vector<char> visited(submaps_.size(), 0);
+  std::vector<char> unsearched(submaps_.size(), 0);  // eligible and not searched: what appearance may propose
   for (std::size_t s = 0; s < submaps_.size(); ++s) {
     const Submap& m = submaps_[s];
     if (!m.finished || m.first + m.count + static_cast<std::size_t>(c_.submap_nodes) > n) continue;
+    unsearched[s] = 1;
     eligible.push_back({s, (nodes_[m.first + m.count / 2].global.translation() - at).norm()});
   }
   // The wide search is for a node whose estimate has lost the map: not one whose local search
@@ -406,7 +407,7 @@ void GraphSlam::search_closures(std::size_t n) {
   if (loop_due)
     for (const auto& [s, d] : eligible) {
       if (d > c_.loop_max_distance_m) continue;
-      visited[s] = 1;
+      unsearched[s] = 0;
       const SubmapMatch match = search_submap(n, s, 0.0, closure);
       if (match == SubmapMatch::Found) add_closure(n, closure, false);
       found = found || match != SubmapMatch::None;
@@ -418,7 +419,7 @@ void GraphSlam::search_closures(std::size_t n) {
     for (const auto& [s, d] : eligible) {
       const double window = global_search_window_m(c_, drift_bound_since(n, s));
       if (window > 0 && d <= c_.loop_max_distance_m + window && searched++ < c_.global_max_submaps) {
-        visited[s] = 1;
+        unsearched[s] = 0;
         if (search_submap(n, s, window, closure) == SubmapMatch::Found) wide.push_back(closure);
       }
     }
@@ -436,10 +437,8 @@ void GraphSlam::search_closures(std::size_t n) {
   // for confirmation is looked for again on every search until a later node confirms or it lapses.
   if (pending_appearance_ && n > pending_appearance_->expires) pending_appearance_.reset();
   if (c_.appearance_candidates > 0 && ((!found && global_due) || (pending_appearance_ && loop_due))) {
-    std::vector<std::size_t> submaps;
-    for (const auto& [s, d] : eligible) submaps.push_back(s);
     std::vector<Closure> seen;
-    search_by_appearance(n, submaps, visited, seen);
+    search_by_appearance(n, std::move(unsearched), seen);
     confirm_appearance(n, seen);
   }
 }
@@ -473,11 +472,8 @@ SurfaceGrid GraphSlam::surface_grid(std::span<const Vec2> points) const {
   return SurfaceGrid(points, c_.loop_overlap_radius_m / 3.0, kSurfaceMinHits);
 }
 
-void GraphSlam::search_by_appearance(std::size_t n, std::span<const std::size_t> eligible, std::span<const char> visited,
-                                     std::vector<Closure>& wide) {
+void GraphSlam::search_by_appearance(std::size_t n, std::vector<char> wanted, std::vector<Closure>& wide) {
   if (places_.size() == 0) return;
-  std::vector<char> wanted(submaps_.size(), 0);
-  for (const std::size_t s : eligible) wanted[s] = !visited[s];
   const ScanContext query = scan_context(n);
   // The ring key only narrows the field: several times the candidates wanted are compared in
   // full, as Scan Context does.

@@ -103,8 +103,8 @@ double see_through_share(std::span<const Vec2> scan, const Pose2& pose, const Su
 // The Scan Context the wide search's appearance proposer describes places with: rings of
 // loop_max_range_m / kScanContextRings (0.75 m at 15 m: coarser than a metre of drift moves a
 // wall, finer than a room), sectors of 6 degrees; a finished submap's every
-// kScanContextNodeStep-th node is a place (a node's description holds its whole submap around it,
-// so neighbours a few nodes apart describe nearly the same place); kScanContextLookups x the
+// kScanContextNodeStep-th node is a place (a node a few nodes on sees nearly the same scene, and
+// is the next look that may confirm a match); kScanContextLookups x the
 // candidates wanted are taken from the ring keys' k-d tree and compared in full.
 inline constexpr int kScanContextRings = 20;
 inline constexpr int kScanContextSectors = 60;
@@ -283,10 +283,9 @@ class GraphSlam final : public Slam {
   // it) in the local window, with the wide search's least score and no prior around the estimate.
   SubmapMatch search_submap_at(std::size_t node, std::size_t submap, const Pose2& guess, Closure& closure);
   SubmapMatch match_submap(std::size_t node, std::size_t submap, const Pose2& guess, const MatchWindow& window, Closure& closure);
-  // Closures proposed by Scan Context in submaps the wide search did not visit (`visited`),
-  // verified by the matcher; appended to `wide`.
-  void search_by_appearance(std::size_t node, std::span<const std::size_t> eligible, std::span<const char> visited,
-                            std::vector<Closure>& wide);
+  // Closures proposed by Scan Context in the submaps `wanted` marks (eligible, not searched by
+  // this node's other searches), verified by the matcher; appended to `wide`.
+  void search_by_appearance(std::size_t node, std::vector<char> wanted, std::vector<Closure>& wide);
   // Appearance closures enter the graph in pairs: one node's best match waits (pending) until a
   // later node's match agrees with it (the same correction of the estimate), and both enter.
   void confirm_appearance(std::size_t node, std::vector<Closure>& seen);

@@ -1,9 +1,9 @@
 #include "starnav/slam/relative_pose_error.hpp"
 
 #include <algorithm>
-#include <tuple>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <utility>
